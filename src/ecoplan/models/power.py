@@ -1,0 +1,99 @@
+"""Structured power results shared by the tracked and the wheeled models."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+
+from ecoplan._typing import FloatArray, IntArray
+
+__all__ = ["COMPONENTS", "MotionCase", "PowerBreakdown", "motion_case"]
+
+#: Names of the additive components of :class:`PowerBreakdown`, in report order.
+COMPONENTS: tuple[str, ...] = (
+    "friction_w",
+    "resistance_w",
+    "powerup_w",
+    "braking_w",
+    "nonregen_w",
+    "elec_loss_w",
+)
+
+
+class MotionCase(IntEnum):
+    """Dynamic-friction cases of the tracked paper's Fig. 3 (plus standstill)."""
+
+    STOPPED = 0
+    STRAIGHT = 1  # (a) equal track speeds
+    SAME_SIGN = 2  # (b) different speeds of the same sign: the slower track is dragged
+    ONE_ZERO = 3  # (c) one track speed null
+    OPPOSITE = 4  # (d) opposite track speeds
+
+
+def motion_case(v_left: FloatArray, v_right: FloatArray, tol_mps: float = 1e-3) -> IntArray:
+    """Classify track-speed pairs into the cases of Fig. 3 (tracked paper §II-B).
+
+    Speeds within ``tol_mps`` of zero count as zero and pairs within ``tol_mps``
+    of each other count as equal.
+    """
+    zl = np.abs(v_left) <= tol_mps
+    zr = np.abs(v_right) <= tol_mps
+    equal = np.abs(v_left - v_right) <= tol_mps
+    case = np.full(np.broadcast(v_left, v_right).shape, int(MotionCase.SAME_SIGN), dtype=np.int64)
+    case[np.sign(v_left) * np.sign(v_right) < 0] = int(MotionCase.OPPOSITE)
+    case[zl ^ zr] = int(MotionCase.ONE_ZERO)
+    case[equal & ~(zl & zr)] = int(MotionCase.STRAIGHT)
+    case[zl & zr] = int(MotionCase.STOPPED)
+    return case
+
+
+@dataclass(frozen=True, slots=True)
+class PowerBreakdown:
+    """Electrical power of locomotion with its breakdown, vectorised over samples [W].
+
+    The six components in :data:`COMPONENTS` add up to ``total_w``.
+
+    Attributes
+    ----------
+    friction_w : ndarray
+        Dynamic-friction (skid) power, tracked eq. (14) / wheeled turning part.
+    resistance_w : ndarray
+        Traction resistance, tracked eq. (18) / wheeled straight-line part.
+    powerup_w : ndarray
+        Driver power-up (tracked §III-C).
+    braking_w : ndarray
+        Driver braking effort (tracked cases 3 and 4) / wheeled braking side.
+    nonregen_w : ndarray
+        Non-regenerated power of the dragged motor (tracked case 2).
+    elec_loss_w : ndarray
+        Electrical dissipation ``P_T (1 - eta)`` (tracked eq. 20).
+    total_w : ndarray
+        Total electrical power ``P_T`` drawn by locomotion.
+    left_w, right_w : ndarray
+        Mechanical power of the left and right motors (signed: negative when dragged
+        or braking).
+    case : ndarray of int
+        :class:`MotionCase` of every sample.
+    """
+
+    friction_w: FloatArray
+    resistance_w: FloatArray
+    powerup_w: FloatArray
+    braking_w: FloatArray
+    nonregen_w: FloatArray
+    elec_loss_w: FloatArray
+    total_w: FloatArray
+    left_w: FloatArray
+    right_w: FloatArray
+    case: IntArray
+
+    @property
+    def mechanical_w(self) -> FloatArray:
+        """Mechanical power of locomotion ``P_M`` (tracked eq. 19) [W]."""
+        return self.friction_w + self.resistance_w
+
+    def components(self) -> dict[str, FloatArray]:
+        """The additive components as a name -> array mapping (sums to ``total_w``)."""
+        return {name: getattr(self, name) for name in COMPONENTS}

@@ -1,0 +1,236 @@
+"""Power model of a skid-steer wheeled vehicle (Chuy et al. 2009, Pioneer 3-AT).
+
+Per side ("inner" towards the turn centre, "outer" away from it), the motion power is
+
+    P(r, v) = a(r) v + b(r)                                   (wheeled eq. 12)
+    a(r) = a_inf + a_alpha exp(-a_beta ln(r + 1))             (eq. 14)
+    b(r) = b_inf + b_alpha exp(-b_beta ln(r + 1))             (eq. 15)
+
+with the torque of the same form ``T(r) = T_inf + T_alpha exp(-beta ln(r + 1))``
+(eq. 13).  The paper's tables print the header "a∞ bα aβ"; the second column is aα.
+The logarithm is the natural one: with it the inner side's power turns negative
+(braking) below r ≈ 2.4 m on asphalt, as the paper reports (§III, Fig. 6); with log10
+it would brake up to r ≈ 16 m.
+
+Limits of the radius (defined here, not in the paper):
+
+* ``r -> inf`` (straight): ``a = a_inf``, ``b = b_inf`` on both sides; ``r = inf`` is
+  accepted and evaluated exactly.
+* ``r -> 0`` (on the spot): ``(r + 1)^-beta -> 1``, so ``a(0) = a_inf + a_alpha`` and
+  ``b(0) = b_inf + b_alpha``.  The linear speed of the centre is zero on the spot, so each
+  side draws ``b(0)`` -- 300 W on the outer side on asphalt, far above any limit: the
+  model says on-the-spot turns are not executable, which matches the paper's real robot
+  being immobilised when commanded r = 0 (§III).
+
+The negative power of a braking side still drains the battery (§III-A), so the battery
+draw of a side is ``|P|``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ecoplan._typing import ArrayLike, FloatArray
+from ecoplan.models._validate import check_range, finite_array
+from ecoplan.models.kinematics import TrackICR, tracks_to_twist
+from ecoplan.models.power import MotionCase, PowerBreakdown, motion_case
+
+__all__ = [
+    "SideCoefficients",
+    "WheeledParams",
+    "decay_curve",
+    "side_power",
+    "wheeled_power",
+    "wheeled_power_vr",
+]
+
+
+@dataclass(frozen=True, slots=True)
+class SideCoefficients:
+    """Coefficients of eqs. (14)-(15) for one side (a row of wheeled Tables I-II).
+
+    Attributes
+    ----------
+    a_inf : float
+        Slope at r -> inf [W s/m].
+    a_alpha : float
+        Slope amplitude [W s/m].
+    a_beta : float
+        Slope decay exponent [-].
+    b_inf : float
+        Offset at r -> inf [W].
+    b_alpha : float
+        Offset amplitude [W].
+    b_beta : float
+        Offset decay exponent [-].
+    """
+
+    a_inf: float
+    a_alpha: float
+    a_beta: float
+    b_inf: float
+    b_alpha: float
+    b_beta: float
+
+    def __post_init__(self) -> None:
+        for name in ("a_inf", "a_alpha", "b_inf", "b_alpha"):
+            check_range("SideCoefficients", name, getattr(self, name), -1e6, 1e6)
+        for name in ("a_beta", "b_beta"):
+            check_range("SideCoefficients", name, getattr(self, name), 0.0, 100.0)
+
+    def as_array(self) -> FloatArray:
+        """The six coefficients in table order (a_inf, a_alpha, a_beta, b_inf, b_alpha, b_beta)."""
+        return np.array(
+            [self.a_inf, self.a_alpha, self.a_beta, self.b_inf, self.b_alpha, self.b_beta]
+        )
+
+
+def decay_curve(r_m: ArrayLike, inf: float, alpha: float, beta: float) -> FloatArray:
+    """``inf + alpha exp(-beta ln(r + 1))`` -- wheeled eqs. (13)-(15); exact at ``r = inf``."""
+    r = np.asarray(r_m, dtype=np.float64)
+    with np.errstate(over="ignore"):
+        return inf + alpha * np.power(r + 1.0, -beta)
+
+
+def side_power(r_m: ArrayLike, v_mps: ArrayLike, side: SideCoefficients) -> FloatArray:
+    """Motion power of one side ``P(r, v) = a(r) v + b(r)``, wheeled eq. (12) [W]."""
+    a = decay_curve(r_m, side.a_inf, side.a_alpha, side.a_beta)
+    b = decay_curve(r_m, side.b_inf, side.b_alpha, side.b_beta)
+    return a * np.asarray(v_mps, dtype=np.float64) + b
+
+
+@dataclass(frozen=True, slots=True)
+class WheeledParams:
+    """Parameters of a wheeled skid-steer vehicle on one terrain (SI units).
+
+    Attributes
+    ----------
+    name : str
+        Preset name, for reports.
+    mass_kg : float
+        Vehicle mass [kg] (Pioneer 3-AT: 30 kg).
+    track_gauge_m : float
+        Distance between the wheel centrelines of the two sides [m].
+    chi : float
+        Efficiency index χ (tracked eq. 12) of the side ICRs, in (0, 1].
+    top_track_speed_mps : float
+        Top side speed [m/s] (the paper's 0.9 m/s on asphalt).
+    inner, outer : SideCoefficients
+        Power-model coefficients of the inner and outer sides (Tables I-II).
+    p_side_max_w : float or None
+        Power limit of each side's drive system ``|P| <= limit`` [W]; None = unlimited.
+    p_powerup_w : float
+        Constant power of the motor drivers while the robot is on [W] (not modelled by
+        the paper: 0 by default).
+    icr_x_m : float
+        Longitudinal ICR coordinate [m].
+    icr_offset_m : float
+        Lateral shift of both ICRs [m].
+    accel_max_mps2 : float
+        Side-speed acceleration limit [m/s²].
+    case_tol_mps : float
+        Speeds this close to zero (or to each other) count as zero (equal) [m/s].
+    """
+
+    name: str = "wheeled"
+    mass_kg: float = 30.0
+    track_gauge_m: float = 0.40
+    chi: float = 0.65
+    top_track_speed_mps: float = 0.9
+    inner: SideCoefficients = SideCoefficients(7.5313, -170.0, 2.5507, 0.006, 500.0, 7.7136)
+    outer: SideCoefficients = SideCoefficients(10.2208, 250.0, 2.2187, 0.03397, 300.0, 4.818)
+    p_side_max_w: float | None = 12.0
+    p_powerup_w: float = 0.0
+    icr_x_m: float = 0.0
+    icr_offset_m: float = 0.0
+    accel_max_mps2: float = 0.9 / 2.5
+    case_tol_mps: float = 1e-3
+
+    kind = "wheeled"
+
+    def __post_init__(self) -> None:
+        o = "WheeledParams"
+        check_range(o, "mass_kg", self.mass_kg, 0.0, lo_open=True)
+        check_range(o, "track_gauge_m", self.track_gauge_m, 0.0, lo_open=True)
+        check_range(o, "chi", self.chi, 0.0, 1.0, lo_open=True)
+        check_range(o, "top_track_speed_mps", self.top_track_speed_mps, 0.0, lo_open=True)
+        check_range(o, "p_powerup_w", self.p_powerup_w, 0.0)
+        half = self.track_gauge_m / (2.0 * self.chi)
+        check_range(o, "icr_offset_m", self.icr_offset_m, -half, half, lo_open=True, hi_open=True)
+        check_range(o, "icr_x_m", self.icr_x_m, -1.0, 1.0)
+        check_range(o, "accel_max_mps2", self.accel_max_mps2, 0.0, lo_open=True)
+        check_range(o, "case_tol_mps", self.case_tol_mps, 0.0, 0.1)
+        if self.p_side_max_w is not None:
+            check_range(o, "p_side_max_w", self.p_side_max_w, 0.0, lo_open=True)
+
+    @property
+    def icr(self) -> TrackICR:
+        """Side ICRs from χ, shifted laterally by ``icr_offset_m``."""
+        half = self.track_gauge_m / (2.0 * self.chi)
+        return TrackICR(half + self.icr_offset_m, -half + self.icr_offset_m, self.icr_x_m)
+
+    def power(self, v_left: ArrayLike, v_right: ArrayLike) -> PowerBreakdown:
+        """Power breakdown for side speeds [m/s]; see :func:`wheeled_power`."""
+        return wheeled_power(v_left, v_right, self)
+
+
+def wheeled_power_vr(
+    v_mps: ArrayLike, r_m: ArrayLike, params: WheeledParams
+) -> tuple[FloatArray, FloatArray]:
+    """Signed motion power of the inner and outer sides for a command ``cmd(v, r)`` [W].
+
+    ``v`` is the linear speed of the centre (its magnitude is used) and ``r >= 0`` the
+    turning radius, ``inf`` for straight motion.  Returns ``(p_inner, p_outer)``.
+    """
+    v = np.abs(np.asarray(v_mps, dtype=np.float64))
+    r = np.asarray(r_m, dtype=np.float64)
+    return side_power(r, v, params.inner), side_power(r, v, params.outer)
+
+
+def wheeled_power(v_left: ArrayLike, v_right: ArrayLike, params: WheeledParams) -> PowerBreakdown:
+    """Power breakdown of the wheeled model for side speeds, wheeled eqs. (12)-(15).
+
+    Side speeds map to ``(v, wz)`` by the ICR kinematics (tracked eqs. 1-3) and to
+    ``r = |v / wz|``; the side towards the turn centre is the inner one.  Battery draw per
+    side is ``|P|``.  The breakdown attributes to ``resistance_w`` the straight-line
+    power at the same speed, ``sum (a_inf |v| + b_inf)``, to ``braking_w`` the magnitude
+    of a side's negative power, and the rest to ``friction_w`` (skidding).  A stopped
+    vehicle draws only ``p_powerup_w``.
+    """
+    vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
+    tw = tracks_to_twist(vl, vr, params.icr)
+    v = np.abs(tw.vx)
+    with np.errstate(divide="ignore"):
+        r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
+    p_in, p_out = wheeled_power_vr(v, r, params)
+    case = motion_case(vl, vr, params.case_tol_mps)
+    moving = case != MotionCase.STOPPED
+    p_in = np.where(moving, p_in, 0.0)
+    p_out = np.where(moving, p_out, 0.0)
+    left_inner = tw.wz > 0.0
+    left = np.where(left_inner, p_in, p_out)
+    right = np.where(left_inner, p_out, p_in)
+    draw = np.abs(p_in) + np.abs(p_out)
+    straight = np.where(
+        moving,
+        (params.inner.a_inf + params.outer.a_inf) * v + params.inner.b_inf + params.outer.b_inf,
+        0.0,
+    )
+    braking = np.maximum(-p_in, 0.0) + np.maximum(-p_out, 0.0)
+    resistance = np.minimum(np.maximum(straight, 0.0), draw - braking)
+    powerup = np.full(vl.shape, params.p_powerup_w)
+    zeros = np.zeros(vl.shape)
+    return PowerBreakdown(
+        friction_w=draw - braking - resistance,
+        resistance_w=resistance,
+        powerup_w=powerup,
+        braking_w=braking,
+        nonregen_w=zeros,
+        elec_loss_w=zeros.copy(),
+        total_w=draw + powerup,
+        left_w=left,
+        right_w=right,
+        case=case,
+    )
