@@ -1,0 +1,565 @@
+"""The ecoplan log format: a validated :class:`Log` and its CSV reader and writer.
+
+Log format (a contract shared by the simulator, the diagnosis and the loaders)
+-----------------------------------------------------------------------------
+A CSV file with one header row, SI units and REP-103 frames (x forward, y left, yaw
+counter-clockwise).  Lines starting with ``#`` *before* the header are metadata
+(``# run_id: ...``, ``# note: ...``); blank lines are skipped.
+
+==============  =========  ==========================================================
+column          unit       meaning
+==============  =========  ==========================================================
+``t``           s          time, strictly increasing (required)
+``v_left``      m/s        measured left side (track/wheel) speed (required)
+``v_right``     m/s        measured right side speed (required)
+``p_total``     W          electrical power of locomotion (required)
+``v_left_cmd``  m/s        commanded left side speed (optional)
+``v_right_cmd`` m/s        commanded right side speed (optional)
+``x``, ``y``    m          position in the world frame (optional)
+``yaw``         rad        heading, counter-clockwise from world x (optional)
+``wz``          rad/s      measured yaw rate (optional)
+``p_left``      W          mechanical power of the left motor (optional)
+``p_right``     W          mechanical power of the right motor (optional)
+``terrain``     label      terrain name under the robot (optional, text)
+==============  =========  ==========================================================
+
+Any other column (e.g. the simulator's ``case`` or ``friction_w``) is ignored and named
+in :attr:`Log.notes`.
+
+Validation (every failure is a :class:`~ecoplan.errors.LogFormatError` whose one-line
+message names the file, the column and/or the 1-based line number of the file):
+
+* empty file, no header, no data rows or a single data row;
+* a required column missing, a duplicated column name;
+* a non-numeric cell (an empty cell counts as missing);
+* NaN or inf in a required column;
+* time not strictly increasing (duplicated or going backwards);
+* a speed above :data:`MAX_PLAUSIBLE_SPEED_MPS` in magnitude (it looks like mm/s).
+
+Rows whose only defect is a missing/NaN value in an *optional* column are dropped and
+counted in :attr:`Log.dropped_rows` (never silently); an optional column that is empty
+on every row is treated as absent.  Infinite values in optional columns are errors.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import math
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import numpy.typing as npt
+
+from ecoplan._typing import BoolArray, FloatArray
+from ecoplan.errors import LogFormatError
+
+__all__ = [
+    "FLOAT_COLUMNS",
+    "MAX_PLAUSIBLE_SPEED_MPS",
+    "OPTIONAL_COLUMNS",
+    "REQUIRED_COLUMNS",
+    "SPEED_COLUMNS",
+    "Log",
+    "read_log_csv",
+    "read_logs",
+    "write_log_csv",
+]
+
+#: Columns every log must have, in file order.
+REQUIRED_COLUMNS: tuple[str, ...] = ("t", "v_left", "v_right", "p_total")
+#: Optional numeric columns, in file order.
+OPTIONAL_FLOAT_COLUMNS: tuple[str, ...] = (
+    "v_left_cmd",
+    "v_right_cmd",
+    "x",
+    "y",
+    "yaw",
+    "wz",
+    "p_left",
+    "p_right",
+)
+#: Every optional column, numeric and text.
+OPTIONAL_COLUMNS: tuple[str, ...] = (*OPTIONAL_FLOAT_COLUMNS, "terrain")
+#: Every numeric column, in file order.
+FLOAT_COLUMNS: tuple[str, ...] = (*REQUIRED_COLUMNS, *OPTIONAL_FLOAT_COLUMNS)
+#: Columns holding side speeds, checked for plausible magnitude.
+SPEED_COLUMNS: tuple[str, ...] = ("v_left", "v_right", "v_left_cmd", "v_right_cmd")
+#: Side speeds above this magnitude [m/s] are taken for a unit error (mm/s, rpm, ...).
+MAX_PLAUSIBLE_SPEED_MPS = 20.0
+
+StrArray = npt.NDArray[np.str_]
+
+
+def _where(source: str, line: int | None = None) -> str:
+    return f"{source}, line {line}" if line is not None else source
+
+
+@dataclass(frozen=True, slots=True)
+class Log:
+    """One run of a skid-steer robot: time series in SI units, REP-103 frames.
+
+    Arrays are 1-D float64 of equal length ``n >= 2``; optional columns are ``None``
+    when absent.  The constructor validates everything the CSV reader does (without
+    line numbers: it names the sample index instead), so a :class:`Log` built in code
+    is as trustworthy as one read from a file.
+
+    Attributes
+    ----------
+    t : ndarray
+        Time [s], strictly increasing.
+    v_left, v_right : ndarray
+        Measured side speeds [m/s].
+    p_total : ndarray
+        Electrical power of locomotion [W].
+    v_left_cmd, v_right_cmd : ndarray or None
+        Commanded side speeds [m/s].
+    x, y : ndarray or None
+        Position in the world frame [m].
+    yaw : ndarray or None
+        Heading [rad], counter-clockwise.
+    wz : ndarray or None
+        Measured yaw rate [rad/s].
+    p_left, p_right : ndarray or None
+        Mechanical power of each side's motor [W].
+    terrain : ndarray of str or None
+        Terrain label of every sample.
+    source : str
+        File path or name the log came from.
+    run_id : str
+        Identifier of the run (file stem by default).
+    dropped_rows : int
+        Rows dropped by the reader for a missing value in an optional column.
+    notes : tuple of str
+        Assumptions and remarks (bus voltage, ignored columns, dropped rows, ...).
+    """
+
+    t: FloatArray
+    v_left: FloatArray
+    v_right: FloatArray
+    p_total: FloatArray
+    v_left_cmd: FloatArray | None = None
+    v_right_cmd: FloatArray | None = None
+    x: FloatArray | None = None
+    y: FloatArray | None = None
+    yaw: FloatArray | None = None
+    wz: FloatArray | None = None
+    p_left: FloatArray | None = None
+    p_right: FloatArray | None = None
+    terrain: StrArray | None = None
+    source: str = "<memory>"
+    run_id: str = ""
+    dropped_rows: int = 0
+    notes: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        n: int | None = None
+        for name in FLOAT_COLUMNS:
+            val = getattr(self, name)
+            if val is None:
+                if name in REQUIRED_COLUMNS:
+                    raise LogFormatError(f"{self.source}: required column {name!r} is missing")
+                continue
+            arr = np.array(val, dtype=np.float64)
+            if arr.ndim != 1:
+                raise LogFormatError(
+                    f"{self.source}: column {name!r} must be 1-D, got shape {arr.shape}"
+                )
+            if n is None:
+                n = arr.size
+            elif arr.size != n:
+                raise LogFormatError(
+                    f"{self.source}: column {name!r} has {arr.size} samples, 't' has {n}"
+                )
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+        assert n is not None
+        if self.terrain is not None:
+            lab = np.array(self.terrain, dtype=np.str_)
+            if lab.shape != (n,):
+                raise LogFormatError(
+                    f"{self.source}: column 'terrain' has shape {lab.shape}, expected ({n},)"
+                )
+            lab.flags.writeable = False
+            object.__setattr__(self, "terrain", lab)
+        if n < 2:
+            raise LogFormatError(f"{self.source}: a log needs at least 2 samples, got {n}")
+        if self.dropped_rows < 0:
+            raise LogFormatError(f"{self.source}: dropped_rows must be >= 0")
+        object.__setattr__(self, "notes", tuple(self.notes))
+        cols = {c: getattr(self, c) for c in FLOAT_COLUMNS}
+        _check_values(cols, self.source, np.arange(n), line_label="sample")
+
+    def __len__(self) -> int:
+        return int(self.t.size)
+
+    @property
+    def duration_s(self) -> float:
+        """Time from the first to the last sample [s]."""
+        return float(self.t[-1] - self.t[0])
+
+    @property
+    def has_commands(self) -> bool:
+        """True when both commanded side speeds are logged."""
+        return self.v_left_cmd is not None and self.v_right_cmd is not None
+
+    @property
+    def has_pose(self) -> bool:
+        """True when ``x``, ``y`` and ``yaw`` are logged."""
+        return self.x is not None and self.y is not None and self.yaw is not None
+
+    def columns(self) -> tuple[str, ...]:
+        """Names of the columns present, in file order."""
+        return tuple(c for c in (*FLOAT_COLUMNS, "terrain") if getattr(self, c) is not None)
+
+    def column(self, name: str) -> FloatArray:
+        """A numeric column by name; :class:`LogFormatError` when it is absent or unknown."""
+        if name not in FLOAT_COLUMNS:
+            raise LogFormatError(
+                f"unknown log column {name!r}; accepted: {', '.join(FLOAT_COLUMNS)}"
+            )
+        val = getattr(self, name)
+        if val is None:
+            raise LogFormatError(f"{self.source}: column {name!r} is not in this log")
+        return val  # type: ignore[no-any-return]
+
+    def slice(
+        self,
+        mask: npt.ArrayLike | None = None,
+        *,
+        start_s: float | None = None,
+        stop_s: float | None = None,
+    ) -> Log:
+        """A sub-log: samples selected by a boolean mask and/or ``start_s <= t < stop_s``.
+
+        Parameters
+        ----------
+        mask : array_like of bool, optional
+            One flag per sample.
+        start_s, stop_s : float, optional
+            Time window [s] (absolute times of ``t``).
+
+        Returns
+        -------
+        Log
+            The selected samples (same source, run id, notes and dropped-row count).
+
+        Raises
+        ------
+        LogFormatError
+            The mask has the wrong shape, or fewer than 2 samples are selected.
+        """
+        keep: BoolArray = np.ones(len(self), dtype=np.bool_)
+        if mask is not None:
+            m = np.asarray(mask)
+            if m.dtype != np.bool_ or m.shape != keep.shape:
+                raise LogFormatError(
+                    f"slice mask must be a boolean array of shape {keep.shape}, "
+                    f"got {m.dtype} {m.shape}"
+                )
+            keep &= m
+        if start_s is not None:
+            keep &= self.t >= start_s
+        if stop_s is not None:
+            keep &= self.t < stop_s
+        if int(keep.sum()) < 2:
+            raise LogFormatError(
+                f"{self.source}: slice keeps {int(keep.sum())} sample(s); a log needs at least 2"
+            )
+        changes: dict[str, Any] = {}
+        for name in (*FLOAT_COLUMNS, "terrain"):
+            val = getattr(self, name)
+            if val is not None:
+                changes[name] = val[keep]
+        return dataclasses.replace(self, **changes)
+
+    def with_notes(self, *notes: str) -> Log:
+        """A copy with more notes appended."""
+        return dataclasses.replace(self, notes=(*self.notes, *notes))
+
+    def to_csv(self, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+        """Write this log as CSV; see :func:`write_log_csv`."""
+        return write_log_csv(self, path, overwrite=overwrite)
+
+
+def _check_values(
+    cols: Mapping[str, Any], source: str, lines: npt.NDArray[Any], line_label: str
+) -> None:
+    """Finiteness, time order and plausible speeds; names the column and line/sample."""
+    for name in REQUIRED_COLUMNS:
+        arr = cols[name]
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            i = int(bad[0])
+            raise LogFormatError(
+                f"{source}, {line_label} {int(lines[i])}: required column {name!r} is "
+                f"{float(arr[i])!r}; required columns must be finite"
+            )
+    for name in OPTIONAL_FLOAT_COLUMNS:
+        arr = cols.get(name)
+        if arr is None:
+            continue
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            i = int(bad[0])
+            raise LogFormatError(
+                f"{source}, {line_label} {int(lines[i])}: column {name!r} is {float(arr[i])!r}; "
+                "values must be finite"
+            )
+    t = cols["t"]
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0.0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        what = "duplicated" if dt[i - 1] == 0.0 else "goes backwards"
+        raise LogFormatError(
+            f"{source}, {line_label} {int(lines[i])}: time {what} in column 't' "
+            f"({float(t[i - 1])!r} then {float(t[i])!r}); 't' must be strictly increasing"
+        )
+    for name in SPEED_COLUMNS:
+        arr = cols.get(name)
+        if arr is None:
+            continue
+        bad = np.flatnonzero(np.abs(arr) > MAX_PLAUSIBLE_SPEED_MPS)
+        if bad.size:
+            i = int(bad[0])
+            raise LogFormatError(
+                f"{source}, {line_label} {int(lines[i])}: column {name!r} = {float(arr[i])!r} m/s "
+                f"exceeds {MAX_PLAUSIBLE_SPEED_MPS:g} m/s; speeds must be in m/s "
+                "(this looks like mm/s)"
+            )
+
+
+def _parse_floats(name: str, cells: list[str], lines: list[int], source: str) -> FloatArray:
+    """Convert a column of CSV cells to float64; empty cells become NaN."""
+    try:
+        return np.array(cells, dtype=np.float64)
+    except ValueError:
+        pass
+    out = np.empty(len(cells), dtype=np.float64)
+    for i, cell in enumerate(cells):
+        s = cell.strip()
+        if not s:
+            out[i] = math.nan
+            continue
+        try:
+            out[i] = float(s)
+        except ValueError:
+            raise LogFormatError(
+                f"{_where(source, lines[i])}: column {name!r} has non-numeric value {cell!r}"
+            ) from None
+    return out
+
+
+def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> Log:
+    """Read and validate a log CSV (format in the module docstring).
+
+    Parameters
+    ----------
+    path : path-like
+        CSV file.
+    run_id : str, optional
+        Run identifier; default the ``# run_id:`` metadata line, else the file stem.
+
+    Returns
+    -------
+    Log
+        The validated log; rows with a missing optional value are dropped and counted.
+
+    Raises
+    ------
+    LogFormatError
+        Any violation of the format, naming the file, column and line.
+    """
+    p = Path(path)
+    source = str(p)
+    try:
+        fh = p.open(newline="", encoding="utf-8")
+    except OSError as exc:
+        raise LogFormatError(f"{source}: cannot open log: {exc.strerror}") from None
+    meta_run: str | None = None
+    notes: list[str] = []
+    with fh:
+        reader = csv.reader(fh)
+        header: list[str] | None = None
+        header_line = 0
+        rows: list[list[str]] = []
+        lines: list[int] = []
+        try:
+            for row in reader:
+                if not row or all(not c.strip() for c in row):
+                    continue
+                if header is None:
+                    first = row[0].lstrip()
+                    if first.startswith("#"):
+                        key, _, value = ",".join(row).lstrip("# ").partition(":")
+                        if key.strip() == "run_id":
+                            meta_run = value.strip()
+                        elif key.strip() == "note":
+                            notes.append(value.strip())
+                        continue
+                    header = [c.strip() for c in row]
+                    header_line = reader.line_num
+                    continue
+                rows.append(row)
+                lines.append(reader.line_num)
+        except (csv.Error, UnicodeDecodeError) as exc:
+            where = _where(source, reader.line_num)
+            raise LogFormatError(f"{where}: unreadable CSV: {exc}") from None
+    if header is None:
+        raise LogFormatError(f"{source}: empty file (no header row)")
+    seen: set[str] = set()
+    for col in header:
+        if col in seen:
+            raise LogFormatError(f"{_where(source, header_line)}: duplicated column {col!r}")
+        seen.add(col)
+    missing = [c for c in REQUIRED_COLUMNS if c not in seen]
+    if missing:
+        raise LogFormatError(
+            f"{_where(source, header_line)}: missing required column(s) "
+            f"{', '.join(repr(c) for c in missing)}; header is {', '.join(header)}"
+        )
+    if not rows:
+        raise LogFormatError(f"{source}: no data rows after the header (line {header_line})")
+    if len(rows) < 2:
+        raise LogFormatError(
+            f"{_where(source, lines[0])}: a single data row; a log needs at least 2"
+        )
+    width = len(header)
+    for row, line in zip(rows, lines, strict=True):
+        if len(row) != width:
+            raise LogFormatError(
+                f"{_where(source, line)}: {len(row)} cells, the header has {width}"
+            )
+    index = {c: i for i, c in enumerate(header)}
+    ignored = [c for c in header if c not in REQUIRED_COLUMNS and c not in OPTIONAL_COLUMNS]
+    cols: dict[str, Any] = {}
+    for name in FLOAT_COLUMNS:
+        if name in index:
+            j = index[name]
+            cols[name] = _parse_floats(name, [r[j] for r in rows], lines, source)
+    line_arr = np.asarray(lines, dtype=np.int64)
+    for name in REQUIRED_COLUMNS:
+        arr = cols[name]
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            i = int(bad[0])
+            value = "empty" if not rows[i][index[name]].strip() else repr(float(arr[i]))
+            raise LogFormatError(
+                f"{_where(source, lines[i])}: required column {name!r} is {value}; "
+                "required columns must be finite"
+            )
+    drop = np.zeros(len(rows), dtype=np.bool_)
+    for name in OPTIONAL_FLOAT_COLUMNS:
+        if name not in cols:
+            continue
+        arr = cols[name]
+        if np.all(np.isnan(arr)):
+            del cols[name]
+            notes.append(f"column {name!r} is empty on every row; treated as absent")
+            continue
+        inf = np.flatnonzero(np.isinf(arr))
+        if inf.size:
+            i = int(inf[0])
+            raise LogFormatError(
+                f"{_where(source, lines[i])}: column {name!r} is {float(arr[i])!r}; "
+                "values must be finite"
+            )
+        drop |= np.isnan(arr)
+    if "terrain" in index:
+        j = index["terrain"]
+        labels = np.array([r[j].strip() for r in rows], dtype=np.str_)
+        empty = labels == ""
+        if np.all(empty):
+            notes.append("column 'terrain' is empty on every row; treated as absent")
+        else:
+            cols["terrain"] = labels
+            drop |= empty
+    n_drop = int(drop.sum())
+    if n_drop:
+        keep = ~drop
+        first_line = lines[int(np.flatnonzero(drop)[0])]
+        notes.append(
+            f"dropped {n_drop} of {len(rows)} rows with a missing optional value "
+            f"(first at line {first_line})"
+        )
+        if int(keep.sum()) < 2:
+            raise LogFormatError(
+                f"{source}: only {int(keep.sum())} row(s) left after dropping {n_drop} rows "
+                "with missing optional values; a log needs at least 2"
+            )
+        cols = {k: v[keep] for k, v in cols.items()}
+        line_arr = line_arr[keep]
+    if ignored:
+        notes.append(f"ignored columns: {', '.join(ignored)}")
+    # check with the file's line numbers first; the constructor re-validates by sample
+    _check_values(cols, source, line_arr, line_label="line")
+    return Log(
+        **cols,
+        source=source,
+        run_id=run_id if run_id is not None else (meta_run or p.stem),
+        dropped_rows=n_drop,
+        notes=tuple(notes),
+    )
+
+
+def write_log_csv(log: Log, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+    """Write a log as CSV in the ecoplan format (shortest round-trip float text).
+
+    ``run_id`` and ``notes`` are written as ``#`` metadata lines before the header, so
+    :func:`read_log_csv` gives back an equal log.
+
+    Parameters
+    ----------
+    log : Log
+        The log.
+    path : path-like
+        Destination file.
+    overwrite : bool
+        Replace an existing file; by default an existing file is an error.
+
+    Returns
+    -------
+    Path
+        The written file.
+
+    Raises
+    ------
+    LogFormatError
+        The file exists and ``overwrite`` is False, or it cannot be written.
+    """
+    p = Path(path)
+    if p.exists() and not overwrite:
+        raise LogFormatError(f"{p}: file exists; pass overwrite=True to replace it")
+    names = log.columns()
+    text_cols = [np.asarray(getattr(log, c)).astype(str) for c in names]
+    try:
+        with p.open("w", newline="", encoding="utf-8") as fh:
+            if log.run_id:
+                fh.write(f"# run_id: {log.run_id}\n")
+            for note in log.notes:
+                fh.write("# note: " + note.replace("\n", " ") + "\n")
+            writer = csv.writer(fh, lineterminator="\n")
+            writer.writerow(names)
+            writer.writerows(zip(*text_cols, strict=True))
+    except OSError as exc:
+        raise LogFormatError(f"{p}: cannot write log: {exc.strerror}") from None
+    return p
+
+
+def read_logs(paths: Iterable[str | os.PathLike[str]]) -> list[Log]:
+    """Read several log CSVs (one run each); errors name the offending file.
+
+    Raises
+    ------
+    LogFormatError
+        No paths, or any file is malformed.
+    """
+    seq: Sequence[str | os.PathLike[str]] = list(paths)
+    if not seq:
+        raise LogFormatError("no log files given")
+    return [read_log_csv(p) for p in seq]

@@ -1,0 +1,234 @@
+"""Tests of the log format (issue 6, item 1 and item 6: bad logs)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ecoplan.diagnose.logio import Log, read_log_csv, read_logs, write_log_csv
+from ecoplan.errors import InputError, LogFormatError
+
+BAD = Path(__file__).parent / "logs_bad"
+
+# file -> fragments the one-line message must contain (column and/or 1-based file line)
+BAD_CASES: dict[str, tuple[str, ...]] = {
+    "missing_p_total.csv": ("'p_total'", "line 1", "missing"),
+    "foreign_header.csv": ("'t'", "'v_left'", "'p_total'", "missing"),
+    "empty.csv": ("empty file",),
+    "metadata_only.csv": ("empty file",),
+    "header_only.csv": ("no data rows",),
+    "single_row.csv": ("single data row", "line 2"),
+    "nan_required.csv": ("'p_total'", "line 3", "nan"),
+    "inf_required.csv": ("'v_left'", "line 3", "inf"),
+    "empty_required_cell.csv": ("'v_right'", "line 3", "empty"),
+    "inf_optional.csv": ("'wz'", "line 3", "-inf"),
+    "duplicated_time.csv": ("'t'", "line 4", "duplicated"),
+    "time_backwards.csv": ("'t'", "line 4", "backwards"),
+    "speeds_in_mm_per_s.csv": ("'v_left'", "line 2", "mm/s"),
+    "command_in_mm_per_s.csv": ("'v_left_cmd'", "line 3", "mm/s"),
+    "non_numeric.csv": ("'v_right'", "line 3", "'fast'"),
+    "ragged_row.csv": ("line 3", "cells"),
+    "duplicated_column.csv": ("'t'", "duplicated column"),
+    "too_few_rows_after_drop.csv": ("dropping 2 rows",),
+}
+
+
+def test_corpus_and_table_agree() -> None:
+    assert sorted(p.name for p in BAD.glob("*.csv")) == sorted(BAD_CASES)
+
+
+@pytest.mark.parametrize("name", sorted(BAD_CASES))
+def test_bad_log_gives_one_line_error_naming_column_or_row(name: str) -> None:
+    with pytest.raises(LogFormatError) as info:
+        read_log_csv(BAD / name)
+    msg = str(info.value)
+    assert "\n" not in msg
+    assert msg.startswith(str(BAD / name))
+    for fragment in BAD_CASES[name]:
+        assert fragment in msg, (fragment, msg)
+    assert isinstance(info.value, InputError)  # CLI exit code 2
+
+
+def _write(tmp_path: Path, text: str, name: str = "log.csv") -> Path:
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def test_minimal_log_reads_required_columns(tmp_path: Path) -> None:
+    p = _write(tmp_path, "t,v_left,v_right,p_total\n0,0.1,0.2,100\n0.5,0.3,-0.4,250.5\n")
+    log = read_log_csv(p)
+    assert len(log) == 2
+    assert log.duration_s == 0.5
+    np.testing.assert_array_equal(log.v_right, [0.2, -0.4])
+    assert log.columns() == ("t", "v_left", "v_right", "p_total")
+    assert log.x is None and log.terrain is None and not log.has_commands
+    assert log.run_id == "log" and log.dropped_rows == 0
+
+
+def test_simulator_columns_and_extras(tmp_path: Path) -> None:
+    # The simulator writes these twelve columns plus extras that must be ignored.
+    cols = "t,x,y,yaw,v_left_cmd,v_right_cmd,v_left,v_right,wz,p_total,p_left,p_right"
+    text = cols + ",case,friction_w\n"
+    text += "0,0,0,0,0.5,0.5,0.4,0.4,0,300,140,140,1,0\n"
+    text += "0.1,0.04,0,0,0.5,0.5,0.45,0.45,0,310,145,145,1,0\n"
+    log = read_log_csv(_write(tmp_path, text))
+    assert log.columns() == (
+        "t",
+        "v_left",
+        "v_right",
+        "p_total",
+        "v_left_cmd",
+        "v_right_cmd",
+        "x",
+        "y",
+        "yaw",
+        "wz",
+        "p_left",
+        "p_right",
+    )
+    assert log.has_pose and log.has_commands
+    assert any("case" in n and "friction_w" in n for n in log.notes)
+
+
+def test_partial_nan_in_optional_column_drops_and_counts_rows(tmp_path: Path) -> None:
+    text = (
+        "t,v_left,v_right,p_total,wz,terrain\n"
+        "0,0.1,0.1,100,0,asphalt\n"
+        "0.1,0.1,0.1,100,,asphalt\n"  # empty optional cell -> dropped
+        "0.2,0.1,0.1,100,nan,asphalt\n"  # NaN optional cell -> dropped
+        "0.3,0.1,0.1,100,0.01,\n"  # empty terrain label -> dropped
+        "0.4,0.1,0.1,100,0.02,grass\n"
+    )
+    log = read_log_csv(_write(tmp_path, text))
+    assert log.dropped_rows == 3
+    np.testing.assert_array_equal(log.t, [0.0, 0.4])
+    assert log.terrain is not None and list(log.terrain) == ["asphalt", "grass"]
+    assert any("dropped 3 of 5 rows" in n and "line 3" in n for n in log.notes)
+
+
+def test_all_empty_optional_column_is_absent_not_dropped(tmp_path: Path) -> None:
+    text = "t,v_left,v_right,p_total,x\n0,0.1,0.1,100,\n0.1,0.1,0.1,100,\n"
+    log = read_log_csv(_write(tmp_path, text))
+    assert log.x is None and log.dropped_rows == 0 and len(log) == 2
+
+
+def test_blank_lines_keep_file_line_numbers(tmp_path: Path) -> None:
+    text = "# run_id: r7\nt,v_left,v_right,p_total\n\n0,0.1,0.1,100\n0.1,0.1,0.1,100\n0.1,0,0,1\n"
+    with pytest.raises(LogFormatError, match="line 6"):
+        read_log_csv(_write(tmp_path, text))
+
+
+def _full_log(n: int = 50) -> Log:
+    rng = np.random.default_rng(3)
+    t = np.cumsum(rng.uniform(0.005, 0.02, n))
+    return Log(
+        t=t,
+        v_left=rng.uniform(-1, 1, n),
+        v_right=rng.uniform(-1, 1, n),
+        p_total=rng.uniform(0, 900, n),
+        v_left_cmd=rng.uniform(-1, 1, n),
+        v_right_cmd=rng.uniform(-1, 1, n),
+        x=rng.normal(size=n),
+        y=rng.normal(size=n),
+        yaw=rng.uniform(-math.pi, math.pi, n),
+        wz=rng.normal(size=n),
+        p_left=rng.normal(size=n) * 100,
+        p_right=rng.normal(size=n) * 100,
+        terrain=np.array(["asphalt", "marble"] * (n // 2)),
+        run_id="run-1",
+        notes=("bus voltage 24 V assumed", "second, with, commas"),
+    )
+
+
+def test_round_trip_is_exact(tmp_path: Path) -> None:
+    log = _full_log()
+    p = write_log_csv(log, tmp_path / "a.csv")
+    back = read_log_csv(p)
+    for c in log.columns():
+        np.testing.assert_array_equal(getattr(back, c), getattr(log, c))
+    assert back.run_id == "run-1" and back.notes == log.notes and back.dropped_rows == 0
+
+
+def test_write_refuses_to_overwrite(tmp_path: Path) -> None:
+    log = _full_log()
+    p = log.to_csv(tmp_path / "a.csv")
+    with pytest.raises(LogFormatError, match="exists"):
+        log.to_csv(p)
+    log.to_csv(p, overwrite=True)
+    assert len(read_log_csv(p)) == len(log)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(
+        st.tuples(
+            st.floats(0.001, 10.0),
+            st.floats(-19.9, 19.9),
+            st.floats(-19.9, 19.9),
+            st.floats(-1e4, 1e4, allow_subnormal=False),
+        ),
+        min_size=2,
+        max_size=30,
+    )
+)
+def test_round_trip_property(rows: list[tuple[float, float, float, float]]) -> None:
+    import tempfile
+
+    dt, vl, vr, p = (np.array(c) for c in zip(*rows, strict=True))
+    log = Log(t=np.cumsum(dt), v_left=vl, v_right=vr, p_total=p)
+    if np.any(np.diff(log.t) <= 0):  # cumsum rounding can tie; not the point here
+        return
+    with tempfile.TemporaryDirectory() as d:
+        back = read_log_csv(write_log_csv(log, Path(d) / "h.csv"))
+    for c in ("t", "v_left", "v_right", "p_total"):
+        np.testing.assert_array_equal(getattr(back, c), getattr(log, c))
+
+
+def test_slice_by_time_and_mask() -> None:
+    log = _full_log()
+    mid = float(log.t[20])
+    part = log.slice(start_s=mid)
+    assert part.t[0] == mid and len(part) == len(log) - 20
+    assert part.terrain is not None and len(part.terrain) == len(part)
+    mask = np.zeros(len(log), dtype=bool)
+    mask[[1, 5, 9]] = True
+    three = log.slice(mask)
+    np.testing.assert_array_equal(three.p_total, log.p_total[[1, 5, 9]])
+    with pytest.raises(LogFormatError, match="at least 2"):
+        log.slice(start_s=float(log.t[-1]))
+    with pytest.raises(LogFormatError, match="boolean"):
+        log.slice(np.ones(3, dtype=bool))
+
+
+def test_constructor_validates_like_the_reader() -> None:
+    t = np.array([0.0, 0.1, 0.1])
+    with pytest.raises(LogFormatError, match=r"sample 2.*duplicated"):
+        Log(t=t, v_left=np.zeros(3), v_right=np.zeros(3), p_total=np.zeros(3))
+    with pytest.raises(LogFormatError, match="'p_total' has 2 samples"):
+        Log(t=np.arange(3.0), v_left=np.zeros(3), v_right=np.zeros(3), p_total=np.zeros(2))
+    with pytest.raises(LogFormatError, match=r"'v_left'.*mm/s"):
+        Log(t=np.arange(2.0), v_left=np.array([0.0, 350.0]), v_right=np.zeros(2), p_total=[1, 2])
+
+
+def test_log_arrays_are_read_only() -> None:
+    log = _full_log()
+    with pytest.raises(ValueError, match="read-only"):
+        log.p_total[0] = 1.0
+
+
+def test_read_logs_names_the_bad_file(tmp_path: Path) -> None:
+    good = _full_log().to_csv(tmp_path / "good.csv")
+    logs = read_logs([good])
+    assert [lg.run_id for lg in logs] == ["run-1"]
+    with pytest.raises(LogFormatError, match=r"single_row\.csv"):
+        read_logs([good, BAD / "single_row.csv"])
+    with pytest.raises(LogFormatError, match="no log files"):
+        read_logs([])
+    with pytest.raises(LogFormatError, match="cannot open"):
+        read_log_csv(tmp_path / "absent.csv")
