@@ -1,0 +1,849 @@
+"""Scenario files: a YAML schema for an ecoplan run, loaded safely and validated.
+
+A scenario names a vehicle preset (with overrides), the terrain (or terrain regions),
+a map (bounds and obstacles), start and goal poses or a fixed waypoint list, the
+planner, the speed policy, the heading-controller gains (tracked paper eq. 23), the
+simulation step, an optional battery budget, the outputs, and optional ``compare``
+variants.  The schema is documented in ``scenarios/README.md``.
+
+Loading is defensive: the YAML is read with PyYAML's safe loader only, aliases are
+expanded in a bounded way (alias bombs and recursive aliases are rejected before any
+Python object is built), and every error -- YAML syntax, schema, geometry -- is a
+:class:`~ecoplan.errors.ScenarioError` whose one-line message names the file, the
+line, the field and what was expected, e.g.::
+
+    scenarios/ab.yaml:14: speed.v_mps: expected a number > 0; got -0.5
+
+>>> sc = parse_scenario('''
+... name: tiny
+... vehicle: {preset: pioneer-3at}
+... terrain: asphalt
+... map: {bounds: {min: [0, 0], max: [10, 10]}}
+... start: {x: 1, y: 1}
+... waypoints: [[9, 9]]
+... ''')
+>>> sc.spec.vehicle.preset, sc.goal_xy
+('pioneer-3at', (9.0, 9.0))
+"""
+
+from __future__ import annotations
+
+import math
+import types
+import typing
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Annotated, Any, Literal, Union
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from shapely import Point as ShapelyPoint
+from shapely import Polygon, box
+from shapely.validation import explain_validity
+
+from ecoplan.errors import InputError, ScenarioError
+from ecoplan.presets import VehicleParams, VehicleSpec
+from ecoplan.world import GeometryError, World, circle
+
+__all__ = [
+    "MAX_FILE_BYTES",
+    "MAX_YAML_NODES",
+    "BatterySection",
+    "Case",
+    "ControllerSection",
+    "MapSection",
+    "OutputsSection",
+    "PlannerSection",
+    "Pose",
+    "Region",
+    "Scenario",
+    "ScenarioSpec",
+    "Shape",
+    "SimulationSection",
+    "SpeedSection",
+    "TerrainSection",
+    "Variant",
+    "VehicleSection",
+    "load_scenario",
+    "parse_scenario",
+]
+
+#: Largest scenario file accepted [bytes].
+MAX_FILE_BYTES = 1_000_000
+#: Largest number of YAML nodes after alias expansion (defence against alias bombs).
+MAX_YAML_NODES = 200_000
+#: Largest nesting depth of the YAML document.
+MAX_YAML_DEPTH = 64
+#: Bound on every coordinate and length [m]; larger numbers are rejected as typos.
+MAX_COORD_M = 1e5
+
+# --------------------------------------------------------------------------- schema
+
+Coord = Annotated[float, Field(ge=-MAX_COORD_M, le=MAX_COORD_M, allow_inf_nan=False)]
+PositiveLength = Annotated[float, Field(gt=0.0, le=MAX_COORD_M, allow_inf_nan=False)]
+XY = Annotated[list[Coord], Field(min_length=2, max_length=2)]
+Name = Annotated[str, Field(min_length=1, max_length=200)]
+
+
+class _Section(BaseModel):
+    """Base of every schema section: unknown keys and type coercions are errors."""
+
+    model_config = ConfigDict(extra="forbid", strict=True, frozen=True)
+
+
+class Rectangle(_Section):
+    """Axis-aligned rectangle from its lower-left ``min`` to its upper-right ``max`` [m]."""
+
+    min: XY
+    max: XY
+
+    @model_validator(mode="after")
+    def _ordered(self) -> Rectangle:
+        if not (self.min[0] < self.max[0] and self.min[1] < self.max[1]):
+            raise ValueError("max must be greater than min in both x and y")
+        return self
+
+    def geometry(self) -> Polygon:
+        """The rectangle as a shapely polygon."""
+        return box(self.min[0], self.min[1], self.max[0], self.max[1])  # validated above
+
+
+class Circle(_Section):
+    """Circle of centre ``center`` [m] and radius ``radius_m`` [m]."""
+
+    center: XY
+    radius_m: PositiveLength
+
+    def geometry(self) -> Polygon:
+        """The circle as a 32-gon that contains the disc (:func:`ecoplan.world.circle`)."""
+        return circle(self.center[0], self.center[1], self.radius_m, n_vertices=32)
+
+
+class Shape(_Section):
+    """One of ``polygon`` (list of ``[x, y]`` vertices), ``rectangle`` or ``circle``."""
+
+    name: Name | None = None
+    polygon: Annotated[list[XY], Field(min_length=3, max_length=10_000)] | None = None
+    rectangle: Rectangle | None = None
+    circle: Circle | None = None
+
+    @model_validator(mode="after")
+    def _exactly_one(self) -> Shape:
+        given = [k for k in ("polygon", "rectangle", "circle") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(
+                "give exactly one of polygon, rectangle, circle"
+                + (f" (got {', '.join(given)})" if given else "")
+            )
+        return self
+
+    def geometry(self) -> Polygon:
+        """The shape as a shapely polygon (not validated; see :func:`parse_scenario`)."""
+        if self.rectangle is not None:
+            return self.rectangle.geometry()
+        if self.circle is not None:
+            return self.circle.geometry()
+        assert self.polygon is not None
+        return Polygon(self.polygon)
+
+
+class Region(Shape):
+    """A terrain region: a shape with the terrain preset that applies inside it."""
+
+    terrain: Name
+
+
+class VehicleSection(_Section):
+    """Vehicle preset (``ecoplan.presets``) and parameter overrides."""
+
+    preset: Name
+    overrides: dict[str, Any] = Field(default_factory=dict)
+
+
+class TerrainSection(_Section):
+    """Default terrain preset and optional regions of other terrains.
+
+    A plain string ``terrain: marble`` is shorthand for ``{default: marble}``.
+    """
+
+    default: Name | None = None
+    regions: Annotated[list[Region], Field(max_length=1000)] = Field(default_factory=list)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _shorthand(cls, data: Any) -> Any:
+        return {"default": data} if isinstance(data, str) else data
+
+
+class MapSection(_Section):
+    """Map bounds, obstacles and footprint inflation [m]."""
+
+    bounds: Rectangle
+    obstacles: Annotated[list[Shape], Field(max_length=10_000)] = Field(default_factory=list)
+    inflation_m: Annotated[float, Field(ge=0.0, le=100.0, allow_inf_nan=False)] = 0.4
+
+
+class Pose(_Section):
+    """A planar pose: position [m] and heading ``yaw_deg`` [deg, counter-clockwise]."""
+
+    x: Coord
+    y: Coord
+    yaw_deg: Annotated[float, Field(ge=-360.0, le=360.0, allow_inf_nan=False)] = 0.0
+
+    @property
+    def xy(self) -> tuple[float, float]:
+        """Position as a tuple [m]."""
+        return (self.x, self.y)
+
+    @property
+    def yaw_rad(self) -> float:
+        """Heading [rad]."""
+        return math.radians(self.yaw_deg)
+
+
+class PlannerSection(_Section):
+    """Planner choice: ``graph`` (waypoint graph), ``ompl`` (by ``name``) or ``none``."""
+
+    type: Literal["graph", "ompl", "none"] = "graph"
+    name: Name | None = None
+    time_s: Annotated[float, Field(gt=0.0, le=3600.0, allow_inf_nan=False)] = 1.0
+    seed: Annotated[int, Field(ge=0, le=2**32 - 1)] = 0
+    objective: Literal["energy", "length"] = "energy"
+    k: Annotated[int, Field(ge=1, le=20)] = 1
+
+    @model_validator(mode="after")
+    def _name_for_ompl(self) -> PlannerSection:
+        if self.type == "ompl" and self.name is None:
+            raise ValueError("planner type ompl needs a name (e.g. RRTstar, BITstar, PRMstar)")
+        return self
+
+
+class SpeedSection(_Section):
+    """Speed policy: one ``fixed`` speed ``v_mps`` or the energy-``optimal`` speed."""
+
+    policy: Literal["fixed", "optimal"] = "fixed"
+    v_mps: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False)] = 0.5
+
+
+class ControllerSection(_Section):
+    """Heading controller of tracked eq. (23): ``w_sp = gain * phi_e``, switch at ``d_th_m``."""
+
+    gain: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False)] = 0.18
+    d_th_m: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False)] = 1.0
+
+
+class SimulationSection(_Section):
+    """Simulator settings: integration step ``dt_s`` and time limit ``t_max_s`` [s]."""
+
+    dt_s: Annotated[float, Field(gt=0.0, le=1.0, allow_inf_nan=False)] = 0.01
+    t_max_s: Annotated[float, Field(gt=0.0, le=86_400.0, allow_inf_nan=False)] = 1200.0
+
+
+class BatterySection(_Section):
+    """Battery budget: capacity [Wh] and the fraction kept in reserve."""
+
+    capacity_wh: Annotated[float, Field(gt=0.0, le=1e6, allow_inf_nan=False)]
+    reserve_fraction: Annotated[float, Field(ge=0.0, lt=1.0, allow_inf_nan=False)] = 0.0
+
+    @property
+    def usable_j(self) -> float:
+        """Energy available to the mission [J]."""
+        return self.capacity_wh * 3600.0 * (1.0 - self.reserve_fraction)
+
+
+class OutputsSection(_Section):
+    """Which artifacts ``ecoplan run`` writes into ``--out``."""
+
+    csv: bool = True
+    figures: Annotated[list[Literal["png", "svg"]], Field(max_length=2)] = Field(
+        default_factory=lambda: list[Literal["png", "svg"]](["png"])
+    )
+    markdown: bool = True
+
+
+class Variant(_Section):
+    """One case of ``ecoplan compare``: a name and the sections it replaces."""
+
+    name: Name
+    waypoints: Annotated[list[XY], Field(min_length=1, max_length=10_000)] | None = None
+    planner: PlannerSection | None = None
+    speed: SpeedSection | None = None
+    controller: ControllerSection | None = None
+
+
+class ScenarioSpec(_Section):
+    """The whole scenario file (see ``scenarios/README.md``)."""
+
+    version: Literal[1] = 1
+    name: Name
+    description: Annotated[str, Field(max_length=5000)] = ""
+    vehicle: VehicleSection
+    terrain: TerrainSection = Field(default_factory=TerrainSection)
+    map: MapSection
+    start: Pose
+    goal: Pose | None = None
+    waypoints: Annotated[list[XY], Field(min_length=1, max_length=10_000)] | None = None
+    planner: PlannerSection | None = None
+    speed: SpeedSection = Field(default_factory=SpeedSection)
+    controller: ControllerSection = Field(default_factory=ControllerSection)
+    simulation: SimulationSection = Field(default_factory=SimulationSection)
+    battery: BatterySection | None = None
+    outputs: OutputsSection = Field(default_factory=OutputsSection)
+    compare: Annotated[list[Variant], Field(max_length=500)] = Field(default_factory=list)
+
+    @model_validator(mode="after")
+    def _route(self) -> ScenarioSpec:
+        planner = self.planner.type if self.planner is not None else None
+        if self.waypoints is None and (planner in (None, "none")):
+            if self.goal is None:
+                raise ValueError("give a goal (with a planner) or a fixed waypoints list")
+            if planner == "none":
+                raise ValueError("planner type none needs a fixed waypoints list")
+        if self.waypoints is not None and planner not in (None, "none"):
+            raise ValueError("give either waypoints (planner none) or a planner, not both")
+        names = [v.name for v in self.compare]
+        if len(set(names)) != len(names):
+            raise ValueError("compare variant names must be distinct")
+        return self
+
+
+# ------------------------------------------------------------------- built scenario
+
+
+@dataclass(frozen=True)
+class Case:
+    """One independent run of a scenario: the spec with a variant's sections applied.
+
+    Attributes
+    ----------
+    name : str
+        Variant name (the scenario's name for the base case).
+    spec : ScenarioSpec
+        The resolved spec (picklable, so cases travel to worker processes).
+    """
+
+    name: str
+    spec: ScenarioSpec
+
+    @property
+    def planner(self) -> PlannerSection:
+        """The planner section, ``type: none`` when the case has fixed waypoints."""
+        if self.spec.waypoints is not None:
+            return PlannerSection(type="none")
+        return self.spec.planner if self.spec.planner is not None else PlannerSection()
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A validated scenario with its geometry and vehicle built.
+
+    Attributes
+    ----------
+    spec : ScenarioSpec
+        The validated file contents.
+    source : str
+        Where it came from (a path or ``"<string>"``), for messages and reports.
+    vehicle : VehicleSpec
+        Vehicle preset, overrides and default terrain (``.on(terrain)`` gives parameters).
+    bounds : shapely.Polygon
+        Map bounds.
+    obstacles : tuple of shapely.Polygon
+        Obstacles, not inflated.
+    regions : tuple of (str, str, shapely.Polygon)
+        Terrain regions as (name, terrain preset, polygon), later ones on top.
+    world : World
+        The planning world (inflated obstacles, free space, terrain lookup).
+    """
+
+    spec: ScenarioSpec
+    source: str
+    vehicle: VehicleSpec
+    bounds: Polygon
+    obstacles: tuple[Polygon, ...]
+    regions: tuple[tuple[str, str, Polygon], ...]
+    world: World
+
+    @property
+    def name(self) -> str:
+        """Scenario name."""
+        return self.spec.name
+
+    @property
+    def params(self) -> VehicleParams:
+        """Vehicle parameters on the default terrain."""
+        return self.vehicle.on()
+
+    @property
+    def default_terrain(self) -> str:
+        """Default terrain preset name."""
+        return self.vehicle.terrain or _default_terrain(self.spec.vehicle.preset)
+
+    @property
+    def goal_xy(self) -> tuple[float, float]:
+        """The goal position: ``goal``, else the last fixed waypoint [m]."""
+        if self.spec.goal is not None:
+            return self.spec.goal.xy
+        assert self.spec.waypoints is not None
+        x, y = self.spec.waypoints[-1]
+        return (x, y)
+
+    def cases(self) -> list[Case]:
+        """Independent cases: the ``compare`` variants, or the scenario itself."""
+        if not self.spec.compare:
+            return [Case(self.spec.name, self.spec)]
+        out = []
+        for v in self.spec.compare:
+            update: dict[str, Any] = {}
+            if v.waypoints is not None:
+                update["waypoints"] = v.waypoints
+                update["planner"] = None
+            elif v.planner is not None:
+                update["planner"] = v.planner
+                update["waypoints"] = None if v.planner.type != "none" else self.spec.waypoints
+            for key in ("speed", "controller"):
+                if getattr(v, key) is not None:
+                    update[key] = getattr(v, key)
+            update["compare"] = []
+            out.append(Case(v.name, self.spec.model_copy(update=update)))
+        return out
+
+
+def _default_terrain(preset: str) -> str:
+    from ecoplan.presets import default_terrain
+
+    return default_terrain(preset)
+
+
+# ------------------------------------------------------------------------ YAML layer
+
+
+Path_ = tuple[str | int, ...]
+
+
+class _LineMap:
+    """Line (1-based) of every node of the document, by its path of keys and indices."""
+
+    def __init__(self) -> None:
+        self.lines: dict[Path_, int] = {}
+
+    def line(self, path: Sequence[str | int]) -> int | None:
+        """Line of ``path`` or of its longest existing prefix."""
+        p = tuple(path)
+        while p:
+            if p in self.lines:
+                return self.lines[p]
+            p = p[:-1]
+        return self.lines.get((), None)
+
+
+def _check_size(root: yaml.Node) -> None:
+    """Reject recursive aliases, too deep documents and alias bombs (expanded size)."""
+    sizes: dict[int, int] = {}
+    active: set[int] = set()
+
+    def size(node: yaml.Node, depth: int) -> int:
+        key = id(node)
+        if key in sizes:
+            return sizes[key]
+        if key in active:
+            raise ScenarioError("recursive YAML alias (an anchor used inside itself)")
+        if depth > MAX_YAML_DEPTH:
+            raise ScenarioError(f"YAML nested deeper than {MAX_YAML_DEPTH} levels")
+        active.add(key)
+        total = 1
+        if isinstance(node, yaml.SequenceNode):
+            for child in node.value:
+                total += size(child, depth + 1)
+                if total > MAX_YAML_NODES:
+                    break
+        elif isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                total += size(k, depth + 1) + size(v, depth + 1)
+                if total > MAX_YAML_NODES:
+                    break
+        active.discard(key)
+        if total > MAX_YAML_NODES:
+            raise ScenarioError(
+                f"YAML document expands to more than {MAX_YAML_NODES} nodes "
+                "(too many aliases: an alias bomb?)"
+            )
+        sizes[key] = total
+        return total
+
+    size(root, 0)
+
+
+def _record_lines(node: yaml.Node, path: Path_, out: _LineMap) -> None:
+    out.lines.setdefault(path, node.start_mark.line + 1)
+    if isinstance(node, yaml.SequenceNode):
+        for i, child in enumerate(node.value):
+            _record_lines(child, (*path, i), out)
+    elif isinstance(node, yaml.MappingNode):
+        for k, v in node.value:
+            if isinstance(k, yaml.ScalarNode):
+                # the key's own line, so "unknown key" points at it
+                out.lines.setdefault((*path, k.value), k.start_mark.line + 1)
+                _record_lines(v, (*path, k.value), out)
+
+
+def _read_yaml(text: str, source: str) -> tuple[Any, _LineMap]:
+    """Parse YAML safely; return the data and the line map."""
+    loader = yaml.SafeLoader(text)
+    try:
+        try:
+            node = loader.get_single_node()
+        except yaml.MarkedYAMLError as exc:
+            mark = exc.problem_mark or exc.context_mark
+            line = f":{mark.line + 1}" if mark is not None else ""
+            problem = exc.problem or exc.context or "invalid YAML"
+            raise ScenarioError(f"{source}{line}: invalid YAML: {problem}") from None
+        except yaml.YAMLError as exc:
+            raise ScenarioError(f"{source}: invalid YAML: {_one_line(str(exc))}") from None
+        except RecursionError:
+            raise ScenarioError(f"{source}: YAML nested too deeply") from None
+        if node is None:
+            raise ScenarioError(f"{source}: empty scenario file; expected a mapping")
+        try:
+            _check_size(node)
+        except ScenarioError as exc:
+            raise ScenarioError(f"{source}: {exc}") from None
+        lines = _LineMap()
+        _record_lines(node, (), lines)
+        try:
+            data = loader.construct_document(node)
+        except yaml.MarkedYAMLError as exc:
+            mark = exc.problem_mark or exc.context_mark
+            line = f":{mark.line + 1}" if mark is not None else ""
+            problem = exc.problem or exc.context or "invalid value"
+            raise ScenarioError(f"{source}{line}: invalid YAML value: {problem}") from None
+        except (yaml.YAMLError, ValueError, TypeError, OverflowError, RecursionError) as exc:
+            raise ScenarioError(f"{source}: invalid YAML value: {_one_line(str(exc))}") from None
+    finally:
+        loader.dispose()
+    return data, lines
+
+
+def _one_line(text: str, limit: int = 160) -> str:
+    flat = " ".join(text.split())
+    return flat if len(flat) <= limit else flat[: limit - 3] + "..."
+
+
+# --------------------------------------------------------------- pydantic -> message
+
+
+def _dotted(loc: Sequence[str | int]) -> str:
+    out = ""
+    for part in loc:
+        if isinstance(part, int):
+            out += f"[{part}]"
+        else:
+            out += ("." if out else "") + str(part)
+    return out or "(top level)"
+
+
+def _unwrap(tp: Any) -> Any:
+    """The model class inside ``X | None``, ``list[X]``, ``Annotated[X, ...]``."""
+    while True:
+        origin = typing.get_origin(tp)
+        if origin is Annotated:
+            tp = typing.get_args(tp)[0]
+        elif origin in (Union, types.UnionType):
+            args = [a for a in typing.get_args(tp) if a is not type(None)]
+            tp = args[0] if len(args) == 1 else tp
+            if len(args) != 1:
+                return tp
+        elif origin is list:
+            tp = typing.get_args(tp)[0]
+        else:
+            return tp
+
+
+def _model_at(loc: Sequence[str | int]) -> type[BaseModel] | None:
+    model: Any = ScenarioSpec
+    for part in loc:
+        if isinstance(part, int):
+            continue
+        if not (isinstance(model, type) and issubclass(model, BaseModel)):
+            return None
+        field = model.model_fields.get(part)
+        if field is None:
+            return None
+        model = _unwrap(field.annotation)
+    return model if isinstance(model, type) and issubclass(model, BaseModel) else None
+
+
+_EXPECTED = {
+    "float_type": "expected a number",
+    "int_type": "expected an integer",
+    "string_type": "expected a string",
+    "bool_type": "expected true or false",
+    "list_type": "expected a list",
+    "dict_type": "expected a mapping",
+    "model_type": "expected a mapping",
+    "model_attributes_type": "expected a mapping",
+    "finite_number": "expected a finite number",
+}
+
+
+def _describe(err: Mapping[str, Any]) -> str:
+    kind = str(err.get("type", ""))
+    ctx = err.get("ctx") or {}
+    if kind in _EXPECTED:
+        return _EXPECTED[kind]
+    bounds = {
+        "greater_than": ">",
+        "greater_than_equal": ">=",
+        "less_than": "<",
+        "less_than_equal": "<=",
+    }
+    if kind in bounds:
+        limit = next(iter(ctx.values()), "?")
+        return f"expected a number {bounds[kind]} {limit}"
+    if kind == "literal_error":
+        return f"expected one of {ctx.get('expected', '?')}"
+    if kind in ("too_short", "too_long"):
+        n = ctx.get("min_length") if kind == "too_short" else ctx.get("max_length")
+        word = "at least" if kind == "too_short" else "at most"
+        return f"expected {word} {n} items"
+    if kind == "value_error":
+        return str(err.get("msg", "")).removeprefix("Value error, ")
+    return str(err.get("msg", "invalid value")).lower()
+
+
+def _short_repr(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _format_validation(exc: ValidationError, source: str, lines: _LineMap) -> str:
+    errors = exc.errors(include_url=False)
+    err = errors[0]
+    loc = [p for p in err["loc"] if isinstance(p, str | int)]
+    line = lines.line(loc)
+    where = f"{source}:{line}" if line is not None else source
+    kind = err["type"]
+    if kind == "extra_forbidden":
+        parent = loc[:-1]
+        model = _model_at(parent)
+        accepted = f"; accepted: {', '.join(model.model_fields)}" if model else ""
+        msg = f"unknown key {loc[-1]!r} in {_dotted(parent)}{accepted}"
+    elif kind == "missing":
+        msg = f"{_dotted(loc[:-1])}: missing required key {loc[-1]!r}"
+    else:
+        msg = f"{_dotted(loc)}: {_describe(err)}"
+        if kind != "value_error" and "input" in err:
+            msg += f"; got {_short_repr(err['input'])}"
+    more = len(errors) - 1
+    suffix = f" (and {more} more error{'s' if more > 1 else ''})" if more else ""
+    return _one_line(f"{where}: {msg}{suffix}", limit=400)
+
+
+# ------------------------------------------------------------------------- loading
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Load and validate a scenario file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The YAML file.
+
+    Returns
+    -------
+    Scenario
+        The validated scenario with its geometry and vehicle built.
+
+    Raises
+    ------
+    ScenarioError
+        Missing or unreadable file, invalid YAML, schema violation or impossible geometry;
+        the one-line message names the file, the line and the field.
+    """
+    p = Path(path)
+    try:
+        if not p.is_file():
+            raise ScenarioError(f"{p}: no such scenario file")
+        size = p.stat().st_size
+        if size > MAX_FILE_BYTES:
+            raise ScenarioError(f"{p}: file too large ({size} bytes; at most {MAX_FILE_BYTES})")
+        raw = p.read_bytes()
+    except OSError as exc:
+        raise ScenarioError(f"{p}: cannot read: {exc.strerror or exc}") from None
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{p}: not UTF-8 text (byte {exc.start})") from None
+    return parse_scenario(text, source=str(p))
+
+
+def parse_scenario(text: str, source: str = "<string>") -> Scenario:
+    """Validate scenario YAML text; see :func:`load_scenario`.
+
+    Parameters
+    ----------
+    text : str
+        YAML document.
+    source : str
+        Name used in error messages (a file path).
+
+    Returns
+    -------
+    Scenario
+        The validated scenario.
+    """
+    if len(text) > MAX_FILE_BYTES:
+        raise ScenarioError(f"{source}: scenario too large (at most {MAX_FILE_BYTES} characters)")
+    if "\x00" in text:
+        raise ScenarioError(f"{source}: not a text file (NUL character)")
+    data, lines = _read_yaml(text, source)
+    if not isinstance(data, dict):
+        kind = type(data).__name__
+        raise ScenarioError(
+            f"{source}:{lines.line(()) or 1}: expected a mapping of sections at top level; "
+            f"got {kind}"
+        )
+    try:
+        spec = ScenarioSpec.model_validate(data)
+    except ValidationError as exc:
+        raise ScenarioError(_format_validation(exc, source, lines)) from None
+    except RecursionError:
+        raise ScenarioError(f"{source}: document nested too deeply") from None
+    return _build(spec, source, lines)
+
+
+def _err(source: str, lines: _LineMap, loc: Sequence[str | int], msg: str) -> ScenarioError:
+    line = lines.line(loc)
+    where = f"{source}:{line}" if line is not None else source
+    return ScenarioError(_one_line(f"{where}: {_dotted(loc)}: {msg}", limit=400))
+
+
+def _valid_polygon(
+    shape: Shape, source: str, lines: _LineMap, loc: tuple[str | int, ...]
+) -> Polygon:
+    poly = shape.geometry()
+    if not poly.is_valid:
+        reason = explain_validity(poly)
+        what = "self-intersecting" if "Self-intersection" in reason else "invalid"
+        raise _err(source, lines, (*loc, "polygon"), f"{what} polygon ({reason})")
+    if poly.area <= 0.0:
+        raise _err(source, lines, loc, "shape has zero area")
+    return poly
+
+
+def _build(spec: ScenarioSpec, source: str, lines: _LineMap) -> Scenario:
+    veh = _build_vehicle(spec, source, lines)
+    for i, region in enumerate(spec.terrain.regions):
+        try:
+            veh.on(region.terrain)
+        except InputError as exc:
+            raise _err(source, lines, ("terrain", "regions", i, "terrain"), str(exc)) from None
+    bounds = spec.map.bounds.geometry()
+    obstacles = tuple(
+        _valid_polygon(o, source, lines, ("map", "obstacles", i))
+        for i, o in enumerate(spec.map.obstacles)
+    )
+    regions = tuple(
+        (
+            r.name or f"{r.terrain} region {i}",
+            r.terrain,
+            _valid_polygon(r, source, lines, ("terrain", "regions", i)),
+        )
+        for i, r in enumerate(spec.terrain.regions)
+    )
+    try:
+        world = World(
+            bounds,
+            obstacles,
+            inflation_m=spec.map.inflation_m,
+            regions=[(poly, terrain) for _, terrain, poly in regions],
+            default_terrain=veh.terrain,
+        )
+    except GeometryError as exc:
+        raise _err(source, lines, ("map",), str(exc)) from None
+    scenario = Scenario(spec, source, veh, bounds, obstacles, regions, world)
+    _check_speeds(scenario, lines)
+    _check_points(scenario, lines)
+    return scenario
+
+
+def _build_vehicle(spec: ScenarioSpec, source: str, lines: _LineMap) -> VehicleSpec:
+    v = spec.vehicle
+    try:
+        return VehicleSpec.of(v.preset, spec.terrain.default, v.overrides)
+    except (InputError, TypeError, ValueError) as exc:
+        loc: tuple[str | int, ...] = ("vehicle",)
+        try:
+            VehicleSpec.of(v.preset)
+        except (InputError, TypeError, ValueError):
+            loc = ("vehicle", "preset")
+        else:
+            try:
+                VehicleSpec.of(v.preset, spec.terrain.default)
+            except (InputError, TypeError, ValueError):
+                loc = ("terrain", "default")
+            else:
+                for key in v.overrides:
+                    try:
+                        VehicleSpec.of(v.preset, spec.terrain.default, {key: v.overrides[key]})
+                    except (InputError, TypeError, ValueError):
+                        loc = ("vehicle", "overrides", key)
+                        break
+        raise _err(source, lines, loc, _one_line(str(exc))) from None
+
+
+def _check_speeds(sc: Scenario, lines: _LineMap) -> None:
+    top = sc.params.top_track_speed_mps
+    checks: list[tuple[tuple[str | int, ...], SpeedSection]] = [(("speed",), sc.spec.speed)]
+    checks += [(("compare", i, "speed"), v.speed) for i, v in enumerate(sc.spec.compare) if v.speed]
+    for loc, speed in checks:
+        if speed.policy == "fixed" and speed.v_mps > top:
+            raise _err(
+                sc.source,
+                lines,
+                (*loc, "v_mps"),
+                f"{speed.v_mps} m/s is above the top track speed of {sc.params.name} ({top} m/s)",
+            )
+
+
+def _check_points(sc: Scenario, lines: _LineMap) -> None:
+    spec = sc.spec
+    named: list[tuple[tuple[str | int, ...], tuple[float, float]]] = [(("start",), spec.start.xy)]
+    if spec.goal is not None:
+        named.append((("goal",), spec.goal.xy))
+    for i, (x, y) in enumerate(spec.waypoints or []):
+        named.append((("waypoints", i), (x, y)))
+    for vi, variant in enumerate(spec.compare):
+        for i, (x, y) in enumerate(variant.waypoints or []):
+            named.append((("compare", vi, "waypoints", i), (x, y)))
+    for loc, xy in named:
+        pt = ShapelyPoint(xy)
+        if not sc.bounds.covers(pt):
+            raise _err(sc.source, lines, loc, f"point {xy} lies outside the map bounds")
+        for j, obstacle in enumerate(sc.obstacles):
+            if obstacle.covers(pt):
+                raise _err(sc.source, lines, loc, f"point {xy} lies inside obstacle {j}")
+    planned = any(case.planner.type != "none" for case in sc.cases())
+    if not planned:
+        return
+    world = sc.world
+    for loc, xy in ((("start",), spec.start.xy), (("goal",), sc.goal_xy)):
+        try:
+            world.check_point(xy, loc[0])
+        except GeometryError as exc:
+            msg = f"{exc}; the planner cannot start or end there"
+            raise _err(sc.source, lines, loc, msg) from None
+    start = ShapelyPoint(spec.start.xy)
+    goal = ShapelyPoint(sc.goal_xy)
+    for part in getattr(world.free_space, "geoms", [world.free_space]):
+        if part.covers(start):
+            if not part.covers(goal):
+                raise _err(
+                    sc.source,
+                    lines,
+                    ("goal",),
+                    "unreachable: obstacles (inflated by "
+                    f"{spec.map.inflation_m:g} m) separate the goal from the start",
+                )
+            return
