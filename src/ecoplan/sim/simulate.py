@@ -58,6 +58,7 @@ from ecoplan.sim.controller import (
 )
 
 __all__ = [
+    "DEFAULT_CONFIG",
     "EXTRA_COLUMNS",
     "LOG_COLUMNS",
     "CommandPolicy",
@@ -114,6 +115,10 @@ class SimConfig:
         check_range("SimConfig", "dt_s", self.dt_s, 0.0, 1.0, lo_open=True)
         if self.t_max_s is not None:
             check_range("SimConfig", "t_max_s", self.t_max_s, 0.0, 1e6, lo_open=True)
+
+
+#: 100 Hz, time limit derived from the task.
+DEFAULT_CONFIG = SimConfig()
 
 
 @dataclass(frozen=True, eq=False)
@@ -335,7 +340,9 @@ class WaypointRun:
         return float(np.sum(np.hypot(*np.diff(self.waypoints, axis=0).T)))
 
 
-def simulate_batch(runs: Sequence[WaypointRun], config: SimConfig = SimConfig()) -> list[SimResult]:
+def simulate_batch(
+    runs: Sequence[WaypointRun], config: SimConfig = DEFAULT_CONFIG
+) -> list[SimResult]:
     """Simulate many heading-controller runs at once (vectorised over runs).
 
     Parameters
@@ -368,7 +375,7 @@ def simulate_waypoints(
     controller: HeadingController = DEFAULT_CONTROLLER,
     *,
     start_yaw_rad: float | None = None,
-    config: SimConfig = SimConfig(),
+    config: SimConfig = DEFAULT_CONFIG,
 ) -> SimResult:
     """Simulate the heading controller (eq. 23) along one way-point list.
 
@@ -400,7 +407,7 @@ def simulate_tracks(
     v_right_cmd: ArrayLike,
     *,
     start_pose: tuple[float, float, float] = (0.0, 0.0, 0.0),
-    config: SimConfig = SimConfig(),
+    config: SimConfig = DEFAULT_CONFIG,
 ) -> SimResult:
     """Simulate open-loop track-speed commands (one per step), then stop.
 
