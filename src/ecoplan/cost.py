@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -70,12 +70,14 @@ __all__ = [
     "arc_turn_energy",
     "best_spot_yaw_rate",
     "cheapest_turn",
+    "choose_turn",
     "fillet_points",
     "params_on",
     "path_cost",
     "spot_turn_energy",
     "straight_energy",
     "trajectory_cost",
+    "turn_candidates",
     "turn_costs",
 ]
 
@@ -238,17 +240,46 @@ def turn_costs(
     radius_m : ndarray
         Chosen radius: 0 for on the spot, ``inf`` for no turn, ``nan`` if infeasible.
     """
+    net, radius = turn_candidates(params, dpsi_rad, speed_mps, room_m, mode)
+    finite = np.isfinite(net)
+    j = np.argmin(np.where(finite, net, np.inf), axis=-1)[..., None]
+    best = np.take_along_axis(net, j, axis=-1)[..., 0]
+    r_best = np.take_along_axis(radius, j, axis=-1)[..., 0]
+    ok = finite.any(axis=-1)
+    return np.where(ok, best, np.nan), np.where(ok, r_best, np.nan)
+
+
+def turn_candidates(
+    params: VehicleParams,
+    dpsi_rad: ArrayLike,
+    speed_mps: float,
+    room_m: ArrayLike = math.inf,
+    mode: TurnMode = "auto",
+) -> tuple[FloatArray, FloatArray]:
+    """Every candidate execution of each turn with its net energy (see :func:`turn_costs`).
+
+    Column 0 is the on-the-spot turn at the best yaw rate; columns 1.. are fillet arcs
+    with radii geometrically spaced from the smallest feasible one
+    (:func:`~ecoplan.models.limits.min_radius_for_speed`) to the largest that fits
+    ``room_m`` (at most ``50 r_min``).  Infeasible or disallowed candidates are ``nan``.
+    A zero heading change has net energy 0 and radius ``inf`` in every column.
+
+    Returns
+    -------
+    net_energy_j, radius_m : ndarray, shape (..., 1 + 16)
+        Net energy [J] and radius [m] (0 on the spot) of each candidate.
+    """
     dpsi = np.asarray(dpsi_rad, dtype=np.float64)
     room = np.broadcast_to(np.asarray(room_m, dtype=np.float64), dpsi.shape)
     v = float(_positive_speed("speed_mps", speed_mps))
     a = np.abs(dpsi)
-    best = np.full(dpsi.shape, np.inf)
-    radius = np.full(dpsi.shape, np.nan)
+    net = np.full((*dpsi.shape, 1 + _N_RADII), np.nan)
+    radius = np.full((*dpsi.shape, 1 + _N_RADII), np.nan)
     if mode in ("auto", "spot"):
         _, e_rad = best_spot_yaw_rate(params)
         if math.isfinite(e_rad):
-            best = e_rad * a
-            radius = np.zeros(dpsi.shape)
+            net[..., 0] = e_rad * a
+            radius[..., 0] = 0.0
     if mode in ("auto", "arc"):
         rmin = _min_radius(params, v)
         if math.isfinite(rmin):
@@ -262,18 +293,37 @@ def turn_costs(
             rr = rmin * ratio[..., None] ** k  # (..., _N_RADII)
             per_m = float(params.power(v, v).total_w) / v
             e_arc = arc_turn_energy(params, dpsi[..., None], v, rr)
-            net = e_arc - per_m * 2.0 * rr * half_tan[..., None]
-            j = np.argmin(net, axis=-1)
-            net_best = np.take_along_axis(net, j[..., None], axis=-1)[..., 0]
-            r_best = np.take_along_axis(rr, j[..., None], axis=-1)[..., 0]
-            better = fits & (net_best < best)
-            best = np.where(better, net_best, best)
-            radius = np.where(better, r_best, radius)
+            arc_net = e_arc - per_m * 2.0 * rr * half_tan[..., None]
+            net[..., 1:] = np.where(fits[..., None], arc_net, np.nan)
+            radius[..., 1:] = np.where(fits[..., None], rr, np.nan)
     zero = a < 1e-12
-    best = np.where(zero, 0.0, best)
-    radius = np.where(zero, np.inf, radius)
-    best = np.where(np.isfinite(best), best, np.nan)
-    return best, radius
+    net = np.where(zero[..., None], 0.0, net)
+    radius = np.where(zero[..., None], np.inf, radius)
+    return net, radius
+
+
+def choose_turn(
+    params: VehicleParams,
+    dpsi_rad: float,
+    speed_mps: float,
+    room_m: float = math.inf,
+    mode: TurnMode = "auto",
+    collides: Callable[[float], bool] | None = None,
+) -> tuple[float, float] | None:
+    """Cheapest candidate turn whose fillet does not collide: ``(net energy, radius)``.
+
+    ``collides(radius)`` is asked for arcs only, cheapest first.  Returns None when no
+    candidate is feasible and collision-free.
+    """
+    net, radius = turn_candidates(params, dpsi_rad, speed_mps, room_m, mode)
+    order = np.argsort(np.where(np.isfinite(net), net, np.inf), kind="stable")
+    for j in order:
+        e, r = float(net[j]), float(radius[j])
+        if not math.isfinite(e):
+            break
+        if collides is None or not (0.0 < r < math.inf) or not collides(r):
+            return e, r
+    return None
 
 
 # ---------------------------------------------------------------------------- turn plans
@@ -336,6 +386,7 @@ def _turn_plan(
     v: float,
     room: float,
     mode: TurnMode | float,
+    collides: Callable[[float], bool] | None = None,
 ) -> TurnPlan:
     a = abs(dpsi)
     sgn = -1.0 if dpsi < 0.0 else 1.0
@@ -351,10 +402,14 @@ def _turn_plan(
             raise InputError(f"turn radius must be finite and >= 0 m, got {mode!r}")
         if r == 0.0:
             return _spot_plan(params, dpsi, None)
+        if collides is not None and collides(r):
+            violated = "collision"
     else:
-        _, r_arr = turn_costs(params, dpsi, v, room, mode)
-        r = float(r_arr)
-        if math.isnan(r):
+        choice = choose_turn(params, dpsi, v, room, mode, collides)
+        if choice is None and collides is not None:
+            choice = choose_turn(params, dpsi, v, room, mode)
+            violated = "collision"
+        if choice is None:
             # nothing feasible: report the requested execution at its best, flagged
             if mode == "spot" or (mode == "auto" and params.kind == "tracked"):
                 return _spot_plan(params, dpsi, None)
@@ -362,8 +417,10 @@ def _turn_plan(
             fit = room / math.tan(min(a, math.pi - 1e-9) / 2.0)
             r = rmin if math.isfinite(rmin) else max(fit, 1e-3)
             violated = "turn_room" if math.isfinite(rmin) else ""
-        elif r == 0.0:
-            return _spot_plan(params, dpsi, None)
+        else:
+            r = choice[1]
+            if r == 0.0:
+                return _spot_plan(params, dpsi, None)
     vl, vr = vr_to_tracks(params, v, sgn * r)
     p = params.power(vl, vr)
     check = check_tracks(params, vl, vr)
@@ -745,14 +802,12 @@ def path_cost(
         share_out = 1.0 if i == n_seg - 1 else 0.5
         room = min(seg_len[i - 1] * share_in, seg_len[i] * share_out)
         v = float(min(v_seg[i - 1], v_seg[i]))
-        plan = _turn_plan(params_on(vehicle, terrains[i]), float(dpsi[i - 1]), v, room, turn)
+        collides = None if world is None else _fillet_collides(world, pts[i - 1 : i + 2])
+        params = params_on(vehicle, terrains[i])
+        plan = _turn_plan(params, float(dpsi[i - 1]), v, room, turn, collides)
         if plan.mode == "arc":
             t = min(plan.tangent_m, room) if plan.violated == "turn_room" else plan.tangent_m
             tangent[i - 1, 1] = tangent[i, 0] = t
-            if world is not None and not world.polyline_free(
-                fillet_points(pts[i - 1], pts[i], pts[i + 1], plan.radius_m)
-            ):
-                violations.append(Violation("turn", i, "collision", v, plan.radius_m))
         stop_at[i] = plan.mode == "spot"
         _add_turn(acc, plan, i, turns, violations, count_length=True)
     # ---- straight parts
@@ -773,6 +828,13 @@ def path_cost(
         violations=tuple(violations),
         turns=tuple(turns),
     )
+
+
+def _fillet_collides(world: World, corner: FloatArray) -> Callable[[float], bool]:
+    def collides(radius_m: float) -> bool:
+        return not world.polyline_free(fillet_points(corner[0], corner[1], corner[2], radius_m))
+
+    return collides
 
 
 def _add_turn(
@@ -965,16 +1027,9 @@ class PathCostModel:
         h0 = math.atan2(b[1] - a[1], b[0] - a[0])
         h1 = math.atan2(c[1] - b[1], c[0] - b[0])
         dpsi = float(_wrap(h1 - h0))
-        net, r = turn_costs(
-            self.params(self.terrain_at(b)), dpsi, self.speed_mps, room_m, self.turn
-        )
-        e, rad = float(net), float(r)
-        if math.isnan(e):
-            return None
-        if self.world is not None and 0.0 < rad < math.inf:
-            if not self.world.polyline_free(fillet_points(a, b, c, rad)):
-                return None
-        return e, rad
+        collides = None if self.world is None else _fillet_collides(self.world, np.stack([a, b, c]))
+        params = self.params(self.terrain_at(b))
+        return choose_turn(params, dpsi, self.speed_mps, room_m, self.turn, collides)
 
     def segment_cost(self, p0: ArrayLike, p1: ArrayLike) -> float | None:
         """Cost of the straight segment ``p0 -> p1`` (None: infeasible)."""
