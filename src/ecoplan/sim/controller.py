@@ -146,8 +146,10 @@ def saturate_setpoint(
 
     The yaw rate is clipped to the on-the-spot top rate (eq. 6, generalised to
     asymmetric ICRs as ``V_max / max(y_l, -y_r)``); then the yaw rate is kept and
-    ``|v|`` reduced to ``V_max - lever |w|`` (eq. 5), ``lever = -y_r`` for ``w > 0``
-    (the right track is outer) and ``y_l`` otherwise.
+    ``|v|`` reduced to ``V_max - lever |w|`` (eq. 5), with ``lever`` the ICR distance of
+    the track that runs faster: ``-y_r`` for ``w v > 0`` (forward left turn: the right
+    track) and ``y_l`` otherwise.  Eq. (5) is written for forward motion; reversing
+    swaps the faster track, which matters only for asymmetric ICRs.
 
     Parameters
     ----------
@@ -172,7 +174,7 @@ def saturate_setpoint(
     yr = np.asarray(icr.y_right_m, dtype=np.float64)
     w_top = vmax / np.maximum(yl, -yr)
     w = np.clip(w, -w_top, w_top)
-    lever = np.where(w > 0.0, -yr, yl)
+    lever = np.where(w * np.where(v < 0.0, -1.0, 1.0) > 0.0, -yr, yl)
     v_lim = np.maximum(vmax - lever * np.abs(w), 0.0)
     return np.clip(v, -v_lim, v_lim), w
 

@@ -1,0 +1,237 @@
+"""Heading controller of the tracked paper §IV (eq. 23, Fig. 13) and its saturation (eqs. 4-6)."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from ecoplan.errors import InputError
+from ecoplan.models.kinematics import TrackICR, setpoint_to_tracks, tracks_to_twist
+from ecoplan.sim.controller import (
+    HeadingController,
+    IcrArrays,
+    WaypointFollower,
+    heading_error,
+    saturate_setpoint,
+    tracks_from_setpoint,
+    wrap_angle,
+)
+
+# Auriga-β (tracked paper §III-B): L = 0.42 m, V_max = 0.86 m/s; χ = 0.86 is the
+# narrow-belt asphalt preset (Table II is lost; see ecoplan.presets).
+L_M, V_MAX, CHI = 0.42, 0.86, 0.86
+HALF = L_M / (2 * CHI)  # |C_x| of each track ICR, eq. (12)
+ICR = TrackICR(HALF, -HALF)
+
+
+def follower(goals, gain=0.18, speed=0.5, d_th=1.0, icr=ICR):
+    ctrl = [HeadingController(gain, speed, d_th)] * len(goals)
+    return WaypointFollower(goals, ctrl, IcrArrays.of([icr] * len(goals), V_MAX))
+
+
+def yaw_rate_of(vl, vr, icr=ICR):
+    return tracks_to_twist(vl, vr, icr).wz
+
+
+# --- wrap-around -------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("angle", "wrapped"),
+    [
+        (0.0, 0.0),
+        (math.pi, math.pi),
+        (-math.pi, math.pi),
+        (3 * math.pi, math.pi),
+        (1.5 * math.pi, -0.5 * math.pi),
+        (-1.5 * math.pi, 0.5 * math.pi),
+        (7.0, 7.0 - 2 * math.pi),
+    ],
+)
+def test_wrap_angle_reference_values(angle: float, wrapped: float) -> None:
+    assert float(wrap_angle(angle)) == pytest.approx(wrapped, abs=1e-12)
+
+
+@given(st.floats(-1e3, 1e3))
+def test_wrap_angle_range_and_equivalence(angle: float) -> None:
+    w = float(wrap_angle(angle))
+    assert -math.pi < w <= math.pi
+    turns = (angle - w) / (2 * math.pi)
+    assert turns == pytest.approx(round(turns), abs=1e-9)
+
+
+def test_heading_error_across_the_pi_boundary_is_small() -> None:
+    # Fig. 13: robot heading 179°, goal at bearing -179°: the error is +2°, not -358°.
+    yaw = math.radians(179.0)
+    goal = (math.cos(math.radians(-179.0)), math.sin(math.radians(-179.0)))
+    assert float(heading_error(0.0, 0.0, yaw, *goal)) == pytest.approx(math.radians(2.0))
+
+
+@pytest.mark.parametrize("turns", [-3, -1, 0, 1, 5])
+def test_follower_turns_the_short_way_whatever_the_yaw_winding(turns: int) -> None:
+    # goal at bearing -179° while the (unwrapped) yaw is 179° + 2π·turns: eq. (23)
+    # must command w = G · (+2°), i.e. a small left turn.
+    f = follower(
+        [np.array([[math.cos(math.radians(-179.0)) * 10, math.sin(math.radians(-179.0)) * 10]])]
+    )
+    yaw = np.array([math.radians(179.0) + 2 * math.pi * turns])
+    vl, vr = f.command(np.zeros(1), np.zeros(1), yaw)
+    assert float(yaw_rate_of(vl, vr)[0]) == pytest.approx(0.18 * math.radians(2.0), rel=1e-9)
+
+
+# --- eq. (23) and eq. (4) -----------------------------------------------------------------
+
+
+def test_yaw_rate_is_gain_times_heading_error() -> None:
+    # goal 30° to the left: w_sp = G φ_e = 0.12 · π/6, and v_sp unchanged (no saturation)
+    goal = np.array([[10 * math.cos(math.pi / 6), 10 * math.sin(math.pi / 6)]])
+    f = follower([goal], gain=0.12, speed=0.3)
+    vl, vr = f.command(np.zeros(1), np.zeros(1), np.zeros(1))
+    tw = tracks_to_twist(vl, vr, ICR)
+    assert float(tw.wz[0]) == pytest.approx(0.12 * math.pi / 6, rel=1e-12)
+    assert float(tw.vx[0]) == pytest.approx(0.3, rel=1e-12)
+    # eq. (4) in the paper's frame: V^{l,r} = v + C_x^{l,r} w with C_x^l = -HALF, C_x^r = +HALF
+    w = 0.12 * math.pi / 6
+    assert float(vl[0]) == pytest.approx(0.3 - HALF * w)
+    assert float(vr[0]) == pytest.approx(0.3 + HALF * w)
+
+
+@given(st.floats(-1.0, 1.0), st.floats(-3.0, 3.0), st.floats(0.15, 0.5), st.floats(-0.1, 0.1))
+def test_tracks_from_setpoint_matches_the_model_eq4(
+    v: float, w: float, half: float, off: float
+) -> None:
+    icr = TrackICR(half + off, -half + off, 0.05)
+    ours = tracks_from_setpoint(v, w, icr)
+    model = setpoint_to_tracks(v, w, icr)
+    assert np.allclose(ours, model, rtol=0, atol=1e-12)
+
+
+# --- saturation, eqs. (5)-(6) -----------------------------------------------------------
+
+
+def test_saturation_keeps_yaw_rate_and_reduces_speed_eq5() -> None:
+    # v_sp at top speed with w = 1 rad/s: eq. (5) gives v_max = V_max - C_x^r w
+    v, w = saturate_setpoint(V_MAX, 1.0, ICR, V_MAX)
+    assert float(w) == 1.0
+    assert float(v) == pytest.approx(V_MAX - HALF * 1.0)
+    _, vr = tracks_from_setpoint(v, w, ICR)
+    assert float(vr) == pytest.approx(V_MAX)  # the outer track runs at top speed
+    v2, w2 = saturate_setpoint(0.3, 0.2, ICR, V_MAX)  # feasible: untouched
+    assert (float(v2), float(w2)) == (0.3, 0.2)
+
+
+def test_saturation_clips_yaw_rate_to_eq6() -> None:
+    w_max = 2 * V_MAX / (2 * HALF)  # eq. (6)
+    v, w = saturate_setpoint(0.5, -10.0, ICR, V_MAX)
+    assert float(w) == pytest.approx(-w_max)
+    assert float(v) == 0.0  # turning on the spot at top speed leaves no forward speed
+
+
+@given(
+    st.floats(-2.0, 2.0),
+    st.floats(-20.0, 20.0),
+    st.floats(0.15, 0.6),
+    st.floats(-0.1, 0.1),
+    st.floats(0.2, 1.5),
+)
+def test_saturated_track_speeds_never_exceed_top_speed(
+    v: float, w: float, half: float, off: float, vmax: float
+) -> None:
+    icr = TrackICR(half + off, -half + off)
+    vs, ws = saturate_setpoint(v, w, icr, vmax)
+    vl, vr = tracks_from_setpoint(vs, ws, icr)
+    assert max(abs(float(vl)), abs(float(vr))) <= vmax * (1 + 1e-12)
+    # the yaw rate is kept unless it exceeds the on-the-spot limit; the speed keeps its sign
+    if abs(w) * max(icr.y_left_m, -icr.y_right_m) <= vmax:
+        assert float(ws) == pytest.approx(w)
+    assert float(vs) * v >= 0.0
+    assert abs(float(vs)) <= abs(v)
+
+
+def test_reverse_saturation_with_asymmetric_icrs_limits_the_faster_track() -> None:
+    # reversing (v < 0) while turning left (w > 0): eq. (4) gives |V_l| = |v| + y_l w, so
+    # the left track limits the speed (eq. 5 written for forward motion picks C_x^r; with
+    # asymmetric ICRs the lever must follow the track that actually runs faster)
+    icr = TrackICR(0.5625, -0.4375)
+    vs, ws = saturate_setpoint(-1.0, 1.0, icr, 1.0)
+    vl, vr = tracks_from_setpoint(vs, ws, icr)
+    assert float(ws) == 1.0
+    assert float(vl) == pytest.approx(-1.0)
+    assert abs(float(vr)) < 1.0
+    assert float(vs) == pytest.approx(-(1.0 - 0.5625))
+
+
+def test_follower_commands_are_saturated_for_a_goal_behind() -> None:
+    # a large gain and a goal straight behind ask for w = 5 · π: beyond eq. (6)
+    f = follower([np.array([[-10.0, 0.0]])], gain=5.0, speed=V_MAX)
+    vl, vr = f.command(np.zeros(1), np.zeros(1), np.zeros(1))
+    assert max(abs(float(vl[0])), abs(float(vr[0]))) == pytest.approx(V_MAX)
+    assert float(vl[0]) == pytest.approx(-float(vr[0]))  # on the spot: v reduced to 0
+
+
+# --- way-point switching (d_th) and stop --------------------------------------------------
+
+
+def test_switches_goal_within_d_th_and_steers_to_the_next() -> None:
+    f = follower([np.array([[5.0, 0.0], [5.0, 5.0], [0.0, 5.0]])])
+    vl, vr = f.command(np.array([3.9]), np.zeros(1), np.zeros(1))  # 1.1 m away: keep goal
+    assert int(f.index[0]) == 0
+    assert float(yaw_rate_of(vl, vr)[0]) == pytest.approx(0.0, abs=1e-12)
+    vl, vr = f.command(np.array([4.1]), np.zeros(1), np.zeros(1))  # 0.9 m: next goal
+    assert int(f.index[0]) == 1
+    expected = 0.18 * math.atan2(5.0, 0.9)
+    assert float(yaw_rate_of(vl, vr)[0]) == pytest.approx(expected, rel=1e-9)
+    assert not f.stopped[0]
+
+
+def test_skips_several_goals_inside_d_th_at_once() -> None:
+    f = follower([np.array([[1.0, 0.0], [1.2, 0.0], [10.0, 0.0]])])
+    f.command(np.array([0.5]), np.zeros(1), np.zeros(1))
+    assert int(f.index[0]) == 2
+
+
+def test_stops_at_the_last_goal_and_stays_stopped() -> None:
+    f = follower([np.array([[5.0, 0.0], [10.0, 0.0]])])
+    f.command(np.array([4.5]), np.zeros(1), np.zeros(1))
+    vl, vr = f.command(np.array([9.5]), np.zeros(1), np.zeros(1))
+    assert f.stopped[0]
+    assert (float(vl[0]), float(vr[0])) == (0.0, 0.0)
+    vl, vr = f.command(np.array([30.0]), np.array([7.0]), np.array([2.0]))  # far away later
+    assert (float(vl[0]), float(vr[0])) == (0.0, 0.0)
+
+
+def test_runs_in_a_batch_are_independent() -> None:
+    goals = [np.array([[5.0, 0.0], [5.0, 5.0]]), np.array([[0.0, 8.0]])]
+    f = follower(goals)
+    x, y, yaw = np.array([4.5, 0.0]), np.array([0.0, 0.0]), np.array([0.0, 0.0])
+    vl, vr = f.command(x, y, yaw)
+    assert list(f.index) == [1, 0]
+    for i, g in enumerate(goals):
+        single = follower([g])
+        sl, sr = single.command(x[i : i + 1], y[i : i + 1], yaw[i : i + 1])
+        assert (float(vl[i]), float(vr[i])) == (float(sl[0]), float(sr[0]))
+
+
+# --- bad input -------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "field"),
+    [
+        ({"gain": 0.0}, "gain"),
+        ({"speed_mps": -0.3}, "speed_mps"),
+        ({"switch_radius_m": float("nan")}, "switch_radius_m"),
+    ],
+)
+def test_bad_gains_name_the_field(kwargs: dict[str, float], field: str) -> None:
+    with pytest.raises(InputError, match=field):
+        HeadingController(**kwargs)
+
+
+def test_bad_goals_raise_input_error() -> None:
+    with pytest.raises(InputError, match="shape"):
+        follower([np.array([1.0, 2.0])])
+    with pytest.raises(InputError, match="finite"):
+        follower([np.array([[1.0, float("nan")]])])
