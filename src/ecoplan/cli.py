@@ -1,18 +1,452 @@
-"""The ``ecoplan`` command line (grown by the scenario/CLI issue)."""
+"""The ``ecoplan`` command line: scenario runs, comparisons, diagnosis, benchmarks.
+
+Exit codes: 0 success, 2 bad input (a scenario, a log, an argument: one-line message on
+stderr, never a traceback), 1 failure on valid input (no route within the budget).
+"""
 
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import statistics
 import sys
-from collections.abc import Sequence
+import time
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any
 
 from ecoplan.errors import EcoplanError, InputError
-from ecoplan.presets import vehicle
 
 __all__ = ["main"]
 
+_EPILOG = """\
+examples:
+  ecoplan run scenarios/ab_obstacle.yaml --out reports/ab
+  ecoplan plan scenarios/cluttered_ompl.yaml --json
+  ecoplan simulate scenarios/ab_obstacle.yaml --waypoints 25,10 50,0
+  ecoplan compare scenarios/ab_obstacle.yaml --out reports/ab-compare --workers 2
+  ecoplan compare scenarios/cluttered_ompl.yaml --scheduler tcp://10.0.0.5:8786
+  ecoplan diagnose run1.csv run2.csv --vehicle auriga-beta-wide --json gap.json --out rep/
+  ecoplan bench scenarios/cluttered_ompl.yaml --planners graph,ompl:RRTstar --seeds 3
+  ecoplan demo --out reports/demo
 
-def _demo(args: argparse.Namespace) -> int:
+Report folders (--out): a new or empty folder is created; a folder ecoplan wrote before
+is updated in place (only its own files are replaced); any other non-empty folder is
+refused unless --force.  --json prints machine-readable results on stdout (or writes
+them to FILE) and turns the progress bar off.
+exit codes: 0 ok, 2 bad input, 1 failure on valid input.
+"""
+
+
+# ------------------------------------------------------------------ output helpers
+
+
+@dataclass
+class _Out:
+    """Where human text and JSON go for one command."""
+
+    json_target: str | None
+    quiet: bool = False
+
+    @property
+    def json_to_stdout(self) -> bool:
+        return self.json_target == "-"
+
+    def say(self, text: str = "") -> None:
+        """Human-readable line: stdout, or stderr when stdout carries JSON."""
+        if self.quiet:
+            return
+        stream: IO[str] = sys.stderr if self.json_to_stdout else sys.stdout
+        print(text, file=stream)
+
+    def emit(self, payload: Any) -> None:
+        """Write the JSON payload if --json was given."""
+        if self.json_target is None:
+            return
+        text = json.dumps(payload, indent=1, default=_json_default)
+        if self.json_to_stdout:
+            print(text)
+        else:
+            path = Path(self.json_target)
+            if path.suffix in (".yaml", ".yml"):
+                raise InputError(
+                    f"--json {path}: looks like a scenario; put --json after the scenario "
+                    "or give it a .json file name"
+                )
+            try:
+                path.write_text(text + "\n")
+            except OSError as exc:
+                raise InputError(f"--json {path}: cannot write: {exc.strerror or exc}") from None
+            self.say(f"JSON written to {path}")
+
+
+def _json_default(obj: Any) -> Any:
+    if hasattr(obj, "tolist"):
+        return obj.tolist()
+    if isinstance(obj, Path):
+        return str(obj)
+    return str(obj)
+
+
+def _out(args: argparse.Namespace) -> _Out:
+    return _Out(getattr(args, "json", None), quiet=getattr(args, "quiet", False))
+
+
+@contextmanager
+def _progress(
+    args: argparse.Namespace, label: str, total: int
+) -> Iterator[Callable[[int, int], None]]:
+    """A rich progress bar on stderr (off for --json, --quiet or when not a terminal)."""
+    enabled = (
+        sys.stderr.isatty()
+        and getattr(args, "json", None) is None
+        and not getattr(args, "quiet", False)
+        and total > 1
+    )
+    if not enabled:
+        yield lambda done, total: None
+        return
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+    with Progress(
+        "[progress.description]{task.description}",
+        BarColumn(),
+        MofNCompleteColumn(),
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    ) as bar:
+        task = bar.add_task(label, total=total)
+        yield lambda done, total: bar.update(task, completed=done, total=total)
+
+
+# ----------------------------------------------------------------------- commands
+
+
+def _load(args: argparse.Namespace) -> Any:
+    from ecoplan.scenario import load_scenario
+
+    return load_scenario(args.scenario)
+
+
+def _budget(args: argparse.Namespace) -> float | None:
+    b = getattr(args, "time_budget", None)
+    if b is not None and not (b > 0 and b < 1e6):
+        raise InputError(f"--time-budget {b}: expected a number of seconds > 0")
+    return b
+
+
+def _report(
+    args: argparse.Namespace, sc: Any, results: Sequence[Any], out: _Out, **kw: Any
+) -> list[Path]:
+    if not args.out:
+        return []
+    from ecoplan.report import prepare_out_dir, write_report
+
+    folder = prepare_out_dir(args.out, force=args.force)
+    files = write_report(sc, results, folder, force=args.force, **kw)
+    out.say(f"report written to {folder.path}/ ({len(files)} files):")
+    for f in files:
+        out.say(f"  {f}")
+    return files
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from ecoplan.scenario import simulate_case
+
+    out = _out(args)
+    sc = _load(args)
+    case = sc.cases()[0] if not sc.spec.compare else _base_case(sc)
+    with _progress(args, "planning + simulating", 2) as tick:
+        tick(0, 2)
+        result = simulate_case(case, time_budget_s=_budget(args))
+        tick(2, 2)
+    _print_case(out, result)
+    files = _report(args, sc, [result], out)
+    out.emit({"scenario": sc.name, "case": result.summary(), "files": files})
+    return 0
+
+
+def _base_case(sc: Any) -> Any:
+    from ecoplan.scenario import Case
+
+    return Case(sc.spec.name, sc.spec.model_copy(update={"compare": []}), sc.source)
+
+
+def _print_case(out: _Out, r: Any) -> None:
+    p = r.plan
+    out.say(f"{r.name}: route from {p.planner}, {len(p.waypoints)} points, {p.length_m:.1f} m")
+    if p.estimate_energy_j is not None:
+        out.say(f"  planner estimate: {p.estimate_energy_j / 1e3:.2f} kJ")
+    if r.sim is not None:
+        s = r.sim
+        state = "goal reached" if s.completed else "TIME LIMIT before the goal"
+        out.say(
+            f"  simulated: {r.energy_j / 1e3:.2f} kJ in {s.time_s:.1f} s over {s.length_m:.1f} m, "
+            f"psi {s.psi_rad:.2f} rad, peak {r.peak_power_w:.0f} W ({state})"
+        )
+    if r.battery is not None:
+        out.say(f"  battery: {r.battery.sentence()}")
+
+
+def _cmd_plan(args: argparse.Namespace) -> int:
+    from ecoplan.scenario import plan_case
+
+    out = _out(args)
+    sc = _load(args)
+    case = _base_case(sc)
+    plan = plan_case(case, time_budget_s=_budget(args))
+    out.say(
+        f"{sc.name}: route from {plan.planner}, {plan.length_m:.1f} m, v_sp {plan.speed_mps} m/s"
+    )
+    for x, y in plan.waypoints:
+        out.say(f"  {x:9.3f} {y:9.3f}")
+    if plan.estimate_energy_j is not None:
+        out.say(f"  planner estimate: {plan.estimate_energy_j / 1e3:.2f} kJ")
+    out.emit(
+        {
+            "scenario": sc.name,
+            "planner": plan.planner,
+            "waypoints": plan.waypoints.tolist(),
+            "speed_mps": plan.speed_mps,
+            "length_m": plan.length_m,
+            "planning_time_s": plan.planning_time_s,
+            "estimate_energy_j": plan.estimate_energy_j,
+            "alternatives": [a.tolist() for a in plan.alternatives],
+        }
+    )
+    return 0
+
+
+def _parse_points(items: Sequence[str]) -> list[list[float]]:
+    import math
+
+    pts = []
+    for item in items:
+        try:
+            x, y = (float(v) for v in item.split(","))
+        except ValueError:
+            raise InputError(f"--waypoints {item!r}: expected X,Y (two numbers)") from None
+        if not (math.isfinite(x) and math.isfinite(y)):
+            raise InputError(f"--waypoints {item!r}: coordinates must be finite")
+        pts.append([x, y])
+    return pts
+
+
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    from ecoplan.scenario import parse_scenario, simulate_case
+
+    out = _out(args)
+    sc = _load(args)
+    if args.waypoints:
+        import yaml
+
+        data = sc.spec.model_dump(exclude_none=True)
+        data.update(waypoints=_parse_points(args.waypoints), compare=[])
+        data.pop("planner", None)
+        data.pop("goal", None)
+        sc = parse_scenario(yaml.safe_dump(data), source=f"{sc.source} (--waypoints)")
+    case = _base_case(sc)
+    if case.planner.type != "none":
+        raise InputError(
+            f"{sc.source}: simulate needs fixed waypoints (in the file or --waypoints X,Y ...); "
+            "use `ecoplan run` to plan first"
+        )
+    result = simulate_case(case)
+    _print_case(out, result)
+    files = _report(args, sc, [result], out)
+    out.emit({"scenario": sc.name, "case": result.summary(), "files": files})
+    return 0
+
+
+def _cmd_compare(args: argparse.Namespace) -> int:
+    from functools import partial
+
+    from ecoplan.executor import make_executor
+    from ecoplan.report import summary_table
+    from ecoplan.scenario import run_case
+
+    out = _out(args)
+    sc = _load(args)
+    cases = sc.cases()
+    if len(cases) < 2:
+        raise InputError(f"{sc.source}: compare needs a `compare:` list of at least two variants")
+    task = partial(run_case, time_budget_s=_budget(args))
+    with make_executor(args.scheduler, args.workers) as ex:
+        with _progress(args, f"{len(cases)} cases on {ex.description}", len(cases)) as tick:
+            results = ex.map(task, cases, on_done=tick)
+        where = ex.description
+    for r in results:
+        _print_case(out, r)
+    out.say()
+    out.say(summary_table(results))
+    files = _report(args, sc, results, out, title=f"{sc.name}: comparison", executor=where)
+    best = min(results, key=lambda r: r.energy_j)
+    out.emit(
+        {
+            "scenario": sc.name,
+            "executor": where,
+            "best": best.name,
+            "cases": [r.summary() for r in results],
+            "files": files,
+        }
+    )
+    return 0
+
+
+def _cmd_diagnose(args: argparse.Namespace) -> int:
+    try:
+        from ecoplan.diagnose.pipeline import run_diagnose_cli
+    except ImportError:
+        raise EcoplanError(
+            "diagnosis is not available in this build (ecoplan.diagnose.pipeline)"
+        ) from None
+    out_dir = args.out
+    if out_dir:
+        from ecoplan.report import prepare_out_dir
+
+        folder = prepare_out_dir(out_dir, force=args.force)
+        out_dir = str(folder.path)
+    code = run_diagnose_cli(
+        [str(p) for p in args.logs], args.vehicle, args.terrain, args.json, out_dir
+    )
+    if out_dir:
+        folder.written.extend(p for p in folder.path.iterdir() if p.is_file())
+        folder.finish()
+    return int(code)
+
+
+@dataclass(frozen=True)
+class _BenchCase:
+    scenario: str
+    planner: str
+    seed: int
+    time_s: float
+
+
+def _bench_one(c: _BenchCase) -> dict[str, Any]:
+    """One benchmark case: plan the scenario with a planner and seed, then simulate."""
+    from ecoplan.scenario import Case, load_scenario, simulate_case
+
+    sc = load_scenario(c.scenario)
+    kind, _, name = c.planner.partition(":")
+    planner: dict[str, Any] = {"type": kind, "seed": c.seed, "time_s": c.time_s}
+    if name:
+        planner["name"] = name
+    spec = sc.spec.model_copy(update={"compare": []})
+    from ecoplan.scenario import PlannerSection
+
+    spec = spec.model_copy(update={"planner": PlannerSection(**planner), "waypoints": None})
+    t0 = time.perf_counter()
+    r = simulate_case(Case(f"{c.planner}#{c.seed}", spec, sc.source))
+    return {
+        "scenario": sc.name,
+        "planner": c.planner,
+        "seed": c.seed,
+        "planning_time_s": r.plan.planning_time_s,
+        "estimate_energy_j": r.plan.estimate_energy_j,
+        "energy_j": r.energy_j,
+        "time_s": r.sim.time_s if r.sim else None,
+        "completed": bool(r.sim.completed) if r.sim else False,
+        "wall_s": time.perf_counter() - t0,
+    }
+
+
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from ecoplan.executor import make_executor
+    from ecoplan.scenario import load_scenario
+
+    out = _out(args)
+    planners = [p.strip() for p in args.planners.split(",") if p.strip()]
+    for p in planners:
+        kind, _, name = p.partition(":")
+        if kind not in ("graph", "ompl") or (kind == "ompl" and not name):
+            raise InputError(f"--planners {p!r}: expected graph or ompl:<name> (e.g. ompl:RRTstar)")
+    if args.seeds < 1 or args.seeds > 10_000:
+        raise InputError(f"--seeds {args.seeds}: expected 1..10000")
+    for s in args.scenarios:
+        sc = load_scenario(s)  # validate up front: bad input fails before any work
+        if sc.spec.goal is None:
+            raise InputError(f"{s}: bench needs a scenario with a goal (it plans the route)")
+    cases = [
+        _BenchCase(str(s), p, seed, args.time)
+        for s in args.scenarios
+        for p in planners
+        for seed in (range(args.seeds) if p.startswith("ompl") else range(1))
+    ]
+    with make_executor(args.scheduler, args.workers) as ex:
+        with _progress(args, f"{len(cases)} cases on {ex.description}", len(cases)) as tick:
+            rows = ex.map(_bench_one, cases, on_done=tick)
+        where = ex.description
+    groups: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    for row in rows:
+        groups.setdefault((row["scenario"], row["planner"]), []).append(row)
+    table = [
+        "| scenario | planner | runs | median energy [kJ] | median planning [s] |",
+        "|---|---|---|---|---|",
+    ]
+    summary = []
+    for (scn, pl), rs in groups.items():
+        e = statistics.median(r["energy_j"] for r in rs)
+        t = statistics.median(r["planning_time_s"] for r in rs)
+        table.append(f"| {scn} | {pl} | {len(rs)} | {e / 1e3:.2f} | {t:.3f} |")
+        summary.append(
+            {
+                "scenario": scn,
+                "planner": pl,
+                "runs": len(rs),
+                "median_energy_j": e,
+                "median_planning_time_s": t,
+            }
+        )
+    out.say(f"bench: {len(cases)} cases on {where}")
+    out.say("\n".join(table))
+    files: list[Path] = []
+    if args.out:
+        import csv
+
+        from ecoplan.report import prepare_out_dir
+
+        folder = prepare_out_dir(args.out, force=args.force)
+        with folder.file("bench.csv").open("w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+        folder.file("bench.md").write_text(
+            f"# ecoplan bench ({where})\n\n" + "\n".join(table) + "\n"
+        )
+        files = folder.finish()
+        out.say(f"bench written to {folder.path}/")
+    out.emit({"executor": where, "summary": summary, "runs": rows, "files": files})
+    return 0
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    out = _out(args)
+    try:
+        from ecoplan.sim.replay import run_demo
+    except ImportError:
+        return _fig3_cases(out)
+    from ecoplan.report import prepare_out_dir
+
+    folder = prepare_out_dir(args.out, force=args.force)
+    files = [Path(p) for p in run_demo(folder.path)]
+    folder.written.extend(files)
+    folder.finish()
+    out.say(f"A->B replay report written to {folder.path}/:")
+    for f in files:
+        out.say(f"  {f}")
+    out.emit({"files": files})
+    return 0
+
+
+def _fig3_cases(out: _Out) -> int:
+    from ecoplan.presets import vehicle
+
     params = vehicle("auriga-beta-wide", "marble")
     cases = {
         "1 straight": (0.4, 0.4),
@@ -24,26 +458,174 @@ def _demo(args: argparse.Namespace) -> int:
         p = params.power(vl, vr)
         parts = ", ".join(f"{k[:-2]} {float(v):.0f}" for k, v in p.components().items())
         total = float(p.total_w)
-        print(f"case {label:12s} V=({vl:+.1f},{vr:+.1f}) m/s  P_T {total:6.0f} W  [{parts}]")
+        out.say(f"case {label:12s} V=({vl:+.1f},{vr:+.1f}) m/s  P_T {total:6.0f} W  [{parts}]")
     return 0
+
+
+# ------------------------------------------------------------------------- parser
+
+
+def _common(p: argparse.ArgumentParser, *, out: bool = True) -> None:
+    p.add_argument(
+        "--json",
+        nargs="?",
+        const="-",
+        metavar="FILE",
+        help="machine-readable results on stdout, or into FILE",
+    )
+    if out:
+        p.add_argument(
+            "--out", metavar="DIR", help="write the report (figures, CSV, markdown) here"
+        )
+        p.add_argument(
+            "--force",
+            action="store_true",
+            help="write into a non-empty folder ecoplan did not create",
+        )
+    p.add_argument("-q", "--quiet", action="store_true", help="no human-readable output")
+
+
+def _sweep(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDR",
+        help="Dask scheduler address (tcp://host:8786); default: processes on this machine",
+    )
+    p.add_argument(
+        "--workers", type=int, metavar="N", help="local worker processes (default: all cores)"
+    )
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``ecoplan`` (exposed for documentation and tests)."""
+    fmt = argparse.RawDescriptionHelpFormatter
+    parser = argparse.ArgumentParser(
+        prog="ecoplan",
+        description="Energy-aware planning and simulation for skid-steer robots.",
+        epilog=_EPILOG,
+        formatter_class=fmt,
+    )
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    run = sub.add_parser(
+        "run",
+        help="plan, simulate and report a scenario",
+        formatter_class=fmt,
+        epilog="example:\n  ecoplan run scenarios/battery_mission.yaml --out reports/mission",
+    )
+    run.add_argument("scenario", type=Path, help="scenario YAML file")
+    run.add_argument("--time-budget", type=float, metavar="S", help="cap the planner's time [s]")
+    _common(run)
+    run.set_defaults(func=_cmd_run)
+
+    plan = sub.add_parser(
+        "plan",
+        help="plan a scenario's route (no simulation)",
+        formatter_class=fmt,
+        epilog="example:\n  ecoplan plan scenarios/pioneer_power_limit.yaml --json",
+    )
+    plan.add_argument("scenario", type=Path)
+    plan.add_argument("--time-budget", type=float, metavar="S")
+    _common(plan, out=False)
+    plan.set_defaults(func=_cmd_plan)
+
+    sim = sub.add_parser(
+        "simulate",
+        help="simulate fixed waypoints with the heading controller",
+        formatter_class=fmt,
+        epilog="example:\n  ecoplan simulate scenarios/ab_obstacle.yaml "
+        "--waypoints 20,12 32,12 50,0",
+    )
+    sim.add_argument("scenario", type=Path)
+    sim.add_argument(
+        "--waypoints", nargs="+", metavar="X,Y", help="replace the waypoints (after the start)"
+    )
+    _common(sim)
+    sim.set_defaults(func=_cmd_simulate)
+
+    cmp_ = sub.add_parser(
+        "compare",
+        help="run a scenario's compare variants side by side",
+        formatter_class=fmt,
+        epilog="example:\n  ecoplan compare scenarios/ab_obstacle.yaml "
+        "--out reports/ab --workers 2",
+    )
+    cmp_.add_argument("scenario", type=Path)
+    cmp_.add_argument("--time-budget", type=float, metavar="S")
+    _sweep(cmp_)
+    _common(cmp_)
+    cmp_.set_defaults(func=_cmd_compare)
+
+    diag = sub.add_parser(
+        "diagnose",
+        help="locate and explain the sim-to-real gap of logs",
+        formatter_class=fmt,
+        epilog="example:\n  ecoplan diagnose run1.csv --vehicle pioneer-3at "
+        "--json gap.json --out rep/",
+    )
+    diag.add_argument("logs", nargs="+", type=Path, metavar="LOG")
+    diag.add_argument("--vehicle", required=True, help="vehicle preset (e.g. auriga-beta-wide)")
+    diag.add_argument("--terrain", help="terrain preset")
+    diag.add_argument("--json", metavar="FILE", help="write the diagnosis JSON here")
+    diag.add_argument("--out", metavar="DIR", help="write plots and the summary here")
+    diag.add_argument("--force", action="store_true")
+    diag.set_defaults(func=_cmd_diagnose)
+
+    bench = sub.add_parser(
+        "bench",
+        help="planners x seeds on scenarios, through the executor",
+        formatter_class=fmt,
+        epilog="example:\n  ecoplan bench scenarios/cluttered_ompl.yaml "
+        "--planners graph,ompl:RRTstar",
+    )
+    bench.add_argument("scenarios", nargs="+", type=Path, metavar="SCENARIO")
+    bench.add_argument("--planners", default="graph", help="comma list: graph, ompl:<name>")
+    bench.add_argument("--seeds", type=int, default=3, help="seeds per OMPL planner")
+    bench.add_argument("--time", type=float, default=1.0, help="planner time budget [s]")
+    _sweep(bench)
+    _common(bench)
+    bench.set_defaults(func=_cmd_bench)
+
+    demo = sub.add_parser("demo", help="replay the A->B experiment and write its report")
+    demo.add_argument("--out", default="reports/demo", metavar="DIR")
+    demo.add_argument("--force", action="store_true")
+    demo.add_argument("--json", nargs="?", const="-", metavar="FILE")
+    demo.add_argument("-q", "--quiet", action="store_true")
+    demo.set_defaults(func=_cmd_demo)
+    return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``ecoplan`` console script; returns the exit code."""
-    parser = argparse.ArgumentParser(prog="ecoplan", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="replay the A->B experiment and write its report")
-    demo.add_argument("--out", default="reports/demo")
-    demo.set_defaults(func=_demo)
-    args = parser.parse_args(argv)
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help (0) or a usage error (2, message already printed)
+        return int(exc.code) if isinstance(exc.code, int) else 2
     try:
         return int(args.func(args))
     except InputError as exc:
-        print(f"ecoplan: error: {exc}", file=sys.stderr)
+        print(f"ecoplan: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except EcoplanError as exc:
-        print(f"ecoplan: failed: {exc}", file=sys.stderr)
+        print(f"ecoplan: failed: {_one_line(exc)}", file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print("ecoplan: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug: one line unless the user asks for the traceback
+        if os.environ.get("ECOPLAN_DEBUG"):
+            raise
+        print(
+            f"ecoplan: internal error: {type(exc).__name__}: {_one_line(exc)} "
+            "(set ECOPLAN_DEBUG=1 for the traceback)",
+            file=sys.stderr,
+        )
+        return 1
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())
 
 
 if __name__ == "__main__":

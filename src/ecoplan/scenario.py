@@ -36,24 +36,31 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Any, Literal, Union
 
+import numpy as np
 import yaml
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 from shapely import Point as ShapelyPoint
 from shapely import Polygon, box
 from shapely.validation import explain_validity
 
-from ecoplan.errors import InputError, ScenarioError
+from ecoplan._typing import FloatArray
+from ecoplan.errors import InputError, PlanningError, ScenarioError
 from ecoplan.presets import VehicleParams, VehicleSpec
+from ecoplan.sim.controller import HeadingController
+from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 from ecoplan.world import GeometryError, World, circle
 
 __all__ = [
     "MAX_FILE_BYTES",
     "MAX_YAML_NODES",
     "BatterySection",
+    "BatteryVerdict",
     "Case",
+    "CaseResult",
     "ControllerSection",
     "MapSection",
     "OutputsSection",
+    "PlanOutcome",
     "PlannerSection",
     "Pose",
     "Region",
@@ -67,6 +74,9 @@ __all__ = [
     "VehicleSection",
     "load_scenario",
     "parse_scenario",
+    "plan_case",
+    "run_case",
+    "simulate_case",
 ]
 
 #: Largest scenario file accepted [bytes].
@@ -325,6 +335,7 @@ class Case:
 
     name: str
     spec: ScenarioSpec
+    source: str = "<string>"
 
     @property
     def planner(self) -> PlannerSection:
@@ -391,7 +402,7 @@ class Scenario:
     def cases(self) -> list[Case]:
         """Independent cases: the ``compare`` variants, or the scenario itself."""
         if not self.spec.compare:
-            return [Case(self.spec.name, self.spec)]
+            return [Case(self.spec.name, self.spec, self.source)]
         out = []
         for v in self.spec.compare:
             update: dict[str, Any] = {}
@@ -405,7 +416,7 @@ class Scenario:
                 if getattr(v, key) is not None:
                     update[key] = getattr(v, key)
             update["compare"] = []
-            out.append(Case(v.name, self.spec.model_copy(update=update)))
+            out.append(Case(v.name, self.spec.model_copy(update=update), self.source))
         return out
 
 
@@ -847,3 +858,331 @@ def _check_points(sc: Scenario, lines: _LineMap) -> None:
                     f"{spec.map.inflation_m:g} m) separate the goal from the start",
                 )
             return
+
+
+# ------------------------------------------------------------------------- running
+
+
+@dataclass(frozen=True, eq=False)
+class PlanOutcome:
+    """The route of one case: planned, or the fixed waypoints.
+
+    Attributes
+    ----------
+    planner : str
+        ``"fixed"``, ``"graph"`` or ``"ompl:<name>"``, with ``"/length"`` for the
+        shortest-path baseline.
+    waypoints : ndarray
+        ``(n, 2)`` polyline [m]: the start, then the goals in order.
+    speed_mps : float
+        Speed set point of the heading controller ``v_sp`` [m/s].
+    planning_time_s : float
+        Wall-clock time of planning [s] (0 for fixed waypoints).
+    estimate_energy_j : float or None
+        The planner's analytic energy of the route [J], if it computed one.
+    alternatives : tuple of ndarray
+        Further distinct waypoint sets the planner returned (``planner.k > 1``).
+    """
+
+    planner: str
+    waypoints: FloatArray
+    speed_mps: float
+    planning_time_s: float = 0.0
+    estimate_energy_j: float | None = None
+    alternatives: tuple[FloatArray, ...] = ()
+
+    @property
+    def length_m(self) -> float:
+        """Length of the waypoint polyline [m]."""
+        return float(np.sum(np.hypot(*np.diff(self.waypoints, axis=0).T)))
+
+
+@dataclass(frozen=True)
+class BatteryVerdict:
+    """Whether a run fits its battery budget, and where the battery would run out.
+
+    Attributes
+    ----------
+    capacity_wh : float
+        Battery capacity [Wh].
+    usable_j : float
+        Energy available after the reserve [J].
+    used_j : float
+        Energy the simulated run used [J].
+    completes : bool
+        True when the run reached its goal within the usable energy.
+    margin_j : float
+        ``usable_j - used_j`` [J] (negative when the battery runs out).
+    empty_at : tuple of float or None
+        ``(t_s, x_m, y_m, distance_m)`` where the usable energy is exhausted, if it is.
+    """
+
+    capacity_wh: float
+    usable_j: float
+    used_j: float
+    completes: bool
+    margin_j: float
+    empty_at: tuple[float, float, float, float] | None
+
+    @property
+    def margin_fraction(self) -> float:
+        """Margin as a fraction of the usable energy."""
+        return self.margin_j / self.usable_j
+
+    def sentence(self) -> str:
+        """One sentence for reports."""
+        wh = self.used_j / 3600.0
+        if self.completes:
+            return (
+                f"The plan completes on the battery: it uses {wh:.2f} Wh of "
+                f"{self.usable_j / 3600.0:.2f} Wh usable, a margin of "
+                f"{self.margin_j / 3600.0:.2f} Wh ({100 * self.margin_fraction:.0f} %)."
+            )
+        if self.empty_at is None:
+            return (
+                f"The run did not reach its goal (time limit); it used {wh:.2f} Wh of "
+                f"{self.usable_j / 3600.0:.2f} Wh usable."
+            )
+        t, x, y, d = self.empty_at
+        return (
+            f"The plan does NOT complete: the {self.usable_j / 3600.0:.2f} Wh usable run out "
+            f"after {t:.0f} s and {d:.1f} m, at ({x:.1f}, {y:.1f}) m; the whole run needs "
+            f"{wh:.2f} Wh ({-self.margin_j / 3600.0:.2f} Wh more)."
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class CaseResult:
+    """Plan, simulation and energy accounting of one case.
+
+    The power is the simulator's, re-evaluated per step on the terrain under the
+    vehicle when the map has terrain regions (the kinematics stay those of the default
+    terrain).
+
+    Attributes
+    ----------
+    name : str
+        Case name.
+    plan : PlanOutcome
+        The route.
+    sim : SimResult or None
+        The heading-controller run (None for ``plan`` only).
+    p_total_w : ndarray
+        Electrical power per step [W] (terrain-aware).
+    p_left_w, p_right_w : ndarray
+        Mechanical power per side per step [W] (terrain-aware).
+    components_w : dict of str to ndarray
+        Power breakdown per step [W].
+    terrain : tuple of str
+        Terrain under the vehicle per step.
+    energy_j : float
+        Energy of locomotion [J].
+    breakdown_j : dict of str to float
+        Energy per component [J]; sums to ``energy_j``.
+    battery : BatteryVerdict or None
+        Battery check, when the scenario has a budget.
+    """
+
+    name: str
+    plan: PlanOutcome
+    sim: SimResult | None
+    p_total_w: FloatArray
+    p_left_w: FloatArray
+    p_right_w: FloatArray
+    components_w: dict[str, FloatArray]
+    terrain: tuple[str, ...]
+    energy_j: float
+    breakdown_j: dict[str, float]
+    battery: BatteryVerdict | None
+
+    @property
+    def cumulative_energy_j(self) -> FloatArray:
+        """Energy used up to the start of each step [J]."""
+        if self.sim is None:
+            return np.zeros(0)
+        dt = self.sim.dt_s
+        return np.concatenate([[0.0], np.cumsum(self.p_total_w[:-1]) * dt])
+
+    @property
+    def peak_power_w(self) -> float:
+        """Largest power of an integrated step [W]."""
+        if self.sim is None or self.sim.n_steps == 0:
+            return 0.0
+        return float(np.max(self.p_total_w[:-1]))
+
+    def summary(self) -> dict[str, Any]:
+        """JSON-ready numbers of the case (SI units)."""
+        out: dict[str, Any] = {
+            "name": self.name,
+            "planner": self.plan.planner,
+            "waypoints": self.plan.waypoints.round(4).tolist(),
+            "speed_mps": self.plan.speed_mps,
+            "planning_time_s": round(self.plan.planning_time_s, 4),
+            "planned_length_m": round(self.plan.length_m, 4),
+            "estimate_energy_j": self.plan.estimate_energy_j,
+        }
+        if self.sim is not None:
+            out.update(
+                energy_j=self.energy_j,
+                time_s=self.sim.time_s,
+                length_m=self.sim.length_m,
+                psi_rad=self.sim.psi_rad,
+                peak_power_w=self.peak_power_w,
+                mean_power_w=self.energy_j / self.sim.time_s if self.sim.time_s else 0.0,
+                completed=self.sim.completed,
+                breakdown_j=dict(self.breakdown_j),
+            )
+        if self.battery is not None:
+            b = self.battery
+            out["battery"] = {
+                "capacity_wh": b.capacity_wh,
+                "usable_j": b.usable_j,
+                "used_j": b.used_j,
+                "completes": b.completes,
+                "margin_j": b.margin_j,
+                "margin_fraction": b.margin_fraction,
+                "empty_at": (
+                    None
+                    if b.empty_at is None
+                    else dict(zip(("t_s", "x_m", "y_m", "distance_m"), b.empty_at, strict=True))
+                ),
+            }
+        return out
+
+
+def _case_scenario(case: Case) -> Scenario:
+    return _build(case.spec, case.source, _LineMap())
+
+
+def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
+    """Plan the route of a case (or take its fixed waypoints).
+
+    Parameters
+    ----------
+    case : Case
+        The case.
+    time_budget_s : float, optional
+        Caps the planner's time budget (tests and quick looks).
+
+    Returns
+    -------
+    PlanOutcome
+        The route and how it was found.
+
+    Raises
+    ------
+    PlanningError
+        The planner found no route within its budget.
+    """
+    sc = _case_scenario(case)
+    spec = case.spec
+    planner = case.planner
+    speed = _speed_setpoint(sc, spec.speed)
+    start = np.asarray([spec.start.xy], dtype=np.float64)
+    if planner.type == "none":
+        assert spec.waypoints is not None
+        wps = np.vstack([start, np.asarray(spec.waypoints, dtype=np.float64)])
+        return PlanOutcome("fixed", wps, speed)
+    return _plan_with(sc, planner, speed, time_budget_s)
+
+
+def _speed_setpoint(sc: Scenario, speed: SpeedSection) -> float:
+    if speed.policy == "fixed":
+        return float(speed.v_mps)
+    raise PlanningError("speed policy 'optimal' is not available yet (ecoplan.planning.speed)")
+
+
+def _plan_with(
+    sc: Scenario, planner: PlannerSection, speed_mps: float, time_budget_s: float | None
+) -> PlanOutcome:
+    raise PlanningError(f"planner {planner.type!r} is not available yet")
+
+
+def simulate_case(
+    case: Case, plan: PlanOutcome | None = None, *, time_budget_s: float | None = None
+) -> CaseResult:
+    """Plan (unless ``plan`` is given) and simulate one case with the heading controller.
+
+    Parameters
+    ----------
+    case : Case
+        The case.
+    plan : PlanOutcome, optional
+        A route to simulate instead of planning one.
+    time_budget_s : float, optional
+        Caps the planner's time budget.
+
+    Returns
+    -------
+    CaseResult
+        The simulated run with its energy accounting and battery verdict.
+    """
+    sc = _case_scenario(case)
+    if plan is None:
+        plan = plan_case(case, time_budget_s=time_budget_s)
+    spec = case.spec
+    ctrl = HeadingController(
+        gain=spec.controller.gain, speed_mps=plan.speed_mps, switch_radius_m=spec.controller.d_th_m
+    )
+    sim = simulate_waypoints(
+        sc.params,
+        plan.waypoints,
+        ctrl,
+        start_yaw_rad=spec.start.yaw_rad,
+        config=SimConfig(dt_s=spec.simulation.dt_s, t_max_s=spec.simulation.t_max_s),
+    )
+    return _account(sc, case.name, plan, sim)
+
+
+def run_case(case: Case, time_budget_s: float | None = None) -> CaseResult:
+    """:func:`simulate_case` with a positional time budget (a picklable executor task)."""
+    return simulate_case(case, time_budget_s=time_budget_s)
+
+
+def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> CaseResult:
+    dt = sim.dt_s
+    n = sim.n_steps
+    if sc.regions:
+        pts = np.column_stack([sim.x, sim.y])
+        terrain = tuple(t or sc.default_terrain for t in sc.world.terrain_at(pts))
+        p_total = np.array(sim.p_total, dtype=np.float64, copy=True)
+        p_left = np.array(sim.p_left, dtype=np.float64, copy=True)
+        p_right = np.array(sim.p_right, dtype=np.float64, copy=True)
+        comps = {k: np.array(v, dtype=np.float64, copy=True) for k, v in sim.components_w.items()}
+        for terr in sorted(set(terrain)):
+            idx = np.flatnonzero(np.asarray(terrain) == terr)
+            pw = sc.vehicle.on(terr).power(sim.v_left[idx], sim.v_right[idx])
+            p_total[idx] = pw.total_w
+            p_left[idx] = pw.left_w
+            p_right[idx] = pw.right_w
+            for k, v in pw.components().items():
+                comps[k][idx] = v
+    else:
+        terrain = (sc.default_terrain,) * len(sim.t)
+        p_total = np.asarray(sim.p_total, dtype=np.float64)
+        p_left = np.asarray(sim.p_left, dtype=np.float64)
+        p_right = np.asarray(sim.p_right, dtype=np.float64)
+        comps = {k: np.asarray(v, dtype=np.float64) for k, v in sim.components_w.items()}
+    energy = float(np.sum(p_total[:n]) * dt)
+    breakdown = {k: float(np.sum(v[:n]) * dt) for k, v in comps.items()}
+    battery = None
+    if sc.spec.battery is not None:
+        battery = _battery(sc.spec.battery, sim, p_total, energy)
+    return CaseResult(
+        name, plan, sim, p_total, p_left, p_right, comps, terrain, energy, breakdown, battery
+    )
+
+
+def _battery(
+    b: BatterySection, sim: SimResult, p_total: FloatArray, energy: float
+) -> BatteryVerdict:
+    usable = b.usable_j
+    n = sim.n_steps
+    cum = np.concatenate([[0.0], np.cumsum(p_total[:n]) * sim.dt_s])
+    empty_at = None
+    if cum[-1] > usable:
+        k = int(np.searchsorted(cum, usable))  # first row with cum >= usable
+        dist = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(sim.x), np.diff(sim.y)))])
+        empty_at = (float(sim.t[k]), float(sim.x[k]), float(sim.y[k]), float(dist[k]))
+    completes = sim.completed and energy <= usable
+    return BatteryVerdict(b.capacity_wh, usable, energy, completes, usable - energy, empty_at)
