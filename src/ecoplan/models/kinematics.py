@@ -32,6 +32,7 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.errors import InputError
+from ecoplan.models._validate import finite_array
 
 __all__ = [
     "BodyTwist",
@@ -112,10 +113,6 @@ class BodyTwist(NamedTuple):
     wz: FloatArray
 
 
-def _f(a: ArrayLike) -> FloatArray:
-    return np.asarray(a, dtype=np.float64)
-
-
 def tracks_to_twist(v_left: ArrayLike, v_right: ArrayLike, icr: TrackICR) -> BodyTwist:
     """Body twist from track speeds, tracked paper eqs. (1)-(3) in REP-103.
 
@@ -135,7 +132,7 @@ def tracks_to_twist(v_left: ArrayLike, v_right: ArrayLike, icr: TrackICR) -> Bod
     BodyTwist
         ``(vx, vy, wz)`` arrays broadcast from the inputs.
     """
-    vl, vr = _f(v_left), _f(v_right)
+    vl, vr = finite_array("v_left", v_left), finite_array("v_right", v_right)
     wz = (vr - vl) / icr.spread_m
     vx = 0.5 * (vr + vl) + wz * 0.5 * (icr.y_left_m + icr.y_right_m)
     vy = -wz * icr.x_m
@@ -155,7 +152,7 @@ def setpoint_to_tracks(
     tuple of ndarray
         ``(v_left, v_right)`` [m/s].
     """
-    v, w = _f(vx_sp), _f(wz_sp)
+    v, w = finite_array("vx_sp", vx_sp), finite_array("wz_sp", wz_sp)
     return v - icr.y_left_m * w, v - icr.y_right_m * w
 
 
@@ -165,7 +162,11 @@ def max_forward_speed(
     """Largest forward speed reachable with a yaw-rate set point, tracked paper eq. (5).
 
     ``v_max = sign(v) (V_max - C_x^r w)`` for ``w > 0`` and ``sign(v) (V_max - C_x^l w)``
-    otherwise; in REP-103, ``V_max + y_r w`` and ``V_max - y_l |w|``.  The result
+    otherwise; in REP-103, ``V_max + y_r w`` and ``V_max - y_l |w|`` forward.  Eq. (5)
+    assumes the same track limits the speed in both directions, which holds for
+    symmetric ICRs only; this function solves ``|V^{l,r}| <= V_max`` with eq. (4)
+    exactly, so that with asymmetric ICRs the reverse limit is set by the other track:
+    ``v`` lies in ``[max(y_l w, y_r w) - V_max, min(y_l w, y_r w) + V_max]``.  The result
     is clipped at zero: a yaw rate above ``w_max`` (eq. 6) leaves no speed at all.
 
     Parameters
@@ -184,10 +185,17 @@ def max_forward_speed(
     ndarray
         Signed maximum longitudinal speed [m/s].
     """
-    w = _f(wz_sp)
-    lever = np.where(w > 0.0, -icr.y_right_m, icr.y_left_m)
-    vmax = np.maximum(top_track_speed_mps - lever * np.abs(w), 0.0)
-    return np.where(_f(direction) < 0.0, -1.0, 1.0) * vmax
+    w = finite_array("wz_sp", wz_sp)
+    forward = finite_array("direction", direction) >= 0.0
+    a, b = icr.y_left_m * w, icr.y_right_m * w
+    reach = np.where(
+        forward,
+        top_track_speed_mps + np.minimum(a, b),
+        top_track_speed_mps - np.maximum(a, b),
+    )
+    w_max = max_yaw_rate(icr, top_track_speed_mps) * (1.0 + 1e-12)
+    reach = np.where(np.abs(w) <= w_max, reach, 0.0)
+    return np.where(forward, 1.0, -1.0) * np.maximum(reach, 0.0)
 
 
 def max_yaw_rate(icr: TrackICR, top_track_speed_mps: float) -> float:

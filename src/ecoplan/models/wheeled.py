@@ -14,8 +14,10 @@ it would brake up to r ≈ 16 m.
 
 Limits of the radius (defined here, not in the paper):
 
-* ``r -> inf`` (straight): ``a = a_inf``, ``b = b_inf`` on both sides; ``r = inf`` is
-  accepted and evaluated exactly.
+* ``r -> inf`` (straight): ``a = a_inf``, ``b = b_inf``; ``r = inf`` is accepted and
+  evaluated exactly.  The two fits' ``a_inf`` differ (7.53 vs 10.22 W s/m on asphalt)
+  although Fig. 6's torques converge, so in exactly straight motion
+  :func:`wheeled_power` gives each side the mean of the inner and outer powers.
 * ``r -> 0`` (on the spot): ``(r + 1)^-beta -> 1``, so ``a(0) = a_inf + a_alpha`` and
   ``b(0) = b_inf + b_alpha``.  The linear speed of the centre is zero on the spot, so each
   side draws ``b(0)`` -- 300 W on the outer side on asphalt, far above any limit: the
@@ -114,7 +116,7 @@ class WheeledParams:
     track_gauge_m : float
         Distance between the wheel centrelines of the two sides [m].
     chi : float
-        Efficiency index χ (tracked eq. 12) of the side ICRs, in (0, 1].
+        Efficiency index χ (tracked eq. 12) of the side ICRs, in (0, 1) (skid-steer: < 1).
     top_track_speed_mps : float
         Top side speed [m/s] (the paper's 0.9 m/s on asphalt).
     inner, outer : SideCoefficients
@@ -154,7 +156,7 @@ class WheeledParams:
         o = "WheeledParams"
         check_range(o, "mass_kg", self.mass_kg, 0.0, lo_open=True)
         check_range(o, "track_gauge_m", self.track_gauge_m, 0.0, lo_open=True)
-        check_range(o, "chi", self.chi, 0.0, 1.0, lo_open=True)
+        check_range(o, "chi", self.chi, 0.0, 1.0, lo_open=True, hi_open=True)
         check_range(o, "top_track_speed_mps", self.top_track_speed_mps, 0.0, lo_open=True)
         check_range(o, "p_powerup_w", self.p_powerup_w, 0.0)
         half = self.track_gauge_m / (2.0 * self.chi)
@@ -193,25 +195,32 @@ def wheeled_power(v_left: ArrayLike, v_right: ArrayLike, params: WheeledParams) 
     """Power breakdown of the wheeled model for side speeds, wheeled eqs. (12)-(15).
 
     Side speeds map to ``(v, wz)`` by the ICR kinematics (tracked eqs. 1-3) and to
-    ``r = |v / wz|``; the side towards the turn centre is the inner one.  Battery draw per
-    side is ``|P|``.  The breakdown attributes to ``resistance_w`` the straight-line
-    power at the same speed, ``sum (a_inf |v| + b_inf)``, to ``braking_w`` the magnitude
-    of a side's negative power, and the rest to ``friction_w`` (skidding).  A stopped
-    vehicle draws only ``p_powerup_w``.
+    ``r = |v / wz|``; the side towards the turn centre (at ``y = vx / wz``) is the inner
+    one, also when reversing; in straight motion each side draws the mean of the inner and
+    outer powers.  Battery draw per side is ``|P|``.  The breakdown attributes to
+    ``resistance_w`` the straight-line power at the same speed, ``sum (a_inf |v| + b_inf)``,
+    to ``braking_w`` the magnitude of a side's negative power, and the rest to
+    ``friction_w`` (skidding).  A stopped vehicle draws only ``p_powerup_w``.
     """
     vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
     tw = tracks_to_twist(vl, vr, params.icr)
     v = np.abs(tw.vx)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
     p_in, p_out = wheeled_power_vr(v, r, params)
     case = motion_case(vl, vr, params.case_tol_mps)
     moving = case != MotionCase.STOPPED
     p_in = np.where(moving, p_in, 0.0)
     p_out = np.where(moving, p_out, 0.0)
-    left_inner = tw.wz > 0.0
-    left = np.where(left_inner, p_in, p_out)
-    right = np.where(left_inner, p_out, p_in)
+    # the turn centre lies at y = vx / wz: on the left when vx and wz share a sign (forward
+    # left turn, or reversing along the same arc); on the spot the turning side decides
+    left_inner = np.where(tw.vx != 0.0, tw.vx * tw.wz > 0.0, tw.wz > 0.0)
+    # straight (r = inf): no inner or outer side; Tables I-II's a_inf differ between the
+    # two fits, so each side draws their mean (the total is unchanged)
+    mean = 0.5 * (p_in + p_out)
+    straight_motion = np.isinf(r)
+    left = np.where(straight_motion, mean, np.where(left_inner, p_in, p_out))
+    right = np.where(straight_motion, mean, np.where(left_inner, p_out, p_in))
     draw = np.abs(p_in) + np.abs(p_out)
     straight = np.where(
         moving,
