@@ -28,21 +28,34 @@ The scenario (Fig. 14's coordinates are not in the text; chosen here)
 
 Outcome of the checks (see :func:`findings`; ``ecoplan demo`` writes them)
 ------------------------------------------------------------------------
-All five findings of the text hold in the replay: wide > narrow in every pairing (the
-wide set has a larger K and a smaller χ on asphalt); 4 way points cost more than 3 with
-a larger ψ (three turns of 24.6° against turns of 15.9° and 31.8°, plus the
-controller's corrections); 0.3 m/s costs more than 0.5 m/s because the drivers'
-power-up (58 W / η) runs about 68 s longer -- the energy that depends on distance
-(traction resistance) or on ψ (dynamic friction) is nearly speed-independent; G = 0.18
-costs less than G = 0.12 and its path lies closer to the segments.
+All findings of the text hold in the replay, in every pairing of the grid (ratios from
+``replay()``, 100 Hz):
 
-Why G = 0.18 is cheaper in the model: the low gain does not turn *less* in total (ψ is
-set by the heading change between the legs, and is in fact slightly larger with G =
-0.12), it turns *longer*: the heading error decays as ``exp(-G t)``, so the robot spends
-more time and distance in case 2 of Fig. 3 (both tracks forward at different speeds),
-where the dragged motor's power is not regenerated (``k_nr (|V_l| + |V_r|)``, §III-C),
-and it drives a longer, wider path around each corner.  Concentrated turns favour
-straight motion -- the paper's second guideline.
+* wide > narrow: E_wide / E_narrow = 1.043-1.047.  Mostly traction resistance (K = 342 N
+  against 324 N, §III-C); the wide set's smaller χ on asphalt adds dynamic friction.
+* 4 way points > 3: E_4 / E_3 = 1.016-1.034 with ψ_4 / ψ_3 = 1.7-1.9.  The polylines'
+  own turns are 47.7° (3 wp, starting towards B: 15.9° + 31.8°) against 73.7° (4 wp:
+  3 x 24.6°); the controller adds more with 4 way points, because the 11 m first leg is
+  too short for the heading error to decay before the switch, so the robot overshoots
+  the middle leg and turns back.  The extra energy is dynamic friction and the
+  non-regenerated power of case 2 (Fig. 3b), both proportional to the turning.
+* 0.3 m/s > 0.5 m/s: E_0.3 / E_0.5 = 1.055-1.080, and the slow runs take 66.7-66.9 s
+  longer (paper: "about 68 s"; 52 m / 0.3 - 52 m / 0.5 = 69 s, the robot stops ~1 m
+  short of B).  The drivers' power-up (58 W / η) running longer costs ~3.9 kJ more;
+  the other terms are *smaller* at 0.3 m/s (a slightly shorter path and a smaller ψ:
+  the heading loop, in 1/s, corrects more per metre at low speed) and offset 0.7-1.4
+  kJ of it.
+* G = 0.18 < G = 0.12: E_0.18 / E_0.12 = 0.989-0.997 (0.1-0.5 kJ).  The low gain does
+  not turn less: its heading error decays as ``exp(-G t)``, the robot reaches the
+  switching circle off the segment, overshoots the next leg and turns back (ψ larger by
+  0.05-0.20 rad), spends 15-37 s more in case 2 (dragged track not regenerated,
+  ``k_nr (|V_l| + |V_r|)``) and drives a 0.1-0.3 m longer path.  The saving splits
+  roughly evenly between traction resistance (longer path), dynamic friction (ψ) and
+  the non-regenerated power -- the paper's second guideline: concentrated turns favour
+  straight-line motion.
+* The G = 0.18 paths lie closer to the segments: mean distance 0.52-0.60 of G = 0.12's.
+
+The tracked paths clear the obstacle by at least 2.4 m beyond the robot's half width.
 """
 
 from __future__ import annotations
