@@ -9,3 +9,12 @@ def test_straight_track_speeds_give_zero_dynamic_friction() -> None:
     # Tracked paper eq. (10): P_S is proportional to |w_z|, and w_z = 0 for equal speeds (eq. 3).
     p = vehicle("auriga-beta-wide", "asphalt").power(0.5, 0.5)
     assert math.isclose(float(p.friction_w), 0.0, abs_tol=1e-12)
+
+
+def test_public_names_import() -> None:
+    import ecoplan.datasets as datasets
+    import ecoplan.models as models
+
+    for module in (models, datasets):
+        for name in module.__all__:
+            assert getattr(module, name) is not None
