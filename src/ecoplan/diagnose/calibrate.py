@@ -1,0 +1,230 @@
+"""Calibrate first: re-identify the base model's own parameters on the training split.
+
+A gap between the model and a log is either wrong parameters or missing physics.  Before any
+candidate effect is tried, the base model's parameters are re-fitted on the training data, so
+that only what calibration cannot close is attributed to unmodelled effects (issue 6).
+
+* **Tracked** (Morales et al. 2009, eqs. 14-20): ``P_T`` is linear in ``µ``, ``K`` (eq. 18) and
+  the driver terms (power-up, braking, non-regenerated ``k_nr``) once χ (eq. 12) and η are
+  fixed: ``P_T = (µ c_µ + K c_K + P_pu + P_br c_br + k_nr c_nr) / η``.  The unit columns
+  ``c_j`` are computed **by the model itself** (one parameter at 1, the others at 0), so the
+  fit cannot drift from the model.  η only scales the others and is not identifiable; it stays
+  at the preset's value.  χ is found by a bounded scalar search (``scipy.optimize``) around
+  non-negative linear least squares (``scipy.optimize.lsq_linear``).
+* **Wheeled** (Chuy et al. 2009, eqs. 12-15): per side ``P = a(r) v + b(r)`` is linear in
+  ``a_inf, a_alpha, b_inf, b_alpha`` for fixed decay exponents; the battery draw ``|P|`` is
+  handled by fixing each side's sign from the current fit and iterating.  χ as above.
+* **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
+  accelerations while a side is far from its command (saturated).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import lsq_linear, minimize_scalar
+
+from ecoplan._typing import FloatArray
+from ecoplan.diagnose.replay import Frame, smooth_derivative
+from ecoplan.models.kinematics import tracks_to_twist
+from ecoplan.models.tracked import TrackedParams
+from ecoplan.models.wheeled import SideCoefficients, WheeledParams, side_power
+from ecoplan.presets import VehicleParams
+
+__all__ = ["BaseDesign", "Calibration", "base_design", "calibrate", "fit_accel_limit"]
+
+_TRACKED_LINEAR = ("mu", "k_resistance_n", "p_powerup_w", "p_braking_w", "k_nonregen_n")
+_SIDE_LINEAR = ("a_inf", "a_alpha", "b_inf", "b_alpha")
+_CHI_BOUNDS = (0.3, 0.999)
+
+
+@dataclass(frozen=True, slots=True)
+class BaseDesign:
+    """Linear design of the base model: ``P ≈ X @ theta`` at fixed χ (and side signs).
+
+    Attributes
+    ----------
+    X : ndarray, shape (n, k)
+        Unit columns [W per unit of parameter].
+    names : tuple of str
+        Parameter names of the columns.
+    lower, upper : ndarray
+        Bounds of the coefficients.
+    """
+
+    X: FloatArray
+    names: tuple[str, ...]
+    lower: FloatArray
+    upper: FloatArray
+
+
+def _tracked_design(frame: Frame, params: TrackedParams) -> BaseDesign:
+    zero = {k: 0.0 for k in _TRACKED_LINEAR}
+    cols = []
+    for name in _TRACKED_LINEAR:
+        unit = dataclasses.replace(params, **{**zero, name: 1.0})
+        cols.append(unit.power(frame.vl, frame.vr).total_w)
+    k = len(cols)
+    return BaseDesign(np.column_stack(cols), _TRACKED_LINEAR, np.zeros(k), np.full(k, np.inf))
+
+
+def _wheeled_design(frame: Frame, params: WheeledParams, signs: FloatArray | None) -> BaseDesign:
+    tw = tracks_to_twist(frame.vl, frame.vr, params.icr)
+    v = np.abs(tw.vx)
+    with np.errstate(divide="ignore"):
+        r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
+    moving = (np.abs(frame.vl) > params.case_tol_mps) | (np.abs(frame.vr) > params.case_tol_mps)
+    if signs is None:
+        pb = params.power(frame.vl, frame.vr)
+        left_inner = tw.wz > 0.0
+        p_in = np.where(left_inner, pb.left_w, pb.right_w)
+        p_out = np.where(left_inner, pb.right_w, pb.left_w)
+        signs = np.stack([np.where(p_in < 0, -1.0, 1.0), np.where(p_out < 0, -1.0, 1.0)])
+    cols = []
+    names = []
+    for s_idx, (side_name, side) in enumerate((("inner", params.inner), ("outer", params.outer))):
+        for j, coef in enumerate(_SIDE_LINEAR):
+            unit = np.zeros(6)
+            unit[j if j < 2 else j + 1] = 1.0
+            unit[2], unit[5] = side.a_beta, side.b_beta
+            col = side_power(r, v, SideCoefficients(*unit))
+            cols.append(np.where(moving, signs[s_idx] * col, 0.0))
+            names.append(f"{side_name}.{coef}")
+    cols.append(np.ones(frame.n))
+    names.append("p_powerup_w")
+    k = len(cols)
+    lower = np.full(k, -np.inf)
+    lower[-1] = 0.0
+    return BaseDesign(np.column_stack(cols), tuple(names), lower, np.full(k, np.inf))
+
+
+def base_design(
+    frame: Frame, params: VehicleParams, signs: FloatArray | None = None
+) -> BaseDesign:
+    """Linear design of the base model at the parameters' χ (see the module docstring)."""
+    if isinstance(params, TrackedParams):
+        return _tracked_design(frame, params)
+    return _wheeled_design(frame, params, signs)
+
+
+def _apply(params: VehicleParams, names: tuple[str, ...], theta: FloatArray) -> VehicleParams:
+    if isinstance(params, TrackedParams):
+        return dataclasses.replace(params, **{n: float(max(v, 0.0)) for n, v in zip(names, theta)})
+    inner = dict(zip(_SIDE_LINEAR, theta[0:4]))
+    outer = dict(zip(_SIDE_LINEAR, theta[4:8]))
+    return dataclasses.replace(
+        params,
+        inner=dataclasses.replace(params.inner, **{k: float(v) for k, v in inner.items()}),
+        outer=dataclasses.replace(params.outer, **{k: float(v) for k, v in outer.items()}),
+        p_powerup_w=float(max(theta[8], 0.0)),
+    )
+
+
+def _solve(design: BaseDesign, y: FloatArray) -> FloatArray:
+    scale = np.maximum(np.sqrt(np.mean(design.X**2, axis=0)), 1e-12)
+    res = lsq_linear(
+        design.X / scale, y, bounds=(design.lower * scale, design.upper * scale), method="bvls"
+    )
+    return np.asarray(res.x / scale, dtype=np.float64)
+
+
+def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[VehicleParams, float]:
+    p = dataclasses.replace(params, chi=chi)
+    if isinstance(p, TrackedParams):
+        d = base_design(frame, p)
+        p = _apply(p, d.names, _solve(d, frame.p))
+    else:
+        for _ in range(3):
+            d = base_design(frame, p)
+            p = _apply(p, d.names, _solve(d, frame.p))
+    pred = p.power(frame.vl, frame.vr).total_w
+    return p, float(np.mean((frame.p - pred) ** 2))
+
+
+def fit_accel_limit(frame: Frame) -> float | None:
+    """Side acceleration limit from commanded speeds [m/s²], or None without commands.
+
+    The 95th percentile of ``|dv/dt|`` over the samples where a side is more than 0.05 m/s
+    away from its command (the drive is then saturated, tracked paper §III-A ramp).
+    """
+    if frame.vl_cmd is None or frame.vr_cmd is None:
+        return None
+    acc = []
+    for v, cmd in ((frame.vl, frame.vl_cmd), (frame.vr, frame.vr_cmd)):
+        for r in np.unique(frame.run):
+            idx = frame.run == r
+            a = smooth_derivative(frame.t[idx], v[idx])
+            far = np.abs(cmd[idx] - v[idx]) > 0.05
+            acc.append(np.abs(a[far]))
+    allacc = np.concatenate(acc)
+    if allacc.size < 20:
+        return None
+    return float(np.quantile(allacc, 0.95))
+
+
+@dataclass(frozen=True, slots=True)
+class Calibration:
+    """Result of re-identifying the base model's parameters.
+
+    Attributes
+    ----------
+    params : TrackedParams or WheeledParams
+        The calibrated parameters.
+    changed : dict
+        Parameter name -> (preset value, calibrated value).
+    mae_before_w, mae_after_w : float
+        Training-split MAE of the preset and of the calibrated model [W].
+    """
+
+    params: VehicleParams
+    changed: dict[str, tuple[float, float]]
+    mae_before_w: float
+    mae_after_w: float
+
+
+def _flat(params: VehicleParams) -> dict[str, float]:
+    out: dict[str, float] = {}
+    for f in dataclasses.fields(params):
+        if not f.init:
+            continue
+        val = getattr(params, f.name)
+        if isinstance(val, SideCoefficients):
+            for k, v in dataclasses.asdict(val).items():
+                out[f"{f.name}.{k}"] = float(v)
+        elif isinstance(val, int | float) and not isinstance(val, bool):
+            out[f.name] = float(val)
+    return out
+
+
+def calibrate(frame: Frame, params: VehicleParams) -> Calibration:
+    """Re-identify µ, K, χ, driver terms (or the wheeled coefficients) and the acceleration limit.
+
+    Parameters
+    ----------
+    frame : Frame
+        Training split.
+    params : TrackedParams or WheeledParams
+        Preset parameters (structure, η, geometry and starting values).
+
+    Returns
+    -------
+    Calibration
+        Calibrated parameters and the training MAE before and after.
+    """
+    before = float(np.mean(np.abs(frame.p - params.power(frame.vl, frame.vr).total_w)))
+    res = minimize_scalar(
+        lambda c: _fit_at_chi(frame, params, float(c))[1],
+        bounds=_CHI_BOUNDS,
+        method="bounded",
+        options={"xatol": 5e-3},
+    )
+    best, _ = _fit_at_chi(frame, params, float(res.x))
+    accel = fit_accel_limit(frame)
+    if accel is not None and accel > 0.0:
+        best = dataclasses.replace(best, accel_max_mps2=accel)
+    after = float(np.mean(np.abs(frame.p - best.power(frame.vl, frame.vr).total_w)))
+    old, new = _flat(params), _flat(best)
+    changed = {k: (old[k], new[k]) for k in new if k in old and not np.isclose(old[k], new[k])}
+    return Calibration(best, changed, before, after)

@@ -1,0 +1,268 @@
+"""The diagnosis entry point: replay, calibrate, localise, attribute, report (issue 6).
+
+>>> from ecoplan.diagnose.pipeline import diagnose  # doctest: +SKIP
+>>> d = diagnose(logs, "auriga-beta-wide", "asphalt")  # doctest: +SKIP
+>>> print(d.summary())  # doctest: +SKIP
+
+Steps, each in its module:
+
+1. :mod:`~ecoplan.diagnose.replay` — the preset's power model on the measured side speeds and the
+   kinematics on the commanded ones: residuals of power, energy, yaw rate, speed and pose;
+2. :mod:`~ecoplan.diagnose.calibrate` — the base model's own parameters re-identified on the
+   training split; the held-out gap it closes is reported apart;
+3. :mod:`~ecoplan.diagnose.localise` — where the calibrated model's held-out gap lies;
+4. :mod:`~ecoplan.diagnose.attribute` — which candidate effect explains what is left, whether
+   the log can tell the candidates apart, and how far the gap shrinks;
+5. :mod:`~ecoplan.diagnose.report` — text, plots and JSON; :mod:`~ecoplan.diagnose.loop` —
+   the corrected model written to a file.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ecoplan._typing import FloatArray, RngLike
+from ecoplan.diagnose.attribute import Attribution, attribute, block_bootstrap, split_masks
+from ecoplan.diagnose.calibrate import Calibration, calibrate
+from ecoplan.diagnose.effects import EffectData, prepare
+from ecoplan.diagnose.localise import (
+    RegimeShare,
+    SpaceMap,
+    TimeProfile,
+    by_regime,
+    over_space,
+    over_time,
+)
+from ecoplan.diagnose.replay import (
+    Frame,
+    LogLike,
+    ReplayResiduals,
+    build_frame,
+    case_tolerance,
+    replay_residuals,
+)
+from ecoplan.errors import InputError
+from ecoplan.presets import VehicleParams, vehicle
+
+__all__ = ["Diagnosis", "diagnose", "run_diagnose_cli"]
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnosis:
+    """Everything the diagnosis found (see :mod:`ecoplan.diagnose.report` for its outputs).
+
+    Attributes
+    ----------
+    vehicle : str
+        Preset name.
+    terrain : str or None
+        Terrain preset.
+    preset : TrackedParams or WheeledParams
+        Preset parameters as given.
+    calibration : Calibration
+        Calibrated parameters (fitted on the training split).
+    replay : ReplayResiduals
+        Residuals of the preset model on all samples.
+    gap_preset_w : float
+        Held-out MAE of the preset model [W].
+    gap_calibrated_w : float
+        Held-out MAE of the calibrated model [W].
+    gap_final_w : float
+        Held-out MAE of the final model (calibrated plus the verdict's effect) [W].
+    final_ci_w : tuple of float
+        95 % block-bootstrap interval of the final model's reduction of the calibrated gap [W].
+    where : list of RegimeShare
+        Error share against time share of the calibrated model on the held-out split.
+    time_profile : TimeProfile
+        Calibrated residual per block (held-out split).
+    space_map : SpaceMap or None
+        Map of the calibrated residual (held-out split), when pose is logged.
+    attribution : Attribution
+        Ranked candidates and verdict.
+    test_frame : Frame
+        The held-out samples.
+    residual_calibrated_w : ndarray
+        Held-out residual of the calibrated model [W].
+    dropped_rows : int
+        Rows the log reader dropped for a missing optional value (summed over logs).
+    n_runs : int
+        Number of logs.
+    duration_s : float
+        Total logged time [s].
+    split : str
+        ``"runs"`` or ``"blocks"``.
+    """
+
+    vehicle: str
+    terrain: str | None
+    preset: VehicleParams
+    calibration: Calibration
+    replay: ReplayResiduals
+    gap_preset_w: float
+    gap_calibrated_w: float
+    gap_final_w: float
+    final_ci_w: tuple[float, float]
+    where: list[RegimeShare]
+    time_profile: TimeProfile
+    space_map: SpaceMap | None
+    attribution: Attribution
+    test_frame: Frame = field(repr=False)
+    residual_calibrated_w: FloatArray = field(repr=False)
+    dropped_rows: int = 0
+    n_runs: int = 1
+    duration_s: float = 0.0
+    split: str = "blocks"
+
+    @property
+    def verdict(self) -> str:
+        """An effect name, ``none``, ``unexplained`` or ``ambiguous``."""
+        return self.attribution.verdict
+
+    def to_json_dict(self) -> dict[str, Any]:
+        """The stable JSON shape (see :func:`ecoplan.diagnose.report.to_json_dict`)."""
+        from ecoplan.diagnose.report import to_json_dict
+
+        return to_json_dict(self)
+
+    def summary(self) -> str:
+        """Plain-text summary (see :func:`ecoplan.diagnose.report.summary`)."""
+        from ecoplan.diagnose.report import summary
+
+        return summary(self)
+
+
+def _rng(rng: RngLike) -> np.random.Generator:
+    return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+
+
+def diagnose(
+    logs: Sequence[LogLike] | LogLike,
+    vehicle_name: str | VehicleParams,
+    terrain: str | None = None,
+    *,
+    effects: Sequence[str] | None = None,
+    rng: RngLike = 0,
+    block_s: float | None = None,
+) -> Diagnosis:
+    """Diagnose the gap between logged runs and the model of a vehicle.
+
+    Parameters
+    ----------
+    logs : Log or sequence of Log
+        Runs (anything with ``t``, ``v_left``, ``v_right``, ``p_total`` arrays and the optional
+        columns of the log format).
+    vehicle_name : str or TrackedParams or WheeledParams
+        Vehicle preset name, or parameters directly.
+    terrain : str, optional
+        Terrain preset (ignored when parameters are given).
+    effects : sequence of str, optional
+        Candidates to try (default: the whole library).
+    rng : Generator, int or None
+        Randomness of the bootstrap (default seed 0: reproducible reports).
+    block_s : float, optional
+        Time-block length for splits and bootstrap [s].
+
+    Returns
+    -------
+    Diagnosis
+        The full result.
+    """
+    gen = _rng(rng)
+    if isinstance(vehicle_name, str):
+        params = vehicle(vehicle_name, terrain)
+        name = vehicle_name
+    else:
+        params, name = vehicle_name, vehicle_name.name
+    log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item,arg-type]
+    tol = case_tolerance(log_list)
+    if tol > params.case_tol_mps:
+        params = dataclasses.replace(params, case_tol_mps=tol)
+    frame = build_frame(log_list, params, block_s)
+    train_m, test_m = split_masks(frame)
+    if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
+        raise InputError("log too short to diagnose: need at least 40 samples after the split")
+    replay = replay_residuals(frame, params.power(frame.vl, frame.vr).total_w, params.accel_max_mps2)
+    train_f, test_f = frame.subset(train_m), frame.subset(test_m)
+    cal = calibrate(train_f, params)
+    train = prepare(train_f, cal.params)
+    test = prepare(test_f, cal.params)
+    att = attribute(train, test, gen, effects)
+    r_cal = test.p - att.fitted["none"].predict(test)
+    gap_cal = float(np.mean(np.abs(r_cal)))
+    final = att.fitted.get(att.verdict if att.verdict in att.fitted else "none", att.fitted["none"])
+    if att.verdict == "ambiguous" and att.tied:
+        final = att.fitted[att.tied[0]]
+    r_fin = test.p - final.predict(test)
+    _, lo, hi, _ = block_bootstrap(r_cal, r_fin, test_f.block.astype(np.float64), gen)
+    dropped = int(sum(int(getattr(lg, "dropped_rows", 0) or 0) for lg in log_list))
+    return Diagnosis(
+        vehicle=name,
+        terrain=terrain,
+        preset=params,
+        calibration=cal,
+        replay=replay,
+        gap_preset_w=float(np.mean(np.abs(replay.power_w[test_m]))),
+        gap_calibrated_w=gap_cal,
+        gap_final_w=float(np.mean(np.abs(r_fin))),
+        final_ci_w=(lo, hi),
+        where=by_regime(test_f, r_cal, cal.params),
+        time_profile=over_time(test_f, r_cal),
+        space_map=over_space(test_f, r_cal),
+        attribution=att,
+        test_frame=test_f,
+        residual_calibrated_w=r_cal,
+        dropped_rows=dropped,
+        n_runs=len(log_list),
+        duration_s=frame.duration_s,
+        split="runs" if len(log_list) > 1 else "blocks",
+    )
+
+
+def _effect_data(d: Diagnosis) -> EffectData:
+    return prepare(d.test_frame, d.calibration.params)
+
+
+def run_diagnose_cli(
+    log_paths: list[str],
+    vehicle: str,
+    terrain: str | None,
+    json_path: str | None,
+    out_dir: str | None,
+) -> int:
+    """Back end of ``ecoplan diagnose LOG [LOG ...] --vehicle PRESET [--terrain PRESET]``.
+
+    Reads the logs, prints the text summary, writes the JSON (``--json``) and the figures and
+    corrected model (``--out``).  Bad input raises :class:`~ecoplan.errors.InputError`
+    subclasses (exit code 2 in the CLI).
+
+    Returns
+    -------
+    int
+        Exit code (0).
+    """
+    from ecoplan.diagnose.logio import read_logs
+    from ecoplan.diagnose.loop import save_corrected_model
+    from ecoplan.diagnose.report import save_figures, write_json
+
+    if not log_paths:
+        raise InputError("no log file given")
+    logs = read_logs(log_paths)
+    d = diagnose(logs, vehicle, terrain)
+    print(d.summary())
+    if json_path is not None:
+        write_json(d, json_path)
+    if out_dir is not None:
+        out = Path(out_dir)
+        out.mkdir(parents=True, exist_ok=True)
+        write_json(d, out / "diagnosis.json")
+        for p in save_figures(d, out):
+            print(f"figure: {p}")
+        path = save_corrected_model(d, out / "corrected_model.json")
+        print(f"corrected model: {path}")
+    return 0

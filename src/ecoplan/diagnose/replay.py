@@ -1,0 +1,422 @@
+"""Replay a logged run through the model: the first step of the sim-to-real diagnosis.
+
+Two replays, as issue 6 asks:
+
+* the **power model on the measured side speeds** — ``P_model(v_l, v_r)`` against the logged
+  ``p_total``: residual power, energy (cumulative) and per-run energy error;
+* the **kinematics on the commanded speeds** when the log has them — a rate-limited
+  first-order-free tracking (the vehicle's ``accel_max_mps2``, tracked paper §III-A: top speed
+  in a 2.5 s ramp) gives the speeds the model expects, and the ICR kinematics (tracked paper
+  eqs. 1-3) give yaw rate and dead-reckoned pose, compared with the logged ``wz`` and pose.
+
+Everything per sample lives in a :class:`Frame`, the common input of calibration, effects and
+localisation.  Several runs are concatenated; derivatives and dead reckoning never cross a run
+boundary.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+from scipy.signal import savgol_coeffs, savgol_filter
+
+from ecoplan._typing import BoolArray, FloatArray, IntArray
+from ecoplan.errors import InputError
+from ecoplan.models.kinematics import tracks_to_twist
+from ecoplan.presets import VehicleParams
+
+__all__ = [
+    "Frame",
+    "LogLike",
+    "ReplayResiduals",
+    "build_frame",
+    "case_tolerance",
+    "rate_limit",
+    "smooth",
+    "replay_residuals",
+    "smooth_derivative",
+]
+
+
+class LogLike(Protocol):
+    """What the diagnosis reads from a log (:class:`ecoplan.diagnose.logio.Log` fits it).
+
+    Required arrays ``t`` [s], ``v_left``, ``v_right`` [m/s], ``p_total`` [W]; the optional
+    ones (``v_left_cmd``, ``v_right_cmd``, ``x``, ``y``, ``yaw``, ``wz``) may be ``None``.
+    """
+
+    @property
+    def t(self) -> Any: ...  # noqa: D102
+
+    @property
+    def v_left(self) -> Any: ...  # noqa: D102
+
+    @property
+    def v_right(self) -> Any: ...  # noqa: D102
+
+    @property
+    def p_total(self) -> Any: ...  # noqa: D102
+
+
+def _opt(log: object, name: str, n: int) -> FloatArray | None:
+    val = getattr(log, name, None)
+    if val is None:
+        return None
+    arr = np.asarray(val, dtype=np.float64)
+    if arr.shape != (n,):
+        raise InputError(f"log column {name!r} has {arr.size} rows, expected {n}")
+    return arr
+
+
+def smooth_derivative(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> FloatArray:
+    """Time derivative of a noisy signal by a Savitzky-Golay filter (quadratic, ``window_s``).
+
+    Falls back to central differences when the run is shorter than the window.
+    """
+    n = y.size
+    if n < 3:
+        return np.zeros(n)
+    dt = float(np.median(np.diff(t)))
+    win = int(round(window_s / dt)) | 1
+    win = max(win, 5)
+    if win >= n:
+        return np.gradient(y, t)
+    return np.asarray(savgol_filter(y, win, 2, deriv=1, delta=dt), dtype=np.float64)
+
+
+def rate_limit(t: FloatArray, target: FloatArray, accel_max: float, tau_s: float = 0.0) -> FloatArray:
+    """Speeds a drive reaches following ``target`` with a rate limit and an optional lag [m/s].
+
+    ``dv/dt = clip((target - v) / tau, -a_max, a_max)`` (``tau = 0``: pure rate limit), explicit
+    Euler on the log's time stamps, starting at ``target[0]``.
+    """
+    v = np.empty_like(target)
+    v[0] = target[0]
+    dts = np.diff(t)
+    for i, dt in enumerate(dts, start=1):
+        err = target[i - 1] - v[i - 1]
+        step = err if tau_s <= 0.0 else err * min(dt / tau_s, 1.0)
+        lim = accel_max * dt
+        v[i] = v[i - 1] + min(max(step, -lim), lim)
+    return v
+
+
+@dataclass(frozen=True, slots=True)
+class Frame:
+    """Per-sample quantities of one or more concatenated runs (the diagnosis's working table).
+
+    Attributes
+    ----------
+    t : ndarray
+        Time [s] (per run, as logged).
+    run : ndarray of int
+        Run index of every sample.
+    vl, vr : ndarray
+        Measured side speeds, smoothed (zero phase) [m/s].
+    vx, wz : ndarray
+        Body forward speed [m/s] and yaw rate [rad/s] from the side speeds (tracked eqs. 1-3).
+    ax, alpha : ndarray
+        Smoothed time derivatives of ``vx`` [m/s²] and ``wz`` [rad/s²].
+    p : ndarray
+        Measured electrical power ``p_total`` [W].
+    dp : ndarray
+        Smoothed time derivative of the measured power [W/s].
+    dt : ndarray
+        Sample duration used for energy [s] (forward difference, last sample repeats).
+    x, y, yaw : ndarray or None
+        Logged pose [m, m, rad].
+    wz_log : ndarray or None
+        Logged yaw rate [rad/s].
+    vl_cmd, vr_cmd : ndarray or None
+        Commanded side speeds [m/s].
+    block : ndarray of int
+        Time-block index (global, for splits and bootstrap).
+    """
+
+    t: FloatArray
+    run: IntArray
+    vl: FloatArray
+    vr: FloatArray
+    vx: FloatArray
+    wz: FloatArray
+    ax: FloatArray
+    alpha: FloatArray
+    p: FloatArray
+    dp: FloatArray
+    dt: FloatArray
+    x: FloatArray | None
+    y: FloatArray | None
+    yaw: FloatArray | None
+    wz_log: FloatArray | None
+    vl_cmd: FloatArray | None
+    vr_cmd: FloatArray | None
+    block: IntArray
+
+    @property
+    def n(self) -> int:
+        """Number of samples."""
+        return int(self.t.size)
+
+    @property
+    def duration_s(self) -> float:
+        """Total logged time [s]."""
+        return float(np.sum(self.dt))
+
+    def subset(self, mask: BoolArray) -> Frame:
+        """The samples where ``mask`` is true (all arrays sliced alike)."""
+        kw: dict[str, Any] = {}
+        for f in dataclasses.fields(self):
+            val = getattr(self, f.name)
+            kw[f.name] = None if val is None else val[mask]
+        return Frame(**kw)
+
+
+def _concat(parts: Sequence[FloatArray | None]) -> FloatArray | None:
+    if any(p is None for p in parts):
+        return None
+    return np.concatenate([p for p in parts if p is not None])
+
+
+def smooth(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> FloatArray:
+    """Zero-phase Savitzky-Golay smoothing (quadratic, ``window_s``); unchanged if too short."""
+    n = y.size
+    dt = float(np.median(np.diff(t))) if n > 1 else 1.0
+    win = max(int(round(window_s / dt)) | 1, 3)
+    if window_s <= 0.0 or win >= n or win <= 3:
+        return y
+    return np.asarray(savgol_filter(y, win, 2), dtype=np.float64)
+
+
+def _window(t: FloatArray, window_s: float) -> int:
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 1.0
+    return max(int(round(window_s / dt)) | 1, 3)
+
+
+def case_tolerance(logs: Sequence[LogLike], smooth_s: float = 0.3) -> float:
+    """Speed tolerance for the motion cases that the encoder noise calls for [m/s].
+
+    The raw side-speed noise ``σ`` is estimated from second differences (robust MAD:
+    ``var(Δ²v) = 6 σ²`` for white noise); after smoothing it shrinks by the filter's noise gain
+    ``sqrt(Σ h²)``.  Four smoothed standard deviations, clipped to [1 mm/s, 5 cm/s], keep a robot
+    at rest in case "stopped" and a straight run in case 1 of Fig. 3.
+    """
+    est = []
+    for log in logs:
+        t = np.asarray(log.t, dtype=np.float64)
+        for v in (np.asarray(log.v_left, dtype=np.float64), np.asarray(log.v_right, np.float64)):
+            if v.size < 5:
+                continue
+            dd = np.diff(v, 2)
+            est.append(1.4826 * float(np.median(np.abs(dd - np.median(dd)))) / np.sqrt(6.0))
+        win = _window(t, smooth_s)
+    if not est:
+        return 1e-3
+    sigma = float(np.median(est))
+    gain = 1.0
+    if smooth_s > 0.0 and win > 3:
+        gain = float(np.sqrt(np.sum(savgol_coeffs(win, 2) ** 2)))
+    return float(np.clip(4.0 * sigma * gain, 1e-3, 0.05))
+
+
+def build_frame(
+    logs: Sequence[LogLike],
+    params: VehicleParams,
+    block_s: float | None = None,
+    smooth_s: float = 0.3,
+) -> Frame:
+    """Concatenate logs into a :class:`Frame`, computing kinematics and smoothed derivatives.
+
+    Parameters
+    ----------
+    logs : sequence of LogLike
+        One or more runs.
+    params : TrackedParams or WheeledParams
+        Vehicle parameters (their ICRs give ``vx`` and ``wz``).
+    block_s : float, optional
+        Length of a time block [s]; default: the total duration / 80, at least 2 s.
+    smooth_s : float
+        Window of the zero-phase smoothing of the measured side speeds [s] (0: none).  The
+        power model is static in the speeds: encoder noise would otherwise turn into model
+        noise (and flip the motion cases of Fig. 3 at standstill).
+
+    Returns
+    -------
+    Frame
+        The working table.
+    """
+    if not logs:
+        raise InputError("no logs given to diagnose")
+    cols: dict[str, list[Any]] = {k: [] for k in ("t", "run", "vl", "vr", "p", "dt")}
+    opt: dict[str, list[FloatArray | None]] = {
+        k: [] for k in ("x", "y", "yaw", "wz_log", "vl_cmd", "vr_cmd")
+    }
+    for k in ("vx", "wz", "ax", "alpha", "dp"):
+        cols[k] = []
+    icr = params.icr
+    for i, log in enumerate(logs):
+        t = np.asarray(log.t, dtype=np.float64)
+        n = t.size
+        if n < 2:
+            raise InputError(f"log {i} has {n} row(s); at least 2 are needed")
+        vl = np.asarray(log.v_left, dtype=np.float64)
+        vr = np.asarray(log.v_right, dtype=np.float64)
+        p = np.asarray(log.p_total, dtype=np.float64)
+        for name, arr in (("v_left", vl), ("v_right", vr), ("p_total", p)):
+            if arr.shape != (n,):
+                raise InputError(f"log {i} column {name!r} has {arr.size} rows, expected {n}")
+            if not np.all(np.isfinite(arr)):
+                raise InputError(f"log {i} column {name!r} has NaN or inf values")
+        if not np.all(np.diff(t) > 0):
+            raise InputError(f"log {i} column 't' is not strictly increasing")
+        vl = smooth(t, vl, smooth_s)
+        vr = smooth(t, vr, smooth_s)
+        tw = tracks_to_twist(vl, vr, icr)
+        dt = np.diff(t)
+        cols["t"].append(t)
+        cols["run"].append(np.full(n, i, dtype=np.int64))
+        cols["vl"].append(vl)
+        cols["vr"].append(vr)
+        cols["p"].append(p)
+        cols["dt"].append(np.append(dt, dt[-1]))
+        cols["vx"].append(tw.vx)
+        cols["wz"].append(tw.wz)
+        cols["ax"].append(smooth_derivative(t, tw.vx))
+        cols["alpha"].append(smooth_derivative(t, tw.wz))
+        cols["dp"].append(smooth_derivative(t, p))
+        opt["x"].append(_opt(log, "x", n))
+        opt["y"].append(_opt(log, "y", n))
+        opt["yaw"].append(_opt(log, "yaw", n))
+        opt["wz_log"].append(_opt(log, "wz", n))
+        opt["vl_cmd"].append(_opt(log, "v_left_cmd", n))
+        opt["vr_cmd"].append(_opt(log, "v_right_cmd", n))
+    dt_all = np.concatenate(cols["dt"])
+    total = float(np.sum(dt_all))
+    bs = block_s if block_s is not None else max(total / 80.0, 2.0)
+    # blocks restart at each run so that no block spans two runs
+    blocks = []
+    offset = 0
+    for r_dt in cols["dt"]:
+        elapsed = np.cumsum(r_dt) - r_dt
+        b = (elapsed // bs).astype(np.int64)
+        blocks.append(b + offset)
+        offset += int(b.max()) + 1
+    arrays = {k: np.concatenate(v) for k, v in cols.items()}
+    return Frame(
+        t=arrays["t"],
+        run=arrays["run"].astype(np.int64),
+        vl=arrays["vl"],
+        vr=arrays["vr"],
+        vx=arrays["vx"],
+        wz=arrays["wz"],
+        ax=arrays["ax"],
+        alpha=arrays["alpha"],
+        p=arrays["p"],
+        dp=arrays["dp"],
+        dt=dt_all,
+        x=_concat(opt["x"]),
+        y=_concat(opt["y"]),
+        yaw=_concat(opt["yaw"]),
+        wz_log=_concat(opt["wz_log"]),
+        vl_cmd=_concat(opt["vl_cmd"]),
+        vr_cmd=_concat(opt["vr_cmd"]),
+        block=np.concatenate(blocks),
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class ReplayResiduals:
+    """Residuals of the replay (measured minus model).
+
+    Attributes
+    ----------
+    power_w : ndarray
+        ``p_total - P_model(v_l, v_r)`` per sample [W].
+    energy_j : ndarray
+        Cumulative energy residual per run [J].
+    run_energy_error : ndarray
+        Relative energy error per run, ``(E_meas - E_model) / E_meas`` [-].
+    yaw_rate_radps : ndarray or None
+        Logged ``wz`` minus the kinematic yaw rate of the side speeds [rad/s].
+    speed_mps : ndarray or None
+        Measured minus simulated side speed from the commands (mean of both sides) [m/s].
+    pose_m : ndarray or None
+        Distance between the logged pose and the dead-reckoned one [m].
+    mae_w : float
+        Mean absolute power residual [W].
+    """
+
+    power_w: FloatArray
+    energy_j: FloatArray
+    run_energy_error: FloatArray
+    yaw_rate_radps: FloatArray | None
+    speed_mps: FloatArray | None
+    pose_m: FloatArray | None
+    mae_w: float
+
+
+def dead_reckon(frame: Frame) -> tuple[FloatArray, FloatArray]:
+    """Pose from the kinematic twist integrated per run, starting at the logged pose [m]."""
+    assert frame.x is not None and frame.y is not None and frame.yaw is not None
+    xs = np.empty(frame.n)
+    ys = np.empty(frame.n)
+    for r in np.unique(frame.run):
+        idx = np.flatnonzero(frame.run == r)
+        dt = np.diff(frame.t[idx], prepend=frame.t[idx[0]])
+        yaw = frame.yaw[idx[0]] + np.cumsum(frame.wz[idx] * dt)
+        xs[idx] = frame.x[idx[0]] + np.cumsum(frame.vx[idx] * np.cos(yaw) * dt)
+        ys[idx] = frame.y[idx[0]] + np.cumsum(frame.vx[idx] * np.sin(yaw) * dt)
+    return xs, ys
+
+
+def replay_residuals(frame: Frame, model_w: FloatArray, accel_max_mps2: float) -> ReplayResiduals:
+    """Residuals of power, energy, yaw rate, commanded speed and pose for a model prediction.
+
+    Parameters
+    ----------
+    frame : Frame
+        The logs.
+    model_w : ndarray
+        Model power on the measured speeds [W].
+    accel_max_mps2 : float
+        Acceleration limit used to simulate the commanded speeds [m/s²].
+
+    Returns
+    -------
+    ReplayResiduals
+        The residuals (measured minus model).
+    """
+    res = frame.p - model_w
+    energy = np.empty(frame.n)
+    rel = []
+    for r in np.unique(frame.run):
+        idx = frame.run == r
+        energy[idx] = np.cumsum(res[idx] * frame.dt[idx])
+        e_meas = float(np.sum(frame.p[idx] * frame.dt[idx]))
+        rel.append(float(energy[idx][-1]) / e_meas if e_meas != 0 else 0.0)
+    yaw_res = None if frame.wz_log is None else frame.wz_log - frame.wz
+    speed_res = None
+    if frame.vl_cmd is not None and frame.vr_cmd is not None:
+        sim_l = np.empty(frame.n)
+        sim_r = np.empty(frame.n)
+        for r in np.unique(frame.run):
+            idx = np.flatnonzero(frame.run == r)
+            sim_l[idx] = rate_limit(frame.t[idx], frame.vl_cmd[idx], accel_max_mps2)
+            sim_r[idx] = rate_limit(frame.t[idx], frame.vr_cmd[idx], accel_max_mps2)
+        speed_res = 0.5 * ((frame.vl - sim_l) + (frame.vr - sim_r))
+    pose_res = None
+    if frame.x is not None and frame.y is not None and frame.yaw is not None:
+        xs, ys = dead_reckon(frame)
+        pose_res = np.hypot(frame.x - xs, frame.y - ys)
+    return ReplayResiduals(
+        power_w=res,
+        energy_j=energy,
+        run_energy_error=np.array(rel),
+        yaw_rate_radps=yaw_res,
+        speed_mps=speed_res,
+        pose_m=pose_res,
+        mae_w=float(np.mean(np.abs(res))),
+    )
