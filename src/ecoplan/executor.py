@@ -178,7 +178,7 @@ class DaskExecutor(_ContextMixin):
         items = list(cases)
         futures = self._client.map(fn, items, pure=False)
         total = len(futures)
-        for n, fut in enumerate(as_completed(futures), start=1):
+        for n, fut in enumerate(as_completed(futures, loop=self._client.loop), start=1):
             if fut.status == "error":
                 self._client.cancel(futures)
                 fut.result()  # raises the case's exception

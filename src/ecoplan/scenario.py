@@ -29,6 +29,7 @@ line, the field and what was expected, e.g.::
 from __future__ import annotations
 
 import math
+import re
 import types
 import typing
 from collections.abc import Mapping, Sequence
@@ -491,16 +492,34 @@ def _record_lines(node: yaml.Node, path: Path_, out: _LineMap) -> None:
         for i, child in enumerate(node.value):
             _record_lines(child, (*path, i), out)
     elif isinstance(node, yaml.MappingNode):
+        seen: set[str] = set()
         for k, v in node.value:
             if isinstance(k, yaml.ScalarNode):
+                if k.value in seen and k.value != "<<":
+                    raise ScenarioError(
+                        f"{k.start_mark.line + 1}: duplicate key {k.value!r} in "
+                        f"{_dotted(path)} (YAML would silently keep the last one)"
+                    )
+                seen.add(k.value)
                 # the key's own line, so "unknown key" points at it
                 out.lines.setdefault((*path, k.value), k.start_mark.line + 1)
                 _record_lines(v, (*path, k.value), out)
 
 
+class _SafeLoader(yaml.SafeLoader):
+    """PyYAML's safe loader, also reading ``1e-3`` as a float (YAML 1.2; 1.1 needs ``1.0e-3``)."""
+
+
+_SafeLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*)(?:\.[0-9_]*)?[eE][-+]?[0-9]+$"),
+    list("-+0123456789"),
+)
+
+
 def _read_yaml(text: str, source: str) -> tuple[Any, _LineMap]:
     """Parse YAML safely; return the data and the line map."""
-    loader = yaml.SafeLoader(text)
+    loader = _SafeLoader(text)
     try:
         try:
             node = loader.get_single_node()
@@ -520,7 +539,10 @@ def _read_yaml(text: str, source: str) -> tuple[Any, _LineMap]:
         except ScenarioError as exc:
             raise ScenarioError(f"{source}: {exc}") from None
         lines = _LineMap()
-        _record_lines(node, (), lines)
+        try:
+            _record_lines(node, (), lines)
+        except ScenarioError as exc:
+            raise ScenarioError(f"{source}:{exc}") from None
         try:
             data = loader.construct_document(node)
         except yaml.MarkedYAMLError as exc:
@@ -529,7 +551,10 @@ def _read_yaml(text: str, source: str) -> tuple[Any, _LineMap]:
             problem = exc.problem or exc.context or "invalid value"
             raise ScenarioError(f"{source}{line}: invalid YAML value: {problem}") from None
         except (yaml.YAMLError, ValueError, TypeError, OverflowError, RecursionError) as exc:
-            raise ScenarioError(f"{source}: invalid YAML value: {_one_line(str(exc))}") from None
+            why = _one_line(str(exc))
+            if "integer string conversion" in why:
+                why = "an integer with more than 4300 digits"
+            raise ScenarioError(f"{source}: invalid YAML value: {why}") from None
     finally:
         loader.dispose()
     return data, lines
@@ -628,7 +653,9 @@ def _short_repr(value: Any) -> str:
 
 
 def _format_validation(exc: ValidationError, source: str, lines: _LineMap) -> str:
-    errors = exc.errors(include_url=False)
+    # an unknown key (often a typo) explains more than the "missing" error it causes
+    rank = {"extra_forbidden": 0, "missing": 2}
+    errors = sorted(exc.errors(include_url=False), key=lambda e: rank.get(e["type"], 1))
     err = errors[0]
     loc = [p for p in err["loc"] if isinstance(p, str | int)]
     line = lines.line(loc)
