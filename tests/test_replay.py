@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+import shapely
 
 from ecoplan.sim.replay import (
     BELTS,
@@ -99,13 +100,8 @@ def test_high_gain_costs_less(table) -> None:
 
 
 def _mean_distance_to_polyline(x, y, poly) -> float:
-    """Mean over path samples of the distance to the nearest polyline segment (numpy)."""
-    p = np.column_stack([x, y])[:, None, :]
-    a, b = poly[:-1][None], poly[1:][None]
-    ab = b - a
-    t = np.clip(np.sum((p - a) * ab, axis=2) / np.sum(ab * ab, axis=2), 0.0, 1.0)
-    d = np.linalg.norm(p - (a + t[..., None] * ab), axis=2)
-    return float(np.mean(np.min(d, axis=1)))
+    """Mean over path samples of the distance to the polyline (shapely, independent)."""
+    return float(np.mean(shapely.distance(shapely.LineString(poly), shapely.points(x, y))))
 
 
 def test_high_gain_paths_lie_closer_to_the_segments(rp) -> None:

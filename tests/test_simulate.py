@@ -202,3 +202,14 @@ def test_bad_config_and_commands_raise(narrow) -> None:
         simulate_tracks(narrow, np.ones(3), np.ones(4))
     with pytest.raises(InputError, match="finite"):
         simulate_tracks(narrow, np.array([0.1, np.nan]), np.ones(2))
+
+
+def test_csv_is_read_by_the_diagnosis_log_reader(narrow, tmp_path) -> None:
+    # the simulator writes the diagnosis issue's log format: a simulated run can be diagnosed
+    from ecoplan.diagnose.logio import read_log_csv
+
+    res = simulate_waypoints(narrow, [[0, 0], [6, 2]], HeadingController(0.18, 0.5))
+    log = read_log_csv(res.to_csv(tmp_path / "sim.csv"))
+    assert np.allclose(log.p_total, res.p_total, rtol=1e-9)
+    assert np.allclose(log.v_left_cmd, res.v_left_cmd, rtol=1e-9)
+    assert np.allclose(log.yaw, res.yaw, rtol=1e-9)

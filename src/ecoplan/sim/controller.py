@@ -263,7 +263,7 @@ class WaypointFollower:
             ``(v_left_cmd, v_right_cmd)`` [m/s]; zero for stopped runs.
         """
         dx, dy = self._gx - x_m, self._gy - y_m
-        if np.any(dx * dx + dy * dy < self._r2):
+        if np.count_nonzero(dx * dx + dy * dy < self._r2):
             self._advance(x_m, y_m)
             dx, dy = self._gx - x_m, self._gy - y_m
         phi = np.mod(np.arctan2(dy, dx) - yaw_rad + math.pi, 2.0 * math.pi) - math.pi

@@ -87,6 +87,7 @@ __all__ = [
     "Replay",
     "ReplayRun",
     "ab_scenario",
+    "distance_to_polyline",
     "findings",
     "plot_paths",
     "plot_power",
@@ -321,14 +322,30 @@ def replay(
     ]
     results = simulate_batch(runs, config)
     obstacle = shapely.Polygon(sc.obstacle)
+    shapely.prepare(obstacle)
+    ring = np.array([*sc.obstacle, sc.obstacle[0]], dtype=np.float64)
     out = []
     for (belt, v, g, n), res in zip(grid, results, strict=True):
-        pts = shapely.points(np.column_stack([res.x, res.y]))
-        line = shapely.LineString(sc.polyline(n))
-        dev = float(np.mean(shapely.distance(line, pts)))
-        clear = float(np.min(shapely.distance(obstacle, pts))) - sc.robot_half_width_m
+        xy = np.column_stack([res.x, res.y])
+        dev = float(np.mean(distance_to_polyline(xy, sc.polyline(n))))
+        inside = shapely.contains_xy(obstacle, res.x, res.y)
+        to_edge = distance_to_polyline(xy, ring)
+        clear = float(np.min(np.where(inside, -to_edge, to_edge))) - sc.robot_half_width_m
         out.append(ReplayRun(belt, float(v), float(g), int(n), res, dev, clear))
     return Replay(tuple(out), sc)
+
+
+def distance_to_polyline(points: FloatArray, polyline: FloatArray) -> FloatArray:
+    """Distance of each point ``(n, 2)`` to the nearest segment of a polyline ``(k, 2)`` [m]."""
+    a, b = polyline[:-1], polyline[1:]
+    ab = b - a
+    best = np.full(len(points), np.inf)
+    for j in range(len(ab)):
+        d2 = float(ab[j] @ ab[j])
+        rel = points - a[j]
+        t = np.clip(rel @ ab[j] / d2, 0.0, 1.0) if d2 > 0.0 else np.zeros(len(points))
+        best = np.minimum(best, np.hypot(*(rel - t[:, None] * ab[j]).T))
+    return best
 
 
 def _pairs(rp: Replay, factor: str, low: Any, high: Any) -> Iterable[tuple[ReplayRun, ReplayRun]]:

@@ -516,9 +516,9 @@ def _integrate(
         row[0], row[1], row[2] = x, y, yaw
         row[3], row[4], row[5], row[6], row[7] = vlc, vrc, vl, vr, wz
         stopped = policy.stopped
-        if stopped.any():
+        if np.count_nonzero(stopped):
             done = stopped & (vl == 0.0) & (vr == 0.0) & (end < 0)
-            if done.any():
+            if np.count_nonzero(done):
                 end[done] = k
                 if np.all(end >= 0):
                     break
