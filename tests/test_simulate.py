@@ -52,6 +52,7 @@ def test_straight_run_energy_equals_p_t_times_time(narrow) -> None:
     # away from the ramps the power is P_T of eq. (20) exactly
     steady = (res.t > t_ramp + DT) & (res.t < n_cmd * DT - DT)
     assert np.allclose(res.p_total[steady], p_total_straight(v), rtol=1e-12)
+    assert res.peak_power_w == pytest.approx(p_total_straight(v), rel=1e-12)  # ramps draw less
     assert res.psi_rad == 0.0
     assert res.breakdown_j["friction_w"] == 0.0
     assert abs(float(res.y[-1])) < 1e-12
@@ -213,3 +214,17 @@ def test_csv_is_read_by_the_diagnosis_log_reader(narrow, tmp_path) -> None:
     assert np.allclose(log.p_total, res.p_total, rtol=1e-9)
     assert np.allclose(log.v_left_cmd, res.v_left_cmd, rtol=1e-9)
     assert np.allclose(log.yaw, res.yaw, rtol=1e-9)
+
+
+def test_track_commands_beyond_top_speed_are_saturated_by_eq5(narrow) -> None:
+    # V_l = 1.2, V_r = 0.6 m/s asks for w = -0.6 / (L/χ) (eq. 3) and v = 0.9 m/s; eq. (5)
+    # keeps w and reduces v to V_max - C |w| with C = L / (2χ), so V_l = V_max exactly
+    res = simulate_tracks(narrow, np.full(500, 1.2), np.full(500, 0.6))
+    spread = L_M / CHI
+    w = -0.6 / spread
+    v = V_MAX - 0.5 * spread * abs(w)
+    assert float(res.v_left_cmd[0]) == pytest.approx(V_MAX)
+    assert float(res.v_right_cmd[0]) == pytest.approx(v - 0.5 * spread * abs(w))
+    steady = res.t > 3.0
+    assert np.allclose(res.wz[steady & (res.t < 4.9)], w, rtol=1e-9)
+    assert np.max(np.abs(res.v_left)) <= V_MAX * (1 + 1e-12)

@@ -9,14 +9,23 @@ Step ``k`` (time ``t_k = k dt``):
 
 1. a command policy gives track-speed commands from the pose at ``t_k`` (the heading
    controller of :mod:`ecoplan.sim.controller`, or a fixed schedule);
-2. each actual track speed moves towards its command by at most ``accel_max_mps2 * dt``
+2. commands beyond the top track speed are saturated as eq. (5) says: the commanded
+   yaw rate (eq. 3) is kept -- clipped to eq. (6) -- and the forward speed reduced
+   (:func:`~ecoplan.sim.controller.saturate_setpoint`); the result is what the log
+   records as ``v_left_cmd``/``v_right_cmd`` (the heading controller's commands are
+   already saturated);
+3. each actual track speed moves towards its command by at most ``accel_max_mps2 * dt``
    (the paper reaches top speed in a 2.5 s ramp, §III-C);
-3. the speeds are held over ``[t_k, t_k + dt)``: the body twist is constant, and the
+4. the speeds are held over ``[t_k, t_k + dt)``: the body twist is constant, and the
    pose is advanced by the exact arc (midpoint heading times the chord factor
    ``sinc(w dt / 2)``), so a piecewise-constant speed profile is integrated without
    discretisation error;
-4. the power of the step is the model's power at those speeds, so the energy
+5. the power of the step is the model's power at those speeds, so the energy
    ``sum_k P_T(V_k) dt`` is exact for the same profile.
+
+Power limits (``p_total_max_w``, ``p_side_max_w``) are not enforced: the simulator
+reports what the model draws (see :attr:`SimResult.peak_power_w`); checking them is the
+cost module's job.
 
 Row ``k`` of a result therefore holds the pose at ``t_k`` and the commanded and actual
 track speeds, yaw rate and powers over the interval that starts there.  The last row is
@@ -54,6 +63,8 @@ from ecoplan.sim.controller import (
     HeadingController,
     IcrArrays,
     WaypointFollower,
+    saturate_setpoint,
+    tracks_from_setpoint,
     wrap_angle,
 )
 
@@ -186,6 +197,11 @@ class SimResult:
     def n_steps(self) -> int:
         """Number of integrated steps (rows minus the final state)."""
         return int(self.t.shape[0]) - 1
+
+    @property
+    def peak_power_w(self) -> float:
+        """Largest total power ``P_T`` over the integrated steps [W]."""
+        return float(np.max(self.p_total[:-1])) if self.n_steps > 0 else 0.0
 
     @property
     def mean_power_w(self) -> float:
@@ -492,6 +508,7 @@ def _integrate(
     mid = 0.5 * (icr.y_left_m + icr.y_right_m)
     centred = not np.any(mid) and not np.any(icr.x_m)
     dv = np.array([p.accel_max_mps2 for p in params]) * dt
+    vmax = icr.top_speed_mps * (1.0 + 1e-12)
     # chord factor sin(h)/h of the arc, h = w dt / 2: its series to h^4 is exact to
     # 2e-10 for |h| <= 0.1 (every track speed within 1.1 x its top speed)
     h_top = float(np.max(1.1 * icr.top_speed_mps * inv_spread)) * dt
@@ -509,6 +526,8 @@ def _integrate(
             cap = min(2 * cap, n_max + 1)
             buf = np.concatenate([buf, np.empty((cap - buf.shape[0], len(_STATE), n))])
         vlc, vrc = policy.command(x, y, yaw)
+        if np.count_nonzero(np.maximum(np.abs(vlc), np.abs(vrc)) > vmax):
+            vlc, vrc = _saturate_tracks(vlc, vrc, icr, mid)
         vl = vl + np.minimum(np.maximum(vlc - vl, -dv), dv)
         vr = vr + np.minimum(np.maximum(vrc - vr, -dv), dv)
         wz = (vr - vl) * inv_spread
@@ -547,6 +566,15 @@ def _integrate(
         yaw = heading + half
         k += 1
     return buf[: k + 1], end, np.ones(n, dtype=bool)
+
+
+def _saturate_tracks(
+    v_left: FloatArray, v_right: FloatArray, icr: IcrArrays, mid: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Eq. (5) on track commands: back to ``(v, w)`` (eqs. 2-3), saturate, eq. (4)."""
+    w = (v_right - v_left) / icr.spread_m
+    v, w = saturate_setpoint(0.5 * (v_left + v_right) + w * mid, w, icr, icr.top_speed_mps)
+    return tracks_from_setpoint(v, w, icr)
 
 
 def _result(
