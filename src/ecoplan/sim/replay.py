@@ -89,6 +89,7 @@ __all__ = [
     "ab_scenario",
     "distance_to_polyline",
     "findings",
+    "findings_markdown",
     "plot_paths",
     "plot_power",
     "replay",

@@ -510,7 +510,7 @@ def _integrate(
     dv = np.array([p.accel_max_mps2 for p in params]) * dt
     vmax = icr.top_speed_mps * (1.0 + 1e-12)
     # chord factor sin(h)/h of the arc, h = w dt / 2: its series to h^4 is exact to
-    # 2e-10 for |h| <= 0.1 (every track speed within 1.1 x its top speed)
+    # 2e-10 for |h| <= 0.1; saturated track speeds bound |w| by 2 V_max / spread
     h_top = float(np.max(1.1 * icr.top_speed_mps * inv_spread)) * dt
     series = h_top <= 0.1
     n_max = max(math.ceil(t_max / dt - 1e-9), 1)
