@@ -4,13 +4,22 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.logio import Log, read_log_csv, read_logs, write_log_csv
+from ecoplan.diagnose.logio import (
+    FieldRef,
+    Log,
+    TopicMap,
+    read_log_csv,
+    read_logs,
+    read_rosbag,
+    write_log_csv,
+)
 from ecoplan.errors import InputError, LogFormatError
 
 BAD = Path(__file__).parent / "logs_bad"
@@ -232,3 +241,182 @@ def test_read_logs_names_the_bad_file(tmp_path: Path) -> None:
         read_logs([])
     with pytest.raises(LogFormatError, match="cannot open"):
         read_log_csv(tmp_path / "absent.csv")
+
+
+# --------------------------------------------------------------------------- BorealTC
+
+BOREAL = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "borealtc"
+needs_boreal = pytest.mark.skipif(not BOREAL.is_dir(), reason="BorealTC data not available")
+
+
+@needs_boreal
+def test_borealtc_run_as_log_states_the_voltage_assumption() -> None:
+    from ecoplan.diagnose.logio import load_borealtc
+
+    log = load_borealtc("flooring", 3, bus_voltage_v=24.0, root=BOREAL)
+    assert log.run_id == "FLOORING_03" and log.terrain is not None
+    assert set(log.terrain) == {"flooring"}
+    assert any("24 V" in n and "assumption" in n for n in log.notes)
+    # p = V (|I_l| + |I_r|), checked against the raw file read independently
+    raw = np.genfromtxt(BOREAL / "FLOORING" / "pro_03.csv", delimiter=",", names=True)
+    first = int(np.flatnonzero(np.isclose(raw["time"], log.t[0]))[0])
+    assert log.p_total[0] == pytest.approx(24.0 * (raw["curL"][first] + raw["curR"][first]))
+    assert log.v_left[0] == pytest.approx(raw["velL"][first])
+    assert log.wz is not None and log.dropped_rows == len(raw) - len(log)
+    doubled = load_borealtc("FLOORING", "03", bus_voltage_v=48.0, root=BOREAL)
+    np.testing.assert_allclose(doubled.p_total, 2.0 * log.p_total)
+
+
+@needs_boreal
+def test_borealtc_run_without_imu_has_no_wz() -> None:
+    from ecoplan.diagnose.logio import load_borealtc_runs
+
+    logs = load_borealtc_runs("FLOORING", root=BOREAL)
+    assert len(logs) == 10
+    by_id = {lg.run_id: lg for lg in logs}
+    assert by_id["FLOORING_04"].wz is None and by_id["FLOORING_04"].dropped_rows == 0
+    assert any("no IMU" in n for n in by_id["FLOORING_04"].notes)
+
+
+# --------------------------------------------------------------------------- ROS 2 bags
+
+
+def _write_bag(path: Path, *, battery_nan_at: int | None = None) -> dict[str, np.ndarray]:
+    """A small bag: JointState wheels, BatteryState, Odometry, Float64MultiArray commands.
+
+    Signals are linear in time (exact under linear interpolation) except the yaw, which
+    turns at a constant rate through +-pi.
+    """
+    from rosbags.rosbag2 import Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    ts = get_typestore(Stores.ROS2_HUMBLE)
+    T = ts.types
+    Time, Header = T["builtin_interfaces/msg/Time"], T["std_msgs/msg/Header"]
+    t_base = 1_700_000_000.0
+
+    def header(t: float) -> object:
+        sec = int(t_base + t)
+        return Header(Time(sec, round((t_base + t - sec) * 1e9)), "base_link")
+
+    def stamp_ns(t: float) -> int:
+        return round((t_base + t) * 1e9)
+
+    truth: dict[str, list[float]] = {k: [] for k in ("t", "wl", "wr", "p", "yaw")}
+    with Writer(path, version=9) as w:
+        c_js = w.add_connection("/joint_states", "sensor_msgs/msg/JointState", typestore=ts)
+        c_bat = w.add_connection("/battery", "sensor_msgs/msg/BatteryState", typestore=ts)
+        c_odom = w.add_connection("/odom", "nav_msgs/msg/Odometry", typestore=ts)
+        c_cmd = w.add_connection("/wheel_cmd", "std_msgs/msg/Float64MultiArray", typestore=ts)
+        for k in range(201):  # joint states at 50 Hz, 4 s
+            t = 0.02 * k
+            wl, wr = 2.0 + 0.5 * t, 3.0 - 0.25 * t  # rad/s
+            msg = T["sensor_msgs/msg/JointState"](
+                header(t),
+                ["right_wheel", "left_wheel"],  # order differs from the map on purpose
+                np.zeros(2),
+                np.array([wr, wl]),
+                np.zeros(2),
+            )
+            w.write(c_js, stamp_ns(t), ts.serialize_cdr(msg, msg.__msgtype__))
+        for k in range(41):  # battery at 10 Hz, offset by 5 ms
+            t = 0.005 + 0.1 * k
+            volts, amps = 24.0, -(5.0 + 2.0 * t)
+            if battery_nan_at == k:
+                amps = float("nan")
+            bat = T["sensor_msgs/msg/BatteryState"](
+                header(t),
+                volts,
+                25.0,
+                amps,
+                10.0,
+                20.0,
+                20.0,
+                0.5,
+                2,
+                1,
+                2,
+                True,
+                np.zeros(0, dtype=np.float32),
+                np.zeros(0, dtype=np.float32),
+                "",
+                "",
+            )
+            w.write(c_bat, stamp_ns(t), ts.serialize_cdr(bat, bat.__msgtype__))
+            truth["t"].append(t)
+            truth["p"].append(24.0 * (5.0 + 2.0 * t))
+        for k in range(81):  # odometry at 20 Hz, yaw turning through +-pi
+            t = 0.05 * k
+            yaw = 2.8 + 0.2 * t
+            q = T["geometry_msgs/msg/Quaternion"](0.0, 0.0, math.sin(yaw / 2), math.cos(yaw / 2))
+            pose = T["geometry_msgs/msg/Pose"](T["geometry_msgs/msg/Point"](1.0 + t, -t, 0.0), q)
+            v3 = T["geometry_msgs/msg/Vector3"]
+            odom = T["nav_msgs/msg/Odometry"](
+                header(t),
+                "base_link",
+                T["geometry_msgs/msg/PoseWithCovariance"](pose, np.zeros(36)),
+                T["geometry_msgs/msg/TwistWithCovariance"](
+                    T["geometry_msgs/msg/Twist"](v3(0.3, 0.0, 0.0), v3(0.0, 0.0, 0.2)),
+                    np.zeros(36),
+                ),
+            )
+            w.write(c_odom, stamp_ns(t), ts.serialize_cdr(odom, odom.__msgtype__))
+        layout = T["std_msgs/msg/MultiArrayLayout"]([], 0)
+        for k in range(21):  # commands at 5 Hz, no header: bag time stamps
+            t = 0.2 * k
+            cmd = T["std_msgs/msg/Float64MultiArray"](layout, np.array([0.25, 0.3 + 0.01 * t]))
+            w.write(c_cmd, stamp_ns(t), ts.serialize_cdr(cmd, cmd.__msgtype__))
+    return {k: np.array(v) for k, v in truth.items()}
+
+
+def _topic_map(**kw: Any) -> TopicMap:
+    return TopicMap.joint_states(
+        "/joint_states",
+        "left_wheel",
+        "right_wheel",
+        0.1,
+        battery_topic="/battery",
+        odom_topic="/odom",
+        v_left_cmd=FieldRef("/wheel_cmd", "data[0]"),
+        v_right_cmd=FieldRef("/wheel_cmd", "data[1]"),
+        **kw,
+    )
+
+
+def test_rosbag_round_trip_on_a_common_time_base(tmp_path: Path) -> None:
+    truth = _write_bag(tmp_path / "bag")
+    log = read_rosbag(tmp_path / "bag", _topic_map())
+    # common span: the battery starts last (5 ms), the others end first (4 s)
+    t_abs = 0.005 + log.t
+    assert log.t[0] == 0.0 and t_abs[-1] <= 4.0 + 1e-9
+    assert np.median(np.diff(log.t)) == pytest.approx(0.1)  # the power stream's rate
+    np.testing.assert_allclose(log.v_left, 0.1 * (2.0 + 0.5 * t_abs), atol=1e-6)
+    np.testing.assert_allclose(log.v_right, 0.1 * (3.0 - 0.25 * t_abs), atol=1e-6)
+    np.testing.assert_allclose(log.p_total, 24.0 * (5.0 + 2.0 * t_abs), rtol=1e-6)
+    assert log.v_left_cmd is not None and log.v_right_cmd is not None
+    np.testing.assert_allclose(log.v_right_cmd, 0.3 + 0.01 * t_abs, atol=1e-6)
+    assert log.x is not None and log.y is not None and log.yaw is not None
+    np.testing.assert_allclose(log.x, 1.0 + t_abs, atol=1e-6)
+    yaw = 2.8 + 0.2 * t_abs
+    np.testing.assert_allclose(np.cos(log.yaw), np.cos(yaw), atol=1e-6)  # across +-pi
+    np.testing.assert_allclose(np.sin(log.yaw), np.sin(yaw), atol=1e-6)
+    assert log.wz is not None and np.allclose(log.wz, 0.2)
+    assert any("voltage x current" in n for n in log.notes)
+    assert len(truth["t"]) == 41
+
+
+def test_rosbag_rate_nan_and_missing_topic(tmp_path: Path) -> None:
+    _write_bag(tmp_path / "bag", battery_nan_at=3)
+    log = read_rosbag(tmp_path / "bag", _topic_map(rate_hz=50.0))
+    assert np.median(np.diff(log.t)) == pytest.approx(0.02)
+    assert any("p_total: skipped 1 non-finite" in n for n in log.notes)
+    bad = TopicMap(v_left=FieldRef("/wheels"), v_right=FieldRef("/wheels"), power=FieldRef("/p"))
+    with pytest.raises(LogFormatError, match="/p, /wheels not in the bag"):
+        read_rosbag(tmp_path / "bag", bad)
+    wrong_field = _topic_map(wz=FieldRef("/odom", "twist.nope"))
+    with pytest.raises(LogFormatError, match="'wz' from topic /odom"):
+        read_rosbag(tmp_path / "bag", wrong_field)
+    with pytest.raises(LogFormatError, match="cannot read ROS 2 bag"):
+        read_rosbag(tmp_path / "absent", bad)
+    with pytest.raises(LogFormatError, match="exactly one"):
+        TopicMap(v_left=FieldRef("/a"), v_right=FieldRef("/b"))
