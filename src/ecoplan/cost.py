@@ -72,6 +72,7 @@ __all__ = [
     "cheapest_turn",
     "choose_turn",
     "fillet_points",
+    "fillet_points_many",
     "params_on",
     "path_cost",
     "spot_turn_energy",
@@ -486,6 +487,33 @@ def cheapest_turn(
     """
     _positive_speed("speed_mps", speed_mps)
     return _turn_plan(params, float(dpsi_rad), float(speed_mps), float(room_m), mode)
+
+
+def fillet_points_many(
+    p_prev: ArrayLike, p: ArrayLike, p_next: ArrayLike, radius_m: ArrayLike, n: int = 9
+) -> FloatArray:
+    """Vectorised :func:`fillet_points` over ``m`` corners: shape ``(m, n, 2)``.
+
+    Corners without a turn (collinear) or with ``r = 0`` give ``n`` copies of ``p``.
+    """
+    a = np.asarray(p_prev, dtype=np.float64).reshape(-1, 2)
+    b = np.broadcast_to(np.asarray(p, dtype=np.float64).reshape(-1, 2), a.shape)
+    c = np.broadcast_to(np.asarray(p_next, dtype=np.float64).reshape(-1, 2), a.shape)
+    r = np.broadcast_to(np.asarray(radius_m, dtype=np.float64).ravel(), (len(a),))
+    u_in = (b - a) / np.hypot(*(b - a).T)[:, None]
+    u_out = (c - b) / np.hypot(*(c - b).T)[:, None]
+    dpsi = _wrap(np.arctan2(u_out[:, 1], u_out[:, 0]) - np.arctan2(u_in[:, 1], u_in[:, 0]))
+    turn = (np.abs(dpsi) > 1e-12) & (r > 0.0) & np.isfinite(r)
+    rr = np.where(turn, r, 0.0)
+    t = rr * np.tan(np.abs(dpsi) / 2.0)
+    start = b - t[:, None] * u_in
+    sgn = np.where(dpsi > 0.0, 1.0, -1.0)
+    normal = np.column_stack([-u_in[:, 1], u_in[:, 0]]) * sgn[:, None]
+    centre = start + rr[:, None] * normal
+    ang0 = np.arctan2(start[:, 1] - centre[:, 1], start[:, 0] - centre[:, 0])
+    angs = ang0[:, None] + dpsi[:, None] * np.linspace(0.0, 1.0, n)[None, :]
+    out = centre[:, None, :] + rr[:, None, None] * np.stack([np.cos(angs), np.sin(angs)], axis=-1)
+    return np.where(turn[:, None, None], out, b[:, None, :])
 
 
 def fillet_points(
@@ -989,6 +1017,7 @@ class PathCostModel:
         self.world = world
         self.turn = turn
         self.ramps = ramps
+        self._per_m: dict[str | None, float | None] = {}
         if turn not in ("auto", "spot", "arc"):
             raise InputError(f"turn must be 'auto', 'spot' or 'arc', got {turn!r}")
 
@@ -1007,14 +1036,22 @@ class PathCostModel:
         pieces: list[tuple[float, str | None]] = [(float(np.hypot(*(b - a))), None)]
         if self.world is not None:
             pieces = [(pc.length_m, pc.terrain) for pc in self.world.split_by_terrain(a, b)]
-        v = self.speed_mps
         energy = 0.0
         for length, terr in pieces:
-            params = self.params(terr)
-            if not check_tracks(params, v, v).ok.all():
+            per_m = self.straight_energy_per_m(terr)
+            if per_m is None:
                 return None
-            energy += float(params.power(v, v).total_w) * length / v
+            energy += per_m * length
         return energy
+
+    def straight_energy_per_m(self, terrain: str | None = None) -> float | None:
+        """Energy per metre of straight driving at the cost's speed [J/m]; None if infeasible."""
+        if terrain not in self._per_m:
+            params = self.params(terrain)
+            v = self.speed_mps
+            ok = bool(check_tracks(params, v, v).ok.all())
+            self._per_m[terrain] = float(params.power(v, v).total_w) / v if ok else None
+        return self._per_m[terrain]
 
     def turn_energy(
         self, p_prev: ArrayLike, p: ArrayLike, p_next: ArrayLike, room_m: float = math.inf

@@ -256,6 +256,13 @@ class World:
             return bool(self.is_free(pts[:, 0], pts[:, 1]).all())
         return bool(shapely.covers(self.free_space, LineString(pts)))
 
+    def polylines_free(self, points: ArrayLike) -> BoolArray:
+        """Vectorised :meth:`polyline_free` over an ``(m, n, 2)`` array of polylines."""
+        pts = np.asarray(points, dtype=np.float64)
+        if pts.ndim != 3 or pts.shape[0] == 0:
+            return np.zeros(pts.shape[:1], dtype=np.bool_)
+        return np.asarray(shapely.covers(self.free_space, shapely.linestrings(pts)), dtype=np.bool_)
+
     def terrain_at(self, points: ArrayLike) -> list[str | None]:
         """Terrain name at each of ``(n, 2)`` points (last containing region wins)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
