@@ -33,6 +33,7 @@ import time
 import numpy as np
 import shapely
 
+from ecoplan.errors import EcoplanError
 from ecoplan.presets import VehicleSpec, vehicle
 from ecoplan.sim import HeadingController, WaypointRun, simulate_batch
 from ecoplan.sim.replay import ab_scenario, replay
@@ -81,7 +82,10 @@ def planner_sets(sc) -> tuple[list[tuple[str, np.ndarray]], str]:
             ("energy", EnergyCost(spec, V_SP, world=world)),
             ("length", LengthCost(spec, V_SP, world=world)),
         ):
-            res = plan_graph(world, a, b, cost, initial_heading_rad=sc.start_yaw_rad)
+            try:
+                res = plan_graph(world, a, b, cost, initial_heading_rad=sc.start_yaw_rad)
+            except EcoplanError as exc:
+                return out, f"planner {tag} ({name}) failed: {exc}"
             best[name] = np.asarray(res.best.waypoints, dtype=np.float64)
         same = best["energy"].shape == best["length"].shape and np.allclose(
             best["energy"], best["length"]

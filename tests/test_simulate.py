@@ -5,6 +5,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
@@ -228,3 +230,29 @@ def test_track_commands_beyond_top_speed_are_saturated_by_eq5(narrow) -> None:
     steady = res.t > 3.0
     assert np.allclose(res.wz[steady & (res.t < 4.9)], w, rtol=1e-9)
     assert np.max(np.abs(res.v_left)) <= V_MAX * (1 + 1e-12)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.lists(
+        st.tuples(st.floats(-1.5, 1.5), st.floats(-1.5, 1.5), st.integers(1, 80)),
+        min_size=1,
+        max_size=5,
+    ),
+    st.sampled_from(["auriga-beta-wide", "auriga-beta-narrow", "pioneer-3at"]),
+)
+def test_random_schedules_respect_limits_and_eq11(segments, name) -> None:
+    p = vehicle(name)
+    vl = np.concatenate([np.full(n, a) for a, _, n in segments])
+    vr = np.concatenate([np.full(n, b) for _, b, n in segments])
+    res = simulate_tracks(p, vl, vr)
+    assert res.completed
+    top = p.top_track_speed_mps * (1 + 1e-9)
+    assert np.max(np.abs(np.r_[res.v_left, res.v_right, res.v_left_cmd, res.v_right_cmd])) <= top
+    step = p.accel_max_mps2 * DT * (1 + 1e-9)
+    assert np.max(np.abs(np.diff(np.r_[0.0, res.v_left]))) <= step
+    # eq. (11): psi = ∫|w| dt bounds the net heading change
+    net = np.unwrap(res.yaw)
+    assert res.psi_rad >= abs(float(net[-1] - net[0])) - 1e-9
+    assert res.energy_j >= 0.0
+    assert sum(res.breakdown_j.values()) == pytest.approx(res.energy_j, rel=1e-9, abs=1e-9)
