@@ -278,9 +278,9 @@ def summary_table(results: Sequence[CaseResult]) -> str:
     best = min((r.energy_j for r in results if r.sim is not None), default=math.nan)
     head = (
         "| case | planner | waypoints | length [m] | time [s] | ψ [rad] | energy [kJ] "
-        "| vs best | peak [W] |"
+        "| vs best | peak [W] | limits |"
     )
-    lines = [head, "|" + "---|" * 9]
+    lines = [head, "|" + "---|" * 10]
     for r in results:
         if r.sim is None:
             continue
@@ -289,9 +289,18 @@ def summary_table(results: Sequence[CaseResult]) -> str:
             f"| {r.name} | {r.plan.planner} | {len(r.plan.waypoints)} | "
             f"{r.sim.length_m:.1f} | {r.sim.time_s:.1f} | {r.sim.psi_rad:.2f} | "
             f"{r.energy_j / 1e3:.2f} | {'best' if rel == 0 else f'+{rel:.1f} %'} | "
-            f"{r.peak_power_w:.0f} |"
+            f"{r.peak_power_w:.0f} | {_limits_cell(r)} |"
         )
     return "\n".join(lines)
+
+
+def _limits_cell(r: CaseResult) -> str:
+    parts = [f"{name} {sec:.1f} s" for name, sec in r.violation_s.items()]
+    if r.clearance_violation_s > 0:
+        parts.append(f"clearance {r.clearance_violation_s:.1f} s")
+    if r.sim is not None and not r.sim.completed:
+        parts.append("time limit")
+    return ", ".join(parts) or "ok"
 
 
 # --------------------------------------------------------------------- figures
@@ -647,6 +656,18 @@ def _case_markdown(r: CaseResult, *, single: bool) -> list[str]:
         e = r.breakdown_j[comp]
         share = 100.0 * e / r.energy_j if r.energy_j else 0.0
         lines.append(f"| {_COMPONENT_LABELS[comp]} | {e / 1e3:.2f} | {share:.1f} % |")
+    if r.violation_s:
+        what = ", ".join(f"{k} for {v:.2f} s" for k, v in r.violation_s.items())
+        lines += ["", f"**Limits.** The simulated commands violate {what}."]
+    else:
+        lines += ["", "**Limits.** Every simulated command respects the vehicle's limits."]
+    if r.clearance_violation_s > 0:
+        lines.append(
+            f"The path comes closer than the footprint inflation to an obstacle or the map "
+            f"edge for {r.clearance_violation_s:.1f} s."
+        )
+    if r.plan.violations:
+        lines.append(f"Analytic plan: {'; '.join(r.plan.violations[:3])}.")
     if r.battery is not None:
         lines += ["", f"**Battery.** {r.battery.sentence()}"]
     return [*lines, ""]

@@ -45,7 +45,9 @@ from shapely import Polygon, box
 from shapely.validation import explain_validity
 
 from ecoplan._typing import FloatArray
+from ecoplan.cost import EnergyCost, LengthCost, path_cost
 from ecoplan.errors import InputError, PlanningError, ScenarioError
+from ecoplan.models.limits import check_tracks
 from ecoplan.presets import VehicleParams, VehicleSpec
 from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
@@ -222,6 +224,7 @@ class PlannerSection(_Section):
     seed: Annotated[int, Field(ge=0, le=2**32 - 1)] = 0
     objective: Literal["energy", "length"] = "energy"
     k: Annotated[int, Field(ge=1, le=20)] = 1
+    max_iterations: Annotated[int, Field(ge=1, le=10_000_000)] | None = None
 
     @model_validator(mode="after")
     def _name_for_ompl(self) -> PlannerSection:
@@ -906,7 +909,11 @@ class PlanOutcome:
     planning_time_s : float
         Wall-clock time of planning [s] (0 for fixed waypoints).
     estimate_energy_j : float or None
-        The planner's analytic energy of the route [J], if it computed one.
+        Analytic energy of the route by :func:`ecoplan.cost.path_cost` [J].
+    feasible : bool or None
+        Whether every command of the analytic execution respects the vehicle's limits.
+    violations : tuple of str
+        The violated constraints, naming the segment or turn.
     alternatives : tuple of ndarray
         Further distinct waypoint sets the planner returned (``planner.k > 1``).
     """
@@ -916,6 +923,8 @@ class PlanOutcome:
     speed_mps: float
     planning_time_s: float = 0.0
     estimate_energy_j: float | None = None
+    feasible: bool | None = None
+    violations: tuple[str, ...] = ()
     alternatives: tuple[FloatArray, ...] = ()
 
     @property
@@ -1008,6 +1017,12 @@ class CaseResult:
         Energy per component [J]; sums to ``energy_j``.
     battery : BatteryVerdict or None
         Battery check, when the scenario has a budget.
+    violation_s : dict of str to float
+        Time the simulated commands spent violating each of the vehicle's limits
+        (:func:`ecoplan.models.limits.check_tracks`: top speed, power limits) [s].
+    clearance_violation_s : float
+        Time the vehicle's centre spent outside the free space (closer to an obstacle
+        or to the map edge than ``map.inflation_m``) [s].
     """
 
     name: str
@@ -1021,6 +1036,8 @@ class CaseResult:
     energy_j: float
     breakdown_j: dict[str, float]
     battery: BatteryVerdict | None
+    violation_s: dict[str, float]
+    clearance_violation_s: float
 
     @property
     def cumulative_energy_j(self) -> FloatArray:
@@ -1047,6 +1064,8 @@ class CaseResult:
             "planning_time_s": round(self.plan.planning_time_s, 4),
             "planned_length_m": round(self.plan.length_m, 4),
             "estimate_energy_j": self.plan.estimate_energy_j,
+            "plan_feasible": self.plan.feasible,
+            "plan_violations": list(self.plan.violations),
         }
         if self.sim is not None:
             out.update(
@@ -1058,6 +1077,8 @@ class CaseResult:
                 mean_power_w=self.energy_j / self.sim.time_s if self.sim.time_s else 0.0,
                 completed=self.sim.completed,
                 breakdown_j=dict(self.breakdown_j),
+                limit_violation_s=dict(self.violation_s),
+                clearance_violation_s=self.clearance_violation_s,
             )
         if self.battery is not None:
             b = self.battery
@@ -1109,7 +1130,17 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
     if planner.type == "none":
         assert spec.waypoints is not None
         wps = np.vstack([start, np.asarray(spec.waypoints, dtype=np.float64)])
-        return PlanOutcome("fixed", wps, speed)
+        pc = path_cost(
+            wps, sc.vehicle, speed, world=sc.world, initial_heading_rad=spec.start.yaw_rad
+        )
+        return PlanOutcome(
+            "fixed",
+            wps,
+            speed,
+            estimate_energy_j=pc.energy_j,
+            feasible=pc.feasible,
+            violations=tuple(v.message() for v in pc.violations),
+        )
     return _plan_with(sc, planner, speed, time_budget_s)
 
 
@@ -1122,7 +1153,40 @@ def _speed_setpoint(sc: Scenario, speed: SpeedSection) -> float:
 def _plan_with(
     sc: Scenario, planner: PlannerSection, speed_mps: float, time_budget_s: float | None
 ) -> PlanOutcome:
-    raise PlanningError(f"planner {planner.type!r} is not available yet")
+    cost_cls = EnergyCost if planner.objective == "energy" else LengthCost
+    cost = cost_cls(sc.vehicle, speed_mps, world=sc.world)
+    budget = planner.time_s if time_budget_s is None else min(planner.time_s, time_budget_s)
+    start, goal, heading = sc.spec.start.xy, sc.goal_xy, sc.spec.start.yaw_rad
+    if planner.type == "graph":
+        from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
+
+        options = GraphPlannerOptions(k_paths=planner.k, time_budget_s=budget)
+        res = GraphPlanner(sc.world, cost, options).plan(start, goal, initial_heading_rad=heading)
+    else:
+        from ecoplan.planning.ompl import OmplOptions, OmplPlanner
+
+        assert planner.name is not None
+        opts = OmplOptions(
+            planner.name,
+            time_budget_s=budget,
+            seed=planner.seed,
+            max_iterations=planner.max_iterations,
+        )
+        res = OmplPlanner(sc.world, cost, opts).plan(start, goal, initial_heading_rad=heading)
+    best = res.best
+    name = res.planner
+    if planner.objective == "length" and "length" not in name:
+        name += "/length"
+    return PlanOutcome(
+        name,
+        np.asarray(best.waypoints, dtype=np.float64),
+        speed_mps,
+        planning_time_s=res.planning_time_s,
+        estimate_energy_j=best.cost.energy_j,
+        feasible=best.cost.feasible,
+        violations=tuple(v.message() for v in best.cost.violations),
+        alternatives=tuple(np.asarray(p.waypoints) for p in res.alternatives[1:]),
+    )
 
 
 def simulate_case(
@@ -1190,13 +1254,34 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
         p_left = np.asarray(sim.p_left, dtype=np.float64)
         p_right = np.asarray(sim.p_right, dtype=np.float64)
         comps = {k: np.asarray(v, dtype=np.float64) for k, v in sim.components_w.items()}
+    violated = np.full(len(sim.t), "", dtype=object)
+    for terr in sorted(set(terrain)):
+        idx = np.flatnonzero(np.asarray(terrain) == terr)
+        check = check_tracks(sc.vehicle.on(terr), sim.v_left[idx], sim.v_right[idx])
+        violated[idx] = check.violated
+    names, counts = np.unique(violated[:n].astype(str), return_counts=True)
+    violation_s = {str(k): float(c) * dt for k, c in zip(names, counts, strict=True) if k}
+    outside = ~sc.world.is_free(sim.x[:n], sim.y[:n])
+    clearance_s = float(np.count_nonzero(outside)) * dt
     energy = float(np.sum(p_total[:n]) * dt)
     breakdown = {k: float(np.sum(v[:n]) * dt) for k, v in comps.items()}
     battery = None
     if sc.spec.battery is not None:
         battery = _battery(sc.spec.battery, sim, p_total, energy)
     return CaseResult(
-        name, plan, sim, p_total, p_left, p_right, comps, terrain, energy, breakdown, battery
+        name,
+        plan,
+        sim,
+        p_total,
+        p_left,
+        p_right,
+        comps,
+        terrain,
+        energy,
+        breakdown,
+        battery,
+        violation_s,
+        clearance_s,
     )
 
 
