@@ -256,6 +256,8 @@ def turn_candidates(
     speed_mps: float,
     room_m: ArrayLike = math.inf,
     mode: TurnMode = "auto",
+    *,
+    in_place: bool = False,
 ) -> tuple[FloatArray, FloatArray]:
     """Every candidate execution of each turn with its net energy (see :func:`turn_costs`).
 
@@ -264,6 +266,8 @@ def turn_candidates(
     (:func:`~ecoplan.models.limits.min_radius_for_speed`) to the largest that fits
     ``room_m`` (at most ``50 r_min``).  Infeasible or disallowed candidates are ``nan``.
     A zero heading change has net energy 0 and radius ``inf`` in every column.
+    ``in_place=True`` is for a turn at the start with no incoming segment: arcs are
+    costed gross (no straight driving is saved) over radii up to ``50 r_min``.
 
     Returns
     -------
@@ -288,13 +292,15 @@ def turn_candidates(
             with np.errstate(divide="ignore"):
                 rcap = np.where(half_tan > 0.0, room / half_tan, np.inf)
             rcap = np.minimum(rcap, rmin * _R_SPAN)
+            if in_place:
+                rcap = np.full(dpsi.shape, rmin * _R_SPAN)
             fits = rcap >= rmin
             k = np.linspace(0.0, 1.0, _N_RADII)
             ratio = np.where(fits, rcap / rmin, 1.0)
             rr = rmin * ratio[..., None] ** k  # (..., _N_RADII)
             per_m = float(params.power(v, v).total_w) / v
             e_arc = arc_turn_energy(params, dpsi[..., None], v, rr)
-            arc_net = e_arc - per_m * 2.0 * rr * half_tan[..., None]
+            arc_net = e_arc - (0.0 if in_place else per_m) * 2.0 * rr * half_tan[..., None]
             net[..., 1:] = np.where(fits[..., None], arc_net, np.nan)
             radius[..., 1:] = np.where(fits[..., None], rr, np.nan)
     zero = a < 1e-12
@@ -310,13 +316,15 @@ def choose_turn(
     room_m: float = math.inf,
     mode: TurnMode = "auto",
     collides: Callable[[float], bool] | None = None,
+    *,
+    in_place: bool = False,
 ) -> tuple[float, float] | None:
     """Cheapest candidate turn whose fillet does not collide: ``(net energy, radius)``.
 
     ``collides(radius)`` is asked for arcs only, cheapest first.  Returns None when no
-    candidate is feasible and collision-free.
+    candidate is feasible and collision-free.  ``in_place``: see :func:`turn_candidates`.
     """
-    net, radius = turn_candidates(params, dpsi_rad, speed_mps, room_m, mode)
+    net, radius = turn_candidates(params, dpsi_rad, speed_mps, room_m, mode, in_place=in_place)
     order = np.argsort(np.where(np.isfinite(net), net, np.inf), kind="stable")
     for j in order:
         e, r = float(net[j]), float(radius[j])
@@ -388,6 +396,8 @@ def _turn_plan(
     room: float,
     mode: TurnMode | float,
     collides: Callable[[float], bool] | None = None,
+    *,
+    in_place: bool = False,
 ) -> TurnPlan:
     a = abs(dpsi)
     sgn = -1.0 if dpsi < 0.0 else 1.0
@@ -406,9 +416,10 @@ def _turn_plan(
         if collides is not None and collides(r):
             violated = "collision"
     else:
-        choice = choose_turn(params, dpsi, v, room, mode, collides)
+        choice = choose_turn(params, dpsi, v, room, mode, collides, in_place=in_place)
         if choice is None and collides is not None:
-            choice = choose_turn(params, dpsi, v, room, mode)
+            choice = choose_turn(params, dpsi, v, room, mode, in_place=in_place)
+
             violated = "collision"
         if choice is None:
             # nothing feasible: report the requested execution at its best, flagged
@@ -428,8 +439,9 @@ def _turn_plan(
     violated = str(check.violated.ravel()[0]) or violated
     length = r * a
     duration = length / v
-    tangent = r * math.tan(min(a, math.pi - 1e-9) / 2.0)
+    tangent = 0.0 if in_place else r * math.tan(min(a, math.pi - 1e-9) / 2.0)
     return TurnPlan(
+
         "arc", dpsi, v, r, v / r, duration, length, tangent, float(p.total_w) * duration,
         _energy_breakdown(p, duration), float(p.total_w), violated == "", violated,
     )  # fmt: skip
@@ -819,8 +831,9 @@ def path_cost(
         if not math.isfinite(initial_heading_rad):
             raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
         d0 = float(_wrap(float(heading[0]) - initial_heading_rad))
-        plan0 = _turn_plan(params_on(vehicle, terrains[0]), d0, float(v_seg[0]), math.inf, turn)
-        _add_turn(acc, plan0, 0, turns, violations, count_length=False)
+        params0 = params_on(vehicle, terrains[0])
+        plan0 = _turn_plan(params0, d0, float(v_seg[0]), math.inf, turn, in_place=True)
+        _add_turn(acc, plan0, 0, turns, violations, count_length=True)
     # ---- interior turns
     tangent = np.zeros((n_seg, 2))  # length cut at the start / end of each segment
     stop_at = np.zeros(len(pts), dtype=bool)

@@ -367,7 +367,10 @@ class GraphPlanner:
         d = pts[k] - pts[_START]
         dpsi = float(_wrap(np.array(math.atan2(d[1], d[0]) - heading)))
         params = self.cost.params(self.cost.terrain_at(pts[_START]))
-        net, _ = turn_candidates(params, dpsi, self.cost.speed_mps, math.inf, self.cost.turn)
+        net, _ = turn_candidates(
+            params, dpsi, self.cost.speed_mps, math.inf, self.cost.turn, in_place=True
+        )
+
         finite = net[np.isfinite(net)]
         if finite.size == 0:
             return None
