@@ -17,6 +17,7 @@ from ecoplan.models import (
     TrackedParams,
     TrackICR,
     dynamic_friction_views,
+    motion_case,
     setpoint_to_tracks,
     tracked_power,
 )
@@ -413,3 +414,25 @@ def test_nan_speeds_rejected(bad: float) -> None:
 def test_bad_parameters_name_field_and_range(field: str, value: float, accepted: str) -> None:
     with pytest.raises(InputError, match=rf"TrackedParams\.{field} = .*accepted: {accepted}"):
         TrackedParams(**{field: value})  # type: ignore[arg-type]
+
+
+def _scalar_case(vl: float, vr: float, tol: float = 1e-3) -> int:
+    """Fig. 3 cases written out for one pair (standstill first, then equal speeds)."""
+    zl, zr = abs(vl) <= tol, abs(vr) <= tol
+    if zl and zr:
+        return 0
+    if abs(vl - vr) <= tol:
+        return 1
+    if zl or zr:
+        return 3
+    return 4 if vl * vr < 0 else 2
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    vl=st.one_of(speed, st.sampled_from([0.0, 5e-4, -5e-4, 0.2])),
+    vr=st.one_of(speed, st.sampled_from([0.0, 5e-4, -5e-4, 0.2])),
+)
+def test_motion_case_matches_fig3_definitions(vl: float, vr: float) -> None:
+    assert int(motion_case(np.array(vl), np.array(vr))) == _scalar_case(vl, vr)
+    assert int(_p().power(vl, vr).case) == _scalar_case(vl, vr)

@@ -9,7 +9,7 @@ import numpy as np
 
 from ecoplan._typing import FloatArray, IntArray
 
-__all__ = ["COMPONENTS", "MotionCase", "PowerBreakdown", "motion_case"]
+__all__ = ["COMPONENTS", "MotionCase", "PowerBreakdown", "motion_case", "motion_case_into"]
 
 #: Names of the additive components of :class:`PowerBreakdown`, in report order.
 COMPONENTS: tuple[str, ...] = (
@@ -38,15 +38,33 @@ def motion_case(v_left: FloatArray, v_right: FloatArray, tol_mps: float = 1e-3) 
     Speeds within ``tol_mps`` of zero count as zero and pairs within ``tol_mps``
     of each other count as equal.
     """
-    zl = np.abs(v_left) <= tol_mps
-    zr = np.abs(v_right) <= tol_mps
-    equal = np.abs(v_left - v_right) <= tol_mps
-    case = np.full(np.broadcast(v_left, v_right).shape, int(MotionCase.SAME_SIGN), dtype=np.int64)
-    case[np.sign(v_left) * np.sign(v_right) < 0] = int(MotionCase.OPPOSITE)
-    case[zl ^ zr] = int(MotionCase.ONE_ZERO)
-    case[equal & ~(zl & zr)] = int(MotionCase.STRAIGHT)
-    case[zl & zr] = int(MotionCase.STOPPED)
+    vl, vr = np.broadcast_arrays(np.asarray(v_left, np.float64), np.asarray(v_right, np.float64))
+    case = np.empty(vl.shape, dtype=np.int64)
+    motion_case_into(vl, vr, np.abs(vl), np.abs(vr), np.abs(vr - vl), tol_mps, case)
     return case
+
+
+def motion_case_into(
+    v_left: FloatArray,
+    v_right: FloatArray,
+    abs_left: FloatArray,
+    abs_right: FloatArray,
+    abs_diff: FloatArray,
+    tol_mps: float,
+    out: IntArray,
+) -> None:
+    """:func:`motion_case` into ``out``, reusing ``|V_l|``, ``|V_r|`` and ``|V_r - V_l|``.
+
+    Priority: stopped (both zero) > straight (equal) > one zero > opposite > same sign.
+    """
+    zl = abs_left <= tol_mps
+    zr = abs_right <= tol_mps
+    opposite = v_left * v_right < 0.0
+    np.multiply(opposite, 2, out=out)
+    out += int(MotionCase.SAME_SIGN)
+    np.copyto(out, int(MotionCase.ONE_ZERO), where=zl ^ zr)
+    np.copyto(out, int(MotionCase.STRAIGHT), where=abs_diff <= tol_mps)
+    np.copyto(out, int(MotionCase.STOPPED), where=zl & zr)
 
 
 @dataclass(frozen=True, slots=True)
