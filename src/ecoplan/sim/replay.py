@@ -261,7 +261,7 @@ class Replay:
         """Write the table as CSV with exactly :data:`TABLE_COLUMNS`; returns the path."""
         path = Path(path)
         lines = [",".join(TABLE_COLUMNS)]
-        lines += [",".join(_fmt(row[c], csv=True) for c in TABLE_COLUMNS) for row in self.rows()]
+        lines += [",".join(_fmt(row[c], c, csv=True) for c in TABLE_COLUMNS) for row in self.rows()]
         path.write_text("\n".join(lines) + "\n", encoding="utf-8")
         return path
 
@@ -270,17 +270,25 @@ class Replay:
         head = "| " + " | ".join(TABLE_COLUMNS) + " |"
         rule = "|" + "|".join("---" if c == "belt" else "---:" for c in TABLE_COLUMNS) + "|"
         body = [
-            "| " + " | ".join(_fmt(row[c]) for c in TABLE_COLUMNS) + " |" for row in self.rows()
+            "| " + " | ".join(_fmt(row[c], c) for c in TABLE_COLUMNS) + " |" for row in self.rows()
         ]
         return "\n".join([head, rule, *body]) + "\n"
 
 
-def _fmt(value: Any, csv: bool = False) -> str:
-    if isinstance(value, str):
-        return value
-    if isinstance(value, int):
+_MD_FORMAT = {
+    "v_sp": "{:.1f}",
+    "G": "{:.2f}",
+    "psi_rad": "{:.3f}",
+    "length_m": "{:.2f}",
+    "time_s": "{:.1f}",
+    "energy_J": "{:.0f}",
+}
+
+
+def _fmt(value: Any, column: str, csv: bool = False) -> str:
+    if isinstance(value, str | int):
         return str(value)
-    return f"{value:.6g}" if csv else f"{value:.4g}" if abs(value) < 10 else f"{value:.1f}"
+    return f"{value:.6g}" if csv else _MD_FORMAT.get(column, "{:.4g}").format(value)
 
 
 def replay(
