@@ -56,6 +56,9 @@ All findings of the text hold in the replay, in every pairing of the grid (ratio
 * The G = 0.18 paths lie closer to the segments: mean distance 0.52-0.60 of G = 0.12's.
 
 The tracked paths clear the obstacle by at least 2.4 m beyond the robot's half width.
+Robustness of the choices above: all findings still hold with a 5 ms or a 50 ms step,
+and with the robot starting towards its first way point instead of towards B (then
+ψ is smaller: 0.61-0.68 rad with 3 way points, 1.00-1.07 rad with 4, at 0.5 m/s).
 """
 
 from __future__ import annotations
