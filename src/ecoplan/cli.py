@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
-from ecoplan.errors import EcoplanError, InputError
+from ecoplan.errors import EcoplanError, InputError, PlanningError
 
 __all__ = ["main"]
 
@@ -178,10 +178,13 @@ def _base_case(sc: Any) -> Any:
 
 
 def _print_case(out: _Out, r: Any) -> None:
+    if r.error is not None:
+        out.say(f"{r.name}: NO ROUTE ({r.error})")
+        return
     p = r.plan
     out.say(f"{r.name}: route from {p.planner}, {len(p.waypoints)} points, {p.length_m:.1f} m")
     if p.estimate_energy_j is not None:
-        out.say(f"  planner estimate: {p.estimate_energy_j / 1e3:.2f} kJ")
+        out.say(f"  analytic estimate: {p.estimate_energy_j / 1e3:.2f} kJ")
     if r.sim is not None:
         s = r.sim
         state = "goal reached" if s.completed else "TIME LIMIT before the goal"
@@ -206,7 +209,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     for x, y in plan.waypoints:
         out.say(f"  {x:9.3f} {y:9.3f}")
     if plan.estimate_energy_j is not None:
-        out.say(f"  planner estimate: {plan.estimate_energy_j / 1e3:.2f} kJ")
+        out.say(f"  analytic estimate: {plan.estimate_energy_j / 1e3:.2f} kJ")
     out.emit(
         {
             "scenario": sc.name,
@@ -285,7 +288,10 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     out.say()
     out.say(summary_table(results))
     files = _report(args, sc, results, out, title=f"{sc.name}: comparison", executor=where)
-    best = min(results, key=lambda r: r.energy_j)
+    done = [r for r in results if r.error is None]
+    if not done:
+        raise PlanningError(f"no case of {sc.source} found a route: {results[0].error}")
+    best = min(done, key=lambda r: r.energy_j)
     out.emit(
         {
             "scenario": sc.name,
@@ -330,28 +336,24 @@ class _BenchCase:
 
 def _bench_one(c: _BenchCase) -> dict[str, Any]:
     """One benchmark case: plan the scenario with a planner and seed, then simulate."""
-    from ecoplan.scenario import Case, load_scenario, simulate_case
+    from ecoplan.scenario import Case, PlannerSection, load_scenario, run_case
 
     sc = load_scenario(c.scenario)
     kind, _, name = c.planner.partition(":")
-    planner: dict[str, Any] = {"type": kind, "seed": c.seed, "time_s": c.time_s}
-    if name:
-        planner["name"] = name
-    spec = sc.spec.model_copy(update={"compare": []})
-    from ecoplan.scenario import PlannerSection
-
-    spec = spec.model_copy(update={"planner": PlannerSection(**planner), "waypoints": None})
+    planner = PlannerSection(type=kind, name=name or None, seed=c.seed, time_s=c.time_s)  # type: ignore[arg-type]
+    spec = sc.spec.model_copy(update={"compare": [], "planner": planner, "waypoints": None})
     t0 = time.perf_counter()
-    r = simulate_case(Case(f"{c.planner}#{c.seed}", spec, sc.source))
+    r = run_case(Case(f"{c.planner}#{c.seed}", spec, sc.source))
     return {
         "scenario": sc.name,
         "planner": c.planner,
         "seed": c.seed,
         "planning_time_s": r.plan.planning_time_s,
         "estimate_energy_j": r.plan.estimate_energy_j,
-        "energy_j": r.energy_j,
+        "energy_j": r.energy_j if r.sim else None,
         "time_s": r.sim.time_s if r.sim else None,
         "completed": bool(r.sim.completed) if r.sim else False,
+        "error": r.error,
         "wall_s": time.perf_counter() - t0,
     }
 
@@ -390,7 +392,11 @@ def _cmd_bench(args: argparse.Namespace) -> int:
         "|---|---|---|---|---|",
     ]
     summary = []
-    for (scn, pl), rs in groups.items():
+    for (scn, pl), all_rs in groups.items():
+        rs = [r for r in all_rs if r["error"] is None]
+        if not rs:
+            table.append(f"| {scn} | {pl} | 0 of {len(all_rs)} found a route | – | – |")
+            continue
         e = statistics.median(r["energy_j"] for r in rs)
         t = statistics.median(r["planning_time_s"] for r in rs)
         table.append(f"| {scn} | {pl} | {len(rs)} | {e / 1e3:.2f} | {t:.3f} |")

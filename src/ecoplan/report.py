@@ -80,9 +80,21 @@ _COMPONENT_COLOURS = {
 
 
 def slug(name: str) -> str:
-    """A file-name-safe version of a case name."""
-    s = re.sub(r"[^A-Za-z0-9._-]+", "-", name).strip("-.")
+    """A file-name-safe version of a case name (``*`` reads as ``star``)."""
+    s = re.sub(r"[^A-Za-z0-9._-]+", "-", name.replace("*", "star")).strip("-.")
     return s[:80] or "case"
+
+
+def _unique_slugs(names: Sequence[str]) -> list[str]:
+    out: list[str] = []
+    for name in names:
+        base = s = slug(name)
+        k = 2
+        while s in out:
+            s = f"{base}-{k}"
+            k += 1
+        out.append(s)
+    return out
 
 
 # ----------------------------------------------------------------- output folder
@@ -283,6 +295,10 @@ def summary_table(results: Sequence[CaseResult]) -> str:
     lines = [head, "|" + "---|" * 10]
     for r in results:
         if r.sim is None:
+            lines.append(
+                f"| {r.name} | {r.plan.planner} | – | – | – | – | – | – | – | "
+                f"no route: {r.error or 'not simulated'} |"
+            )
             continue
         rel = 100.0 * (r.energy_j / best - 1.0) if best > 0 else math.nan
         lines.append(
@@ -376,7 +392,8 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
     moving = [r.p_total_w[:-1] for r in sims if len(r.p_total_w) > 1]
     # colour scale from the cruise power (5th percentile) to the peaks: turns stand out
     vmin = min((float(np.percentile(p, 5)) for p in moving), default=0.0)
-    vmax = vmax_w or max((float(np.max(p)) for p in moving), default=1.0)
+    # ... up to the 99.5th percentile: short spikes (limit violations) saturate
+    vmax = vmax_w or max((float(np.percentile(p, 99.5)) for p in moving), default=1.0)
     vmin = min(vmin, vmax - 1.0)
     norm = Normalize(vmin=vmin, vmax=vmax)
     mappable = None
@@ -385,6 +402,11 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
         if i == 0 or n > 1:
             _draw_world(ax, sc)
             ax.set_title(r.name if n > 1 else f"{sc.name}: {r.name}", fontsize=10)
+        if r.error is not None:
+            ax.set_title(f"{r.name}: no route", fontsize=10, color="darkred")
+            ax.plot(*sc.spec.start.xy, marker="s", color="tab:green", mec="black", ms=8)
+            ax.plot(*sc.goal_xy, marker="*", color="gold", mec="black", ms=13)
+            continue
         wp = r.plan.waypoints
         ax.plot(wp[:, 0], wp[:, 1], "--", color="black", linewidth=1.0, zorder=3)
         ax.plot(wp[1:-1, 0], wp[1:-1, 1], "o", color="white", mec="black", ms=5, zorder=4)
@@ -399,6 +421,9 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
             lc.set_array(r.p_total_w[:-1])
             ax.add_collection(lc)
             mappable = lc
+        if r.sim is not None and np.any(r.over_limit):
+            bad = np.flatnonzero(r.over_limit)
+            ax.plot(r.sim.x[bad], r.sim.y[bad], "o", ms=4, mfc="none", mec="red", mew=0.8, zorder=5)
         if r.battery is not None and r.battery.empty_at is not None:
             _, bx, by, _ = r.battery.empty_at
             ax.plot(bx, by, marker="X", color="red", mec="black", ms=14, zorder=6)
@@ -416,6 +441,7 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
     handles += [
         Line2D([], [], linestyle="--", color="black", marker="o", mfc="white", label="planned"),
         Line2D([], [], color=plt.get_cmap("plasma")(0.6), linewidth=3, label="simulated"),
+        Line2D([], [], linestyle="", marker="o", mfc="none", mec="red", label="over a limit"),
         Line2D([], [], linestyle="", marker="s", color="tab:green", mec="black", label="start"),
         Line2D([], [], linestyle="", marker="*", color="gold", mec="black", ms=12, label="goal"),
     ]
@@ -427,7 +453,9 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
         frameon=False,
     )
     if mappable is not None:
-        fig.colorbar(mappable, ax=flat[:n], label="electrical power $P_T$ [W]", shrink=0.9)
+        fig.colorbar(
+            mappable, ax=flat[:n], label="electrical power $P_T$ [W]", shrink=0.9, extend="max"
+        )
     return fig
 
 
@@ -552,8 +580,11 @@ def write_report(
     simulated = [r for r in results if r.sim is not None]
     fig_names = [f"{stem}.{ext}" for stem in ("map", "power", "breakdown") for ext in opts.figures]
     names = ["summary.json", "summary.csv", *fig_names]
+    csv_names = dict(
+        zip((id(r) for r in results), _unique_slugs([r.name for r in results]), strict=True)
+    )
     if opts.csv:
-        names += [f"{slug(r.name)}.csv" for r in simulated]
+        names += [f"{csv_names[id(r)]}.csv" for r in simulated]
     if opts.markdown:
         names.append("report.md")
     _check_not_foreign(out, names, force)
@@ -582,7 +613,7 @@ def write_report(
             w.writerow(_summary_row(r))
     if opts.csv:
         for r in simulated:
-            write_log_csv(r, out.file(f"{slug(r.name)}.csv"))
+            write_log_csv(r, out.file(f"{csv_names[id(r)]}.csv"))
     if opts.markdown:
         md = _markdown(sc, results, figures, title=title, executor=executor)
         out.file("report.md").write_text(md)
@@ -629,6 +660,8 @@ def _markdown(
 
 def _case_markdown(r: CaseResult, *, single: bool) -> list[str]:
     lines = [f"## {r.name}" if not single else "## Result", ""]
+    if r.error is not None:
+        return [*lines, f"No route: {r.error}", ""]
     lines.append(
         f"Route from `{r.plan.planner}` with {len(r.plan.waypoints)} points "
         f"({r.plan.length_m:.1f} m planned) at v_sp = {r.plan.speed_mps:g} m/s"
@@ -636,7 +669,8 @@ def _case_markdown(r: CaseResult, *, single: bool) -> list[str]:
     )
     if r.plan.estimate_energy_j is not None:
         lines.append(
-            f"The planner's analytic energy estimate: {r.plan.estimate_energy_j / 1e3:.2f} kJ."
+            f"Analytic energy of the route (ecoplan.cost.path_cost): "
+            f"{r.plan.estimate_energy_j / 1e3:.2f} kJ."
         )
     if r.sim is None:
         return [*lines, ""]

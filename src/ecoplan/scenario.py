@@ -44,7 +44,7 @@ from shapely import Point as ShapelyPoint
 from shapely import Polygon, box
 from shapely.validation import explain_validity
 
-from ecoplan._typing import FloatArray
+from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.cost import EnergyCost, LengthCost, path_cost
 from ecoplan.errors import InputError, PlanningError, ScenarioError
 from ecoplan.models.limits import check_tracks
@@ -1023,6 +1023,10 @@ class CaseResult:
     clearance_violation_s : float
         Time the vehicle's centre spent outside the free space (closer to an obstacle
         or to the map edge than ``map.inflation_m``) [s].
+    over_limit : ndarray of bool
+        Per step, True where the commands violate a limit of the vehicle.
+    error : str or None
+        Why the case has no route (the planner failed on valid input), else None.
     """
 
     name: str
@@ -1038,6 +1042,8 @@ class CaseResult:
     battery: BatteryVerdict | None
     violation_s: dict[str, float]
     clearance_violation_s: float
+    over_limit: BoolArray
+    error: str | None = None
 
     @property
     def cumulative_energy_j(self) -> FloatArray:
@@ -1066,6 +1072,7 @@ class CaseResult:
             "estimate_energy_j": self.plan.estimate_energy_j,
             "plan_feasible": self.plan.feasible,
             "plan_violations": list(self.plan.violations),
+            "error": self.error,
         }
         if self.sim is not None:
             out.update(
@@ -1226,8 +1233,37 @@ def simulate_case(
 
 
 def run_case(case: Case, time_budget_s: float | None = None) -> CaseResult:
-    """:func:`simulate_case` with a positional time budget (a picklable executor task)."""
-    return simulate_case(case, time_budget_s=time_budget_s)
+    """Plan and simulate one case of a sweep; a planner failure becomes a failed result.
+
+    The picklable task of ``ecoplan compare`` and ``bench``: one case that finds no route
+    (:class:`~ecoplan.errors.PlanningError`) must not sink the others, so it comes back
+    as a :class:`CaseResult` without simulation whose ``error`` says why.  Bad input
+    still raises.
+
+    Parameters
+    ----------
+    case : Case
+        The case.
+    time_budget_s : float, optional
+        Caps the planner's time budget.
+
+    Returns
+    -------
+    CaseResult
+        The simulated case, or a failed one (``sim is None``, ``error`` set).
+    """
+    try:
+        return simulate_case(case, time_budget_s=time_budget_s)
+    except PlanningError as exc:
+        spec = case.spec
+        planner = case.planner
+        name = planner.type if planner.name is None else f"{planner.type}:{planner.name}"
+        plan = PlanOutcome(name, np.asarray([spec.start.xy]), spec.speed.v_mps)
+        empty = np.zeros(0)
+        return CaseResult(
+            case.name, plan, None, empty, empty, empty, {}, (), 0.0, {}, None, {}, 0.0,
+            np.zeros(0, dtype=np.bool_), error=str(exc),
+        )  # fmt: skip
 
 
 def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> CaseResult:
@@ -1282,6 +1318,7 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
         battery,
         violation_s,
         clearance_s,
+        np.asarray(violated != "", dtype=np.bool_),
     )
 
 
