@@ -20,6 +20,7 @@ from ecoplan.models import (
     motion_case,
     setpoint_to_tracks,
     tracked_power,
+    tracked_total_power,
 )
 from ecoplan.presets import vehicle
 
@@ -436,3 +437,36 @@ def _scalar_case(vl: float, vr: float, tol: float = 1e-3) -> int:
 def test_motion_case_matches_fig3_definitions(vl: float, vr: float) -> None:
     assert int(motion_case(np.array(vl), np.array(vr))) == _scalar_case(vl, vr)
     assert int(_p().power(vl, vr).case) == _scalar_case(vl, vr)
+
+
+@settings(max_examples=100, deadline=None)
+@given(
+    vl=st.lists(st.one_of(speed, st.sampled_from([0.0, 5e-4, 0.4])), min_size=1, max_size=40),
+    shift=st.floats(-0.5, 0.5),
+    overrides=st.sampled_from(
+        [{}, {"icr_offset_m": 0.05, "icr_x_m": 0.1}, {"nonregen_blend_mps": 0.0}, {"mu": 0.0}]
+    ),
+)
+def test_total_only_path_equals_breakdown_total(
+    vl: list[float], shift: float, overrides: dict[str, float]
+) -> None:
+    # tracked_total_power is eq. (20) without the breakdown: it must equal total_w.
+    p = vehicle("auriga-beta-narrow", "asphalt", overrides)
+    assert isinstance(p, TrackedParams)
+    left = np.array(vl)
+    right = np.clip(left[::-1] + shift, -VMAX, VMAX)
+    expected = tracked_power(left, right, p).total_w
+    assert tracked_total_power(left, right, p) == pytest.approx(expected, rel=1e-12, abs=1e-9)
+
+
+def test_blocked_evaluation_is_independent_of_the_block_boundaries() -> None:
+    # 40 000 samples span three blocks; every sample equals its own scalar evaluation.
+    rng = np.random.default_rng(5)
+    vl, vr = rng.uniform(-VMAX, VMAX, (2, 40_000))
+    p = _p()
+    out = p.power(vl, vr)
+    for i in (0, 16_383, 16_384, 39_999):
+        one = p.power(vl[i], vr[i])
+        assert float(out.left_w[i]) == float(one.left_w)
+        assert float(out.total_w[i]) == float(one.total_w)
+    assert tracked_total_power(vl.reshape(200, 200), vr.reshape(200, 200), p).shape == (200, 200)

@@ -20,7 +20,12 @@ from ecoplan.models.limits import (
     vr_to_tracks,
 )
 from ecoplan.models.power import COMPONENTS, MotionCase, PowerBreakdown, motion_case
-from ecoplan.models.tracked import TrackedParams, dynamic_friction_views, tracked_power
+from ecoplan.models.tracked import (
+    TrackedParams,
+    dynamic_friction_views,
+    tracked_power,
+    tracked_total_power,
+)
 from ecoplan.models.wheeled import SideCoefficients, WheeledParams, side_power, wheeled_power
 
 __all__ = [
@@ -47,6 +52,7 @@ __all__ = [
     "setpoint_to_tracks",
     "side_power",
     "tracked_power",
+    "tracked_total_power",
     "tracks_to_twist",
     "vr_to_tracks",
     "wheeled_power",

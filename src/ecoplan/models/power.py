@@ -6,10 +6,19 @@ from dataclasses import dataclass
 from enum import IntEnum
 
 import numpy as np
+import numpy.typing as npt
 
 from ecoplan._typing import FloatArray, IntArray
 
-__all__ = ["COMPONENTS", "MotionCase", "PowerBreakdown", "motion_case", "motion_case_into"]
+__all__ = [
+    "CASE_TABLE",
+    "COMPONENTS",
+    "MotionCase",
+    "PowerBreakdown",
+    "motion_case",
+    "motion_case_index",
+    "motion_case_into",
+]
 
 #: Names of the additive components of :class:`PowerBreakdown`, in report order.
 COMPONENTS: tuple[str, ...] = (
@@ -44,6 +53,47 @@ def motion_case(v_left: FloatArray, v_right: FloatArray, tol_mps: float = 1e-3) 
     return case
 
 
+def _case_table() -> IntArray:
+    """Case of every 4-bit pattern (zero left, zero right, equal, opposite signs)."""
+    table = np.empty(16, dtype=np.int64)
+    for idx in range(16):
+        zl, zr, eq, opp = (bool(idx >> bit & 1) for bit in range(4))
+        if zl and zr:
+            table[idx] = MotionCase.STOPPED
+        elif eq:
+            table[idx] = MotionCase.STRAIGHT
+        elif zl or zr:
+            table[idx] = MotionCase.ONE_ZERO
+        else:
+            table[idx] = MotionCase.OPPOSITE if opp else MotionCase.SAME_SIGN
+    return table
+
+
+#: :class:`MotionCase` of each pattern index of :func:`motion_case_index`.
+CASE_TABLE: IntArray = _case_table()
+
+
+def motion_case_index(
+    v_left: FloatArray,
+    v_right: FloatArray,
+    abs_left: FloatArray,
+    abs_right: FloatArray,
+    abs_diff: FloatArray,
+    tol_mps: float,
+) -> npt.NDArray[np.uint8]:
+    """Pattern index ``zl + 2 zr + 4 equal + 8 opposite`` of track-speed pairs.
+
+    ``CASE_TABLE[index]`` is the :class:`MotionCase`; gathering from small tables
+    avoids data-dependent branches (``np.where`` on random masks is slow).  Priority:
+    stopped (both zero) > straight (equal) > one zero > opposite > same sign.
+    """
+    idx = (abs_left <= tol_mps).view(np.uint8).copy()
+    idx |= (abs_right <= tol_mps).view(np.uint8) << 1
+    idx |= (abs_diff <= tol_mps).view(np.uint8) << 2
+    idx |= (np.signbit(v_left) ^ np.signbit(v_right)).view(np.uint8) << 3
+    return idx
+
+
 def motion_case_into(
     v_left: FloatArray,
     v_right: FloatArray,
@@ -53,18 +103,9 @@ def motion_case_into(
     tol_mps: float,
     out: IntArray,
 ) -> None:
-    """:func:`motion_case` into ``out``, reusing ``|V_l|``, ``|V_r|`` and ``|V_r - V_l|``.
-
-    Priority: stopped (both zero) > straight (equal) > one zero > opposite > same sign.
-    """
-    zl = abs_left <= tol_mps
-    zr = abs_right <= tol_mps
-    opposite = v_left * v_right < 0.0
-    np.multiply(opposite, 2, out=out)
-    out += int(MotionCase.SAME_SIGN)
-    np.copyto(out, int(MotionCase.ONE_ZERO), where=zl ^ zr)
-    np.copyto(out, int(MotionCase.STRAIGHT), where=abs_diff <= tol_mps)
-    np.copyto(out, int(MotionCase.STOPPED), where=zl & zr)
+    """:func:`motion_case` into ``out``, reusing ``|V_l|``, ``|V_r|`` and ``|V_r - V_l|``."""
+    idx = motion_case_index(v_left, v_right, abs_left, abs_right, abs_diff, tol_mps)
+    np.take(CASE_TABLE, idx, out=out)
 
 
 @dataclass(frozen=True, slots=True)

@@ -28,7 +28,7 @@ import numpy as np
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
 from ecoplan.models._validate import check_range, finite_array
 from ecoplan.models.kinematics import TrackICR
-from ecoplan.models.power import MotionCase, PowerBreakdown, motion_case_into
+from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
 
 __all__ = [
     "GRAVITY_MPS2",
@@ -37,6 +37,7 @@ __all__ = [
     "contact_points",
     "dynamic_friction_views",
     "tracked_power",
+    "tracked_total_power",
 ]
 
 GRAVITY_MPS2 = 9.81
@@ -243,6 +244,9 @@ def dynamic_friction_views(
     return FrictionViews(mu_abs_w * c.s_left, mu_abs_w * c.s_right, vl * fl, vr * fr, fl, fr)
 
 
+_SAME_TABLE = (CASE_TABLE == MotionCase.SAME_SIGN).astype(np.float64)
+_MOVING_TABLE = (CASE_TABLE != MotionCase.STOPPED).astype(np.float64)
+
 #: Samples per block in :func:`tracked_power`: the temporaries of one block stay in cache.
 _BLOCK = 16384
 
@@ -307,6 +311,63 @@ def tracked_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedParams) 
     )
 
 
+def tracked_total_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedParams) -> FloatArray:
+    """Total electrical power ``P_T`` only (eq. 20), equal to ``tracked_power(...).total_w``.
+
+    ``P_T = (µ|w| Σ N|a - C| + K (|V_l| + |V_r|) + P_D) / η`` evaluated without the
+    breakdown or the per-motor split: the cheapest call for planners and cost maps that
+    need only the total (about twice the throughput of :func:`tracked_power`).
+
+    Parameters
+    ----------
+    v_left, v_right : array_like
+        Track speeds [m/s], broadcastable.
+    params : TrackedParams
+        Vehicle and terrain parameters.
+
+    Returns
+    -------
+    ndarray
+        ``P_T`` [W], broadcast from the inputs.
+    """
+    vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
+    shape = vl.shape
+    n = vl.size
+    flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)
+    total = np.empty(n)
+    k = _KernelConstants.of(params)
+    for lo in range(0, max(n, 1), _BLOCK):
+        hi = min(lo + _BLOCK, n)
+        _total_block(flat_l[lo:hi], flat_r[lo:hi], k, total[lo:hi])
+    return total.reshape(shape)
+
+
+def _total_block(vl: FloatArray, vr: FloatArray, k: _KernelConstants, out: FloatArray) -> None:
+    """One block of :func:`tracked_total_power`."""
+    d = vr - vl
+    ad = np.abs(d)
+    al = np.abs(vl)
+    ar = np.abs(vr)
+    travel = al + ar
+    idx = motion_case_index(vl, vr, al, ar, ad, k.tol)
+    np.take(k.braking_table, idx, out=out)  # braking, cases 3-4
+    same = np.take(_SAME_TABLE, idx)
+    if k.inv_blend < np.inf:  # per unit of travel: K + k_nr ramp [case 2]
+        per_travel = ad * k.inv_blend
+        np.minimum(per_travel, 1.0, out=per_travel)
+        per_travel *= same
+    else:
+        per_travel = same
+    per_travel *= k.k_nr
+    per_travel += k.k
+    per_travel *= travel
+    out += per_travel
+    ad *= k.c_s  # P_S, eq. (10)
+    out += ad
+    out += k.p_up
+    out *= k.inv_eta  # eq. (20)
+
+
 class _KernelConstants(NamedTuple):
     c_s: float  # P_S / |V_r - V_l|  [N]  (eq. 10 with eq. 3)
     k: float
@@ -319,6 +380,7 @@ class _KernelConstants(NamedTuple):
     g_left: float  # motor-view force constants µ g (eq. 17), for asymmetric ICRs
     g_right: float
     symmetric: bool
+    braking_table: FloatArray  # braking power per case pattern (cases 3 and 4)
 
     @classmethod
     def of(cls, params: TrackedParams) -> _KernelConstants:
@@ -337,13 +399,18 @@ class _KernelConstants(NamedTuple):
             g_left=params.mu * c.g_left,
             g_right=params.mu * c.g_right,
             symmetric=icr.is_symmetric,
+            braking_table=np.where(CASE_TABLE >= MotionCase.ONE_ZERO, params.p_braking_w, 0.0),
         )
 
 
 def _tracked_block(
     vl: FloatArray, vr: FloatArray, k: _KernelConstants, out: list[FloatArray], case: IntArray
 ) -> None:
-    """Evaluate one block of :func:`tracked_power` into the output slices."""
+    """Evaluate one block of :func:`tracked_power` into the output slices.
+
+    Branch-free: the motion case is a pattern index gathered from small tables, and the
+    case-dependent terms are products with 0/1 factors (no ``np.where`` on masks).
+    """
     f, r, up, br, nr, loss, tot, left, right = out
     d = vr - vl
     ad = np.abs(d)
@@ -352,14 +419,20 @@ def _tracked_block(
     travel = al + ar
     np.multiply(ad, k.c_s, out=f)  # P_S, eq. (10)/(14)
     np.multiply(travel, k.k, out=r)  # P_R, eq. (18)
-    motion_case_into(vl, vr, al, ar, ad, k.tol, case)
-    same = case == MotionCase.SAME_SIGN
+    idx = motion_case_index(vl, vr, al, ar, ad, k.tol)
+    np.take(CASE_TABLE, idx, out=case)
+    np.take(k.braking_table, idx, out=br)  # cases 3 and 4
+    same = np.take(_SAME_TABLE, idx)
+    moving = np.take(_MOVING_TABLE, idx)
     up.fill(k.p_up)
-    np.multiply(case >= MotionCase.ONE_ZERO, k.p_br, out=br)  # cases 3 and 4
-    ramp = np.minimum(ad * k.inv_blend, 1.0) if k.inv_blend < np.inf else 1.0
-    np.multiply(travel, ramp, out=nr)
+    if k.inv_blend < np.inf:
+        ramp = ad * k.inv_blend
+        np.minimum(ramp, 1.0, out=ramp)
+        ramp *= same
+        np.multiply(travel, ramp, out=nr)
+    else:
+        np.multiply(travel, same, out=nr)
     nr *= k.k_nr
-    nr *= same
     p_mech = f + r
     p_drv = up + br
     p_drv += nr
@@ -371,9 +444,9 @@ def _tracked_block(
     if k.symmetric:
         sc = np.sign(d)
         sc *= k.c_s
+        np.multiply(vr, sc, out=right)
         np.multiply(vl, sc, out=left)
         np.negative(left, out=left)
-        np.multiply(vr, sc, out=right)
     else:
         sgn = np.sign(d)
         lf = vl * (k.g_left * sgn)
@@ -382,11 +455,15 @@ def _tracked_block(
         scale = np.divide(f, msum, out=np.ones_like(f), where=msum > 1e-9)
         np.multiply(lf, scale, out=left)
         np.multiply(rf, scale, out=right)
-    # traction resistance per motor; in case 2 the faster motor bears the dragged one's
-    left_res = np.where(same, np.where(al > ar, r, 0.0), k.k * al)
-    right_res = np.where(same, np.where(ar > al, r, 0.0), k.k * ar)
-    left += left_res
-    right += right_res
-    stopped = case == MotionCase.STOPPED
-    left[stopped] = 0.0
-    right[stopped] = 0.0
+    # traction resistance per motor, adding up to P_R: in case 2 the faster motor bears
+    # the dragged one's (left faster: K (|V_l| + |V_r|), slower: 0); otherwise K |V|
+    res_l = np.multiply(al > ar, travel)
+    res_l -= al
+    res_l *= same
+    res_l += al
+    res_l *= k.k
+    left += res_l
+    right += r
+    right -= res_l
+    left *= moving
+    right *= moving
