@@ -583,8 +583,10 @@ class OmplPlanner:
             raw, simplified, stats = self._search(
                 s, g, initial_heading_rad, space_name, radius, deadline
             )
-        best = self._choose(raw, simplified, space_name, radius, initial_heading_rad, deadline)
-        stats.update(turning_radius_m=radius, seed=float(self.options.seed))
+        best, raw_value = self._choose(raw, simplified, space_name, initial_heading_rad, deadline)
+        stats.update(
+            turning_radius_m=radius, seed=float(self.options.seed), raw_objective=raw_value
+        )
         return PlanResult(
             best=best,
             alternatives=(best,),
@@ -695,28 +697,36 @@ class OmplPlanner:
         raw: FloatArray,
         candidates: list[FloatArray],
         space_name: str,
-        radius: float,
         heading: float | None,
         deadline: Deadline,
-    ) -> Plan:
-        """Evaluate every candidate with the cost module and keep the cheapest feasible."""
+    ) -> tuple[Plan, float]:
+        """Evaluate the raw and simplified paths with the cost module; keep the cheapest.
+
+        Returns the plan and the objective value of the raw (unsimplified) path
+        (``inf`` when that path has no feasible execution).
+        """
         evaluated: list[tuple[float, FloatArray, PathCost]] = []
         for poses in [raw, *candidates]:
             if space_name == "se2":
                 wps = _dedupe(poses[:, :2])
                 pc = self.cost.path(wps, initial_heading_rad=heading)
-                if pc.feasible and self.options.simplify:
-                    wps, pc = self._prune_waypoints(wps, pc, heading, deadline)
+                evaluated.append((self._value(pc), wps, pc))
+                if not pc.feasible or not self.options.simplify:
+                    continue
+                wps, pc = self._prune_waypoints(wps, pc, heading, deadline)
             else:
                 wps, pc = self._curve_cost(poses)
-            evaluated.append((self.cost.value(pc) if pc.feasible else math.inf, wps, pc))
+            evaluated.append((self._value(pc), wps, pc))
         value, wps, pc = min(evaluated, key=lambda e: e[0])
         if not math.isfinite(value):
             raise PlanningError(
                 f"{self.options.planner} found a path but no feasible execution of it: "
                 f"{pc.violations[0].message() if pc.violations else 'unknown violation'}"
             )
-        return Plan(wps, pc, self.kind, value, self.cost.speed_mps)
+        return Plan(wps, pc, self.kind, value, self.cost.speed_mps), evaluated[0][0]
+
+    def _value(self, pc: PathCost) -> float:
+        return self.cost.value(pc) if pc.feasible else math.inf
 
     def _prune_waypoints(
         self, wps: FloatArray, pc: PathCost, heading: float | None, deadline: Deadline
