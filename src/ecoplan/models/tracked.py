@@ -115,6 +115,7 @@ class TrackedParams:
     p_total_max_w: float | None = 3040.0
     p_motor_max_w: float | None = None
     _friction: _FrictionConstants = field(init=False, repr=False, compare=False)
+    _kernel: _KernelConstants = field(init=False, repr=False, compare=False)
 
     kind = "tracked"
 
@@ -143,6 +144,7 @@ class TrackedParams:
         if self.p_motor_max_w is not None:
             check_range(o, "p_motor_max_w", self.p_motor_max_w, 0.0, lo_open=True)
         object.__setattr__(self, "_friction", _friction_constants(self, self.icr))
+        object.__setattr__(self, "_kernel", _KernelConstants.of(self))
 
     @property
     def icr(self) -> TrackICR:
@@ -292,7 +294,7 @@ def tracked_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedParams) 
     flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)
     outs = [np.empty(n) for _ in range(9)]
     case = np.empty(n, dtype=np.int64)
-    k = _KernelConstants.of(params)
+    k = params._kernel
     for lo in range(0, max(n, 1), _BLOCK):
         hi = min(lo + _BLOCK, n)
         _tracked_block(flat_l[lo:hi], flat_r[lo:hi], k, [o[lo:hi] for o in outs], case[lo:hi])
@@ -335,7 +337,7 @@ def tracked_total_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedPa
     n = vl.size
     flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)
     total = np.empty(n)
-    k = _KernelConstants.of(params)
+    k = params._kernel
     for lo in range(0, max(n, 1), _BLOCK):
         hi = min(lo + _BLOCK, n)
         _total_block(flat_l[lo:hi], flat_r[lo:hi], k, total[lo:hi])
