@@ -420,3 +420,39 @@ def test_rosbag_rate_nan_and_missing_topic(tmp_path: Path) -> None:
         read_rosbag(tmp_path / "absent", bad)
     with pytest.raises(LogFormatError, match="exactly one"):
         TopicMap(v_left=FieldRef("/a"), v_right=FieldRef("/b"))
+
+
+def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
+    p = tmp_path / "bom.csv"
+    p.write_bytes("\ufefft,v_left,v_right,p_total\n0,0,0,1\n1,0,0,1\n".encode())
+    assert len(read_log_csv(p)) == 2
+
+
+_CELLS = st.sampled_from(["0", "1.5", "-2", "nan", "inf", "", "x", "1e3", " 3 ", "25", '"4"'])
+
+
+@settings(max_examples=150, deadline=None)
+@given(
+    st.lists(
+        st.sampled_from(["t", "v_left", "v_right", "p_total", "wz", "terrain", "extra", "t"]),
+        min_size=0,
+        max_size=7,
+    ),
+    st.lists(st.lists(_CELLS, min_size=0, max_size=8), min_size=0, max_size=6),
+)
+def test_any_csv_gives_a_log_or_a_log_format_error(
+    header: list[str], rows: list[list[str]]
+) -> None:
+    import tempfile
+
+    text = ",".join(header) + "\n" + "".join(",".join(r) + "\n" for r in rows)
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "fuzz.csv"
+        p.write_text(text)
+        try:
+            log = read_log_csv(p)
+        except LogFormatError as exc:
+            assert "\n" not in str(exc)
+        else:
+            assert len(log) >= 2 and np.all(np.diff(log.t) > 0)
+            assert np.all(np.isfinite(log.p_total))

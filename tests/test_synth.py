@@ -381,7 +381,7 @@ def test_base_error_perturbs_the_true_vehicle_within_its_bound() -> None:
 @pytest.mark.parametrize("effect", [*IN_LIBRARY, *OUT_OF_LIBRARY])
 def test_moderate_effects_are_clearly_above_the_noise(effect: str) -> None:
     # "moderate" must move the power by more than the power sensor's own noise:
-    # mean |noise| = 0.8 sigma, sigma = 2 % P + 3 W, about 10 W on these sessions.
+    # mean |noise| = 0.8 sigma, sigma = 2 % P + 3 W, about 10-14 W on these sessions.
     case = generate_case(21, effect, "moderate", **FAST)
     noise_mae = float(
         np.mean(
@@ -390,7 +390,7 @@ def test_moderate_effects_are_clearly_above_the_noise(effect: str) -> None:
             )
         )
     )
-    assert case.truth.effect_mae_w > 0.8 * noise_mae, (case.truth.effect_mae_w, noise_mae)
+    assert case.truth.effect_mae_w > noise_mae, (case.truth.effect_mae_w, noise_mae)
     assert case.truth.label == (effect if effect in IN_LIBRARY else "out_of_library")
     small = generate_case(21, effect, "small", **FAST)
     large = generate_case(21, effect, "large", **FAST)
@@ -437,3 +437,15 @@ def test_wheeled_vehicle_is_supported(effect: str) -> None:
     case = generate_case(2, effect, vehicle="pioneer-3at", terrain="asphalt", **FAST)
     assert case.truth.effect_mae_w > 0.0
     assert all(np.all(np.isfinite(lg.p_total)) for lg in case.logs)
+
+
+def test_magnitude_survey_reports_effect_and_noise() -> None:
+    from ecoplan.diagnose.synth import magnitude_survey
+
+    out = magnitude_survey(
+        "moderate", seeds=(0, 1), effects=("slope",), n_waypoint_runs=0, rate_hz=10.0
+    )
+    assert set(out) == {"slope", "noise"}
+    for lo, med, hi in out.values():
+        assert 0.0 < lo <= med <= hi
+    assert out["slope"][0] > out["noise"][2]

@@ -383,7 +383,7 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
     p = Path(path)
     source = str(p)
     try:
-        fh = p.open(newline="", encoding="utf-8")
+        fh = p.open(newline="", encoding="utf-8-sig")
     except OSError as exc:
         raise LogFormatError(f"{source}: cannot open log: {exc.strerror}") from None
     meta_run: str | None = None
