@@ -456,3 +456,51 @@ def test_any_csv_gives_a_log_or_a_log_format_error(
         else:
             assert len(log) >= 2 and np.all(np.diff(log.t) > 0)
             assert np.all(np.isfinite(log.p_total))
+
+
+def test_read_logs_dispatches_bags_with_a_topic_map_file(tmp_path: Path) -> None:
+    _write_bag(tmp_path / "bag")
+    with pytest.raises(LogFormatError, match=r"needs a topic map.*bag\.topics\.yaml"):
+        read_logs([tmp_path / "bag"])
+    (tmp_path / "bag.topics.yaml").write_text(
+        "v_left: {topic: /joint_states, field: 'velocity[left_wheel]', scale: 0.1}\n"
+        "v_right: {topic: /joint_states, field: 'velocity[right_wheel]', scale: 0.1}\n"
+        "battery_topic: /battery\n"
+        "odom_topic: /odom\n"
+        "rate_hz: 20\n"
+    )
+    csv_log = _full_log().to_csv(tmp_path / "run.csv")
+    logs = read_logs([tmp_path / "bag", csv_log])
+    assert [lg.run_id for lg in logs] == ["bag", "run-1"]
+    assert np.median(np.diff(logs[0].t)) == pytest.approx(0.05)
+    np.testing.assert_allclose(logs[0].v_left, 0.1 * (2.0 + 0.5 * (0.005 + logs[0].t)), atol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("text", "fragment"),
+    [
+        ("v_left: /a\nv_right: /b\npower: /p\nspeed: 3\n", "unknown key(s) speed"),
+        ("v_left: /a\npower: /p\n", "missing required key 'v_right'"),
+        ("v_left: {topic: /a, gain: 2}\nv_right: /b\npower: /p\n", "v_left: unknown key(s) gain"),
+        ("v_left: [1, 2]\nv_right: /b\npower: /p\n", "v_left: expected a topic name"),
+        ("v_left: /a\nv_right: /b\n", "exactly one of 'power' and 'battery_topic'"),
+        ("- just\n- a list\n", "must be a mapping"),
+        ("v_left: {topic: /a\n", "invalid YAML"),
+    ],
+)
+def test_bad_topic_map_files_name_the_key(tmp_path: Path, text: str, fragment: str) -> None:
+    from ecoplan.diagnose.logio import load_topic_map
+
+    p = tmp_path / "map.yaml"
+    p.write_text(text)
+    with pytest.raises(LogFormatError) as info:
+        load_topic_map(p)
+    assert fragment in str(info.value) and str(p) in str(info.value)
+    assert "\n" not in str(info.value)
+
+
+@needs_boreal
+def test_read_logs_accepts_borealtc_specs() -> None:
+    logs = read_logs(["borealtc:ASPHALT/02", "borealtc:asphalt"], bus_voltage_v=25.0)
+    assert logs[0].run_id == "ASPHALT_02" and len(logs) == 1 + 7
+    assert any("25 V" in n for n in logs[0].notes)

@@ -69,6 +69,7 @@ __all__ = [
     "TopicMap",
     "load_borealtc",
     "load_borealtc_runs",
+    "load_topic_map",
     "read_log_csv",
     "read_logs",
     "read_rosbag",
@@ -556,18 +557,60 @@ def write_log_csv(log: Log, path: str | os.PathLike[str], *, overwrite: bool = F
     return p
 
 
-def read_logs(paths: Iterable[str | os.PathLike[str]]) -> list[Log]:
-    """Read several log CSVs (one run each); errors name the offending file.
+def read_logs(
+    paths: Iterable[str | os.PathLike[str]],
+    *,
+    topic_map: TopicMap | None = None,
+    bus_voltage_v: float = 24.0,
+) -> list[Log]:
+    """Read several logs (one run each) of any supported source; errors name the source.
+
+    Each entry is one of:
+
+    * a CSV file in the ecoplan format (:func:`read_log_csv`);
+    * ``borealtc:TERRAIN`` (every run) or ``borealtc:TERRAIN/RUN`` -- BorealTC runs
+      (:func:`load_borealtc`, with ``bus_voltage_v``);
+    * a ROS 2 bag (a directory holding ``metadata.yaml``, or an ``.mcap``/``.db3`` file),
+      read with ``topic_map`` or, when it is None, with the topic map in the file
+      ``<bag>.topics.yaml`` beside the bag (:func:`load_topic_map`).
 
     Raises
     ------
     LogFormatError
-        No paths, or any file is malformed.
+        No entries, a malformed source, or a bag without a topic map.
     """
     seq: Sequence[str | os.PathLike[str]] = list(paths)
     if not seq:
         raise LogFormatError("no log files given")
-    return [read_log_csv(p) for p in seq]
+    out: list[Log] = []
+    for entry in seq:
+        text = os.fspath(entry)
+        if text.lower().startswith("borealtc:"):
+            terrain, _, run = text.split(":", 1)[1].partition("/")
+            if run:
+                out.append(load_borealtc(terrain, run, bus_voltage_v))
+            else:
+                out.extend(load_borealtc_runs(terrain, bus_voltage_v))
+            continue
+        path = Path(text)
+        is_bag = (path.is_dir() and (path / "metadata.yaml").is_file()) or path.suffix in (
+            ".mcap",
+            ".db3",
+        )
+        if is_bag:
+            tmap = topic_map
+            if tmap is None:
+                side = path.with_name(path.name + ".topics.yaml")
+                if not side.is_file():
+                    raise LogFormatError(
+                        f"{path}: a ROS 2 bag needs a topic map; none given and no {side.name} "
+                        "beside the bag"
+                    )
+                tmap = load_topic_map(side)
+            out.append(read_rosbag(path, tmap))
+            continue
+        out.append(read_log_csv(path))
+    return out
 
 
 def load_borealtc(
@@ -732,6 +775,37 @@ class TopicMap:
             raise LogFormatError(f"TopicMap.rate_hz = {self.rate_hz!r}; accepted: (0, 10000]")
 
     @classmethod
+    def from_mapping(cls, data: Mapping[str, Any], source: str = "topic map") -> TopicMap:
+        """Build from a mapping (a YAML/JSON document); unknown keys are rejected.
+
+        Column keys (``v_left``, ``v_right``, ``power``, ``v_left_cmd``, ``v_right_cmd``,
+        ``wz``) take either a topic name (field ``data``) or a mapping with ``topic`` and
+        optional ``field`` and ``scale``; the other keys are the attributes' values.
+        """
+        if not isinstance(data, Mapping):
+            raise LogFormatError(f"{source}: a topic map must be a mapping of keys to values")
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(data) - names)
+        if unknown:
+            accepted = ", ".join(sorted(names))
+            raise LogFormatError(
+                f"{source}: unknown key(s) {', '.join(unknown)}; accepted: {accepted}"
+            )
+        kw: dict[str, Any] = {}
+        for key, val in data.items():
+            if key in _REF_KEYS and val is not None:
+                kw[key] = _field_ref(val, f"{source}: {key}")
+            else:
+                kw[key] = val
+        for key in ("v_left", "v_right"):
+            if key not in kw:
+                raise LogFormatError(f"{source}: missing required key {key!r}")
+        try:
+            return cls(**kw)
+        except (TypeError, LogFormatError) as exc:
+            raise LogFormatError(f"{source}: {exc}") from None
+
+    @classmethod
     def joint_states(
         cls,
         topic: str,
@@ -746,6 +820,44 @@ class TopicMap:
             v_right=FieldRef(topic, f"velocity[{right_joint}]", wheel_radius_m),
             **kwargs,
         )
+
+
+_REF_KEYS = ("v_left", "v_right", "power", "v_left_cmd", "v_right_cmd", "wz")
+
+
+def _field_ref(val: Any, where: str) -> FieldRef:
+    if isinstance(val, str):
+        return FieldRef(val)
+    if isinstance(val, Mapping) and isinstance(val.get("topic"), str):
+        extra = sorted(set(val) - {"topic", "field", "scale"})
+        if extra:
+            raise LogFormatError(f"{where}: unknown key(s) {', '.join(extra)}")
+        scale = val.get("scale", 1.0)
+        if not isinstance(scale, int | float) or isinstance(scale, bool):
+            raise LogFormatError(f"{where}: scale must be a number, got {scale!r}")
+        return FieldRef(str(val["topic"]), str(val.get("field", "data")), float(scale))
+    raise LogFormatError(f"{where}: expected a topic name or {{topic, field, scale}}, got {val!r}")
+
+
+def load_topic_map(path: str | os.PathLike[str]) -> TopicMap:
+    """Read a :class:`TopicMap` from a YAML (or JSON) file; see :meth:`TopicMap.from_mapping`.
+
+    Raises
+    ------
+    LogFormatError
+        Unreadable file or invalid content, naming the file and key.
+    """
+    import yaml
+
+    p = Path(path)
+    try:
+        data = yaml.safe_load(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise LogFormatError(f"{p}: cannot read topic map: {exc.strerror}") from None
+    except yaml.YAMLError as exc:
+        first = str(exc).splitlines()[0] if str(exc) else "invalid YAML"
+        raise LogFormatError(f"{p}: invalid YAML: {first}") from None
+    return TopicMap.from_mapping(data, str(p))
 
 
 def _field_value(msg: Any, path: str) -> float:
