@@ -19,6 +19,7 @@ Output folders are never overwritten silently: see :func:`prepare_out_dir`.
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
 import re
@@ -83,6 +84,11 @@ def slug(name: str) -> str:
     """A file-name-safe version of a case name (``*`` reads as ``star``)."""
     s = re.sub(r"[^A-Za-z0-9._-]+", "-", name.replace("*", "star")).strip("-.")
     return s[:80] or "case"
+
+
+def case_file_names(results: Sequence[CaseResult]) -> list[str]:
+    """Names of the cases' CSV logs in a report folder (unique, file-name safe)."""
+    return [f"{s}.csv" for s in _unique_slugs([r.name for r in results])]
 
 
 def _unique_slugs(names: Sequence[str]) -> list[str]:
@@ -204,8 +210,9 @@ def write_log_csv(result: CaseResult, path: Path) -> Path:
     """Write a case's simulated steps as CSV in the diagnosis log format.
 
     Columns: ``t, x, y, yaw, v_left_cmd, v_right_cmd, v_left, v_right, wz, p_total,
-    p_left, p_right`` (the log contract), then ``terrain``, ``case`` and the breakdown
-    ``p_friction, p_resistance, ...`` [W].  Power columns are terrain-aware.
+    p_left, p_right`` (the log contract), then ``case`` (Fig. 3), the breakdown
+    ``p_friction, p_resistance, ...`` [W] and the ``terrain`` label.  Power columns are
+    terrain-aware.
     """
     sim = result.sim
     if sim is None:
@@ -223,22 +230,18 @@ def write_log_csv(result: CaseResult, path: Path) -> Path:
         "p_total": result.p_total_w,
         "p_left": result.p_left_w,
         "p_right": result.p_right_w,
+        "case": sim.case,
     }
-    comp = {f"p_{c.removesuffix('_w')}": result.components_w[c] for c in COMPONENTS}
+    cols.update({f"p_{c.removesuffix('_w')}": result.components_w[c] for c in COMPONENTS})
+    data = np.column_stack([np.asarray(v, dtype=np.float64) for v in cols.values()])
+    fmt = ["%.10g"] * len(cols)
+    fmt[list(cols).index("case")] = "%d"
+    buf = io.StringIO()
+    np.savetxt(buf, data, fmt=fmt, delimiter=",")
+    rows = buf.getvalue().splitlines()
     with path.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow([*cols, "terrain", "case", *comp])
-        num = np.column_stack([np.asarray(v, dtype=np.float64) for v in cols.values()])
-        cmp_ = np.column_stack([np.asarray(v, dtype=np.float64) for v in comp.values()])
-        for i in range(num.shape[0]):
-            w.writerow(
-                [
-                    *(f"{v:.10g}" for v in num[i]),
-                    result.terrain[i],
-                    int(sim.case[i]),
-                    *(f"{v:.10g}" for v in cmp_[i]),
-                ]
-            )
+        fh.write(",".join([*cols, "terrain"]) + "\n")
+        fh.writelines(f"{row},{terr}\n" for row, terr in zip(rows, result.terrain, strict=True))
     return path
 
 
@@ -413,12 +416,17 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
         ax.plot(*wp[0], marker="s", color="tab:green", mec="black", ms=8, zorder=5)
         ax.plot(*wp[-1], marker="*", color="gold", mec="black", ms=13, zorder=5)
         if r.sim is not None and len(r.sim.x) > 1:
-            pts = np.column_stack([r.sim.x, r.sim.y])
+            # at most ~1500 drawn segments per path; each shows the peak power it covers
+            stride = max(1, math.ceil((len(r.sim.x) - 1) / 1500))
+            idx = np.unique(np.append(np.arange(0, len(r.sim.x), stride), len(r.sim.x) - 1))
+            pts = np.column_stack([r.sim.x[idx], r.sim.y[idx]])
             segs = np.stack([pts[:-1], pts[1:]], axis=1)
+            seg_power = np.maximum.reduceat(r.p_total_w[:-1], idx[:-1])
             lc = LineCollection(
                 list(segs), cmap="plasma", norm=norm, capstyle="round", linewidths=3.0, zorder=4
             )
-            lc.set_array(r.p_total_w[:-1])
+            lc.set_array(seg_power)
+            lc.set_in_layout(False)  # the axes limits are the map's: skip costly bboxes
             ax.add_collection(lc)
             mappable = lc
         if r.sim is not None and np.any(r.over_limit):
@@ -468,14 +476,17 @@ def plot_power(sc: Scenario, results: Sequence[CaseResult]) -> Any:
         if r.sim is None:
             continue
         n = r.sim.n_steps
+        step = max(1, n // 3000)  # enough points for the figure's width
         t = r.sim.t
-        (line,) = ax_p.plot(t[:n], r.p_total_w[:n], linewidth=1.0, label=r.name)
-        ax_e.plot(
-            t,
-            r.cumulative_energy_j / 1e3,
+        (line,) = ax_p.plot(t[:n:step], r.p_total_w[:n:step], linewidth=1.0, label=r.name)
+        (cum,) = ax_e.plot(
+            t[::step],
+            r.cumulative_energy_j[::step] / 1e3,
             color=line.get_color(),
             label=f"{r.name}: {r.energy_j / 1e3:.1f} kJ",
         )
+        line.set_in_layout(False)
+        cum.set_in_layout(False)
         if r.battery is not None and r.battery.empty_at is not None:
             ax_e.axvline(r.battery.empty_at[0], color=line.get_color(), linestyle=":")
     if sc.spec.battery is not None:
@@ -580,11 +591,9 @@ def write_report(
     simulated = [r for r in results if r.sim is not None]
     fig_names = [f"{stem}.{ext}" for stem in ("map", "power", "breakdown") for ext in opts.figures]
     names = ["summary.json", "summary.csv", *fig_names]
-    csv_names = dict(
-        zip((id(r) for r in results), _unique_slugs([r.name for r in results]), strict=True)
-    )
+    csv_names = dict(zip((id(r) for r in results), case_file_names(results), strict=True))
     if opts.csv:
-        names += [f"{csv_names[id(r)]}.csv" for r in simulated]
+        names += [csv_names[id(r)] for r in simulated]
     if opts.markdown:
         names.append("report.md")
     _check_not_foreign(out, names, force)
@@ -603,7 +612,10 @@ def write_report(
                 figures.setdefault(stem, []).append(path)
         finally:
             plt.close(fig)
-    summaries = [r.summary() for r in results]
+    summaries = [
+        {**r.summary(), "log_file": csv_names[id(r)] if opts.csv and r.sim else None}
+        for r in results
+    ]
     payload = {"scenario": sc.name, "source": sc.source, "cases": summaries}
     out.file("summary.json").write_text(json.dumps(payload, indent=1, default=float) + "\n")
     with out.file("summary.csv").open("w", newline="") as fh:
@@ -613,7 +625,7 @@ def write_report(
             w.writerow(_summary_row(r))
     if opts.csv:
         for r in simulated:
-            write_log_csv(r, out.file(f"{csv_names[id(r)]}.csv"))
+            write_log_csv(r, out.file(csv_names[id(r)]))
     if opts.markdown:
         md = _markdown(sc, results, figures, title=title, executor=executor)
         out.file("report.md").write_text(md)

@@ -1065,7 +1065,7 @@ class CaseResult:
         out: dict[str, Any] = {
             "name": self.name,
             "planner": self.plan.planner,
-            "waypoints": self.plan.waypoints.round(4).tolist(),
+            "waypoints": self.plan.waypoints.tolist(),
             "speed_mps": self.plan.speed_mps,
             "planning_time_s": round(self.plan.planning_time_s, 4),
             "planned_length_m": round(self.plan.length_m, 4),

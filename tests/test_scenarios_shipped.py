@@ -1,0 +1,194 @@
+"""Every shipped scenario runs from the command line; its outputs agree with the library API.
+
+The numbers written by ``ecoplan compare`` are recomputed here with the library's own
+building blocks, independently of :mod:`ecoplan.scenario`'s pipeline: the simulator on the
+reported waypoints, the power model on the logged track speeds (per logged terrain), the
+cost module on the route, and the battery arithmetic.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from ecoplan.cli import main
+from ecoplan.cost import path_cost
+from ecoplan.presets import VehicleSpec
+from ecoplan.scenario import Scenario, load_scenario
+from ecoplan.sim.controller import HeadingController
+from ecoplan.sim.simulate import SimConfig, simulate_waypoints
+
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
+SHIPPED = sorted(SCENARIOS.glob("*.yaml"))
+FIGURES = ("map.png", "power.png", "breakdown.png")
+
+
+def _read_log(path: Path) -> dict[str, Any]:
+    with path.open() as fh:
+        header = fh.readline().strip().split(",")
+    assert header[-1] == "terrain"
+    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=range(len(header) - 1), ndmin=2)
+    out: dict[str, Any] = {name: data[:, i] for i, name in enumerate(header[:-1])}
+    out["terrain"] = np.loadtxt(
+        path, delimiter=",", skiprows=1, usecols=[len(header) - 1], dtype=str, ndmin=1
+    )
+    return out
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], tuple[Path, dict[str, Any]]]:
+    """Run ``ecoplan compare`` once per shipped scenario (cached for the module)."""
+    cache: dict[str, tuple[Path, dict[str, Any]]] = {}
+
+    def run(stem: str) -> tuple[Path, dict[str, Any]]:
+        if stem not in cache:
+            out_dir = tmp_path_factory.mktemp(stem)
+            args = ["compare", str(SCENARIOS / f"{stem}.yaml"), "--workers", "2"]
+            args += ["--time-budget", "1.0", "--out", str(out_dir), "--json", "-q"]
+            buf = io.StringIO()
+            with contextlib.redirect_stdout(buf):
+                assert main(args) == 0
+            cache[stem] = (out_dir, json.loads(buf.getvalue()))
+        return cache[stem]
+
+    return run
+
+
+def _check_against_library(
+    sc: Scenario, case: dict[str, Any], out_dir: Path, *, resimulate: bool
+) -> None:
+    spec = sc.spec
+    variant = next((v for v in spec.compare if v.name == case["name"]), None)
+    controller = (variant.controller if variant and variant.controller else None) or spec.controller
+    speed = (variant.speed if variant and variant.speed else None) or spec.speed
+    wps = np.asarray(case["waypoints"])
+    np.testing.assert_allclose(wps[0], spec.start.xy)
+    vehicle = VehicleSpec.of(spec.vehicle.preset, spec.terrain.default, spec.vehicle.overrides)
+    # the route's analytic energy is the cost module's
+    pc = path_cost(
+        wps, vehicle, speed.v_mps, world=sc.world, initial_heading_rad=spec.start.yaw_rad
+    )
+    assert case["estimate_energy_j"] == pytest.approx(pc.energy_j, rel=1e-6)
+    saved = json.loads((out_dir / "summary.json").read_text())["cases"]
+    log_file = next(c["log_file"] for c in saved if c["name"] == case["name"])
+    log = _read_log(out_dir / log_file)
+    dt = spec.simulation.dt_s
+    # the log's power is the model's power at the logged speeds on the logged terrain
+    p = np.empty_like(log["t"])
+    for terrain in set(log["terrain"].tolist()):
+        rows = log["terrain"] == terrain
+        p[rows] = vehicle.on(terrain).power(log["v_left"][rows], log["v_right"][rows]).total_w
+    np.testing.assert_allclose(log["p_total"], p, rtol=1e-8, atol=1e-8)
+    assert case["energy_j"] == pytest.approx(float(np.sum(p[:-1]) * dt), rel=1e-7)
+    assert case["time_s"] == pytest.approx(log["t"][-1], abs=1e-9)
+    if resimulate and not sc.regions:
+        # without terrain regions the simulator's own result is the reported one
+        sim = simulate_waypoints(
+            vehicle.on(),
+            wps,
+            HeadingController(controller.gain, speed.v_mps, controller.d_th_m),
+            start_yaw_rad=spec.start.yaw_rad,
+            config=SimConfig(dt_s=dt, t_max_s=spec.simulation.t_max_s),
+        )
+        assert case["energy_j"] == pytest.approx(sim.energy_j, rel=1e-9)
+        assert case["psi_rad"] == pytest.approx(sim.psi_rad, rel=1e-9)
+        assert case["completed"] == sim.completed
+    if spec.battery is not None:
+        b = case["battery"]
+        usable = spec.battery.capacity_wh * 3600.0 * (1.0 - spec.battery.reserve_fraction)
+        assert b["usable_j"] == pytest.approx(usable)
+        assert b["margin_j"] == pytest.approx(usable - case["energy_j"])
+        assert b["completes"] == (case["energy_j"] <= usable and case["completed"])
+        if not b["completes"]:
+            cum = np.concatenate([[0.0], np.cumsum(p[:-1]) * dt])
+            k = int(np.argmax(cum >= usable))
+            assert b["empty_at"]["t_s"] == pytest.approx(log["t"][k])
+            assert b["empty_at"]["x_m"] == pytest.approx(log["x"][k])
+
+
+def test_every_shipped_scenario_is_listed() -> None:
+    names = {p.stem for p in SHIPPED}
+    assert {
+        "ab_obstacle",
+        "pioneer_power_limit",
+        "marble_asphalt_patch",
+        "cluttered_ompl",
+        "battery_mission",
+    } <= names
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
+def test_shipped_scenario_runs_and_agrees_with_the_library(
+    path: Path, runs: Callable[[str], tuple[Path, dict[str, Any]]]
+) -> None:
+    sc = load_scenario(path)
+    out_dir, payload = runs(path.stem)
+    assert [c["name"] for c in payload["cases"]] == [v.name for v in sc.spec.compare]
+    for name in (*FIGURES, "report.md", "summary.json", "summary.csv"):
+        assert (out_dir / name).stat().st_size > 0, name
+    report = (out_dir / "report.md").read_text()
+    assert "## Side by side" in report
+    routed = [c for c in payload["cases"] if c["error"] is None]
+    assert routed, "no case found a route"
+    for case in payload["cases"]:
+        assert f"| {case['name']} |" in report
+        if case["error"] is not None:  # only sampling planners may miss a short budget
+            assert case["planner"].startswith("ompl"), case
+            continue
+        # re-simulating every case would double the test's time: the first routed one
+        _check_against_library(sc, case, out_dir, resimulate=case is routed[0])
+
+
+def test_ab_obstacle_uses_the_replay_coordinates() -> None:
+    replay = pytest.importorskip("ecoplan.sim.replay")
+    ab = replay.ab_scenario()
+    sc = load_scenario(SCENARIOS / "ab_obstacle.yaml")
+    by_count = {len(c.spec.waypoints or []) + 1: c for c in sc.cases() if c.spec.waypoints}
+    for count, polyline in ab.waypoint_sets:
+        case = by_count[count]
+        np.testing.assert_allclose([case.spec.start.xy, *case.spec.waypoints], polyline)
+    np.testing.assert_allclose(
+        np.asarray(sc.obstacles[0].exterior.coords)[:4].min(axis=0), np.min(ab.obstacle, axis=0)
+    )
+    assert sc.default_terrain == ab.terrain
+    assert math.radians(sc.spec.start.yaw_deg) == ab.start_yaw_rad
+
+
+def test_battery_mission_report_says_if_and_where_the_battery_runs_out(
+    runs: Callable[[str], tuple[Path, dict[str, Any]]],
+) -> None:
+    out_dir, payload = runs("battery_mission")
+    short, extended = payload["cases"]
+    assert short["battery"]["completes"] and short["battery"]["margin_j"] > 0
+    assert not extended["battery"]["completes"]
+    where = extended["battery"]["empty_at"]
+    assert 0 < where["t_s"] < extended["time_s"]
+    report = (out_dir / "report.md").read_text()
+    assert "completes on the battery" in report and "does NOT complete" in report
+    assert f"after {where['t_s']:.0f} s" in report
+
+
+def test_pioneer_power_limit_forbids_the_sharp_turn(
+    runs: Callable[[str], tuple[Path, dict[str, Any]]],
+) -> None:
+    out_dir, payload = runs("pioneer_power_limit")
+    saved = json.loads((out_dir / "summary.json").read_text())["cases"]
+    limit = 12.0  # wheeled preset p_side_max_w (side power limit, wheeled paper Fig. 10)
+    for case, stored in zip(payload["cases"], saved, strict=True):
+        log = _read_log(out_dir / stored["log_file"])
+        worst = np.maximum(np.abs(log["p_left"]), np.abs(log["p_right"]))[:-1]
+        over_s = float(np.count_nonzero(worst > limit * (1 + 1e-9))) * 0.02
+        reported = case["limit_violation_s"].get("p_side_max_w", 0.0)
+        assert reported == pytest.approx(over_s, abs=0.021)
+    cases = {c["name"]: c for c in payload["cases"]}
+    assert cases["energy planner, G 0.2"]["plan_feasible"]
+    assert cases["energy planner, G 0.2"]["limit_violation_s"] == {}
+    assert cases["sharp corner, G 0.6"]["limit_violation_s"]["p_side_max_w"] > 1.0
