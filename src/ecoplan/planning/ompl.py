@@ -123,7 +123,9 @@ _REFUSED = {
     "prm": "OMPL's PRM grows its roadmap in a second thread that deadlocks on the Python objective",
 }
 _RADIUS_MARGIN = 1.02  # default Dubins radius = margin * min feasible radius
-_SOLVE_SHARE = 0.8  # share of the time budget given to the search
+_SOLVE_SHARE = 0.75  # share of the time budget given to the search
+_SIMPLIFY_SHARE = 0.85  # OMPL's simplifier runs until this share of the budget
+_PRUNE_SHARE = 0.95  # greedy waypoint removal stops at this share
 _SIMPLIFY_STEPS = 200  # cap on OMPL simplifier termination checks (determinism)
 _N_TURN_ANGLES = 91
 _ROOMS = np.geomspace(0.01, 100.0, 41)
@@ -497,10 +499,10 @@ class OmplPlanner:
     >>> from ecoplan.presets import VehicleSpec
     >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
     >>> c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
-    >>> opts = OmplOptions("BITstar", time_budget_s=0.3, max_iterations=300, seed=3)
+    >>> opts = OmplOptions("RRTstar", time_budget_s=1.0, max_iterations=400, seed=3)
     >>> res = OmplPlanner(w, c, opts).plan((1, 5), (9, 5))
     >>> res.best.cost.feasible, res.planner
-    (True, 'ompl:BITstar/se2')
+    (True, 'ompl:RRTstar/se2')
     """
 
     def __init__(self, world: World, cost: PathCostModel, options: OmplOptions | None = None):
@@ -668,7 +670,7 @@ class OmplPlanner:
         candidates: list[FloatArray] = []
         if opts.simplify:
             simplifier = og.PathSimplifier(si, ss.getGoal(), objective)
-            ptc2, _ = _termination(deadline, 0.9 * opts.time_budget_s, _SIMPLIFY_STEPS)
+            ptc2, _ = _termination(deadline, _SIMPLIFY_SHARE * opts.time_budget_s, _SIMPLIFY_STEPS)
             simplifier.simplify(path, ptc2)
             candidates.append(_poses(path))
         if space_name != "se2":
@@ -734,9 +736,12 @@ class OmplPlanner:
         """Greedily drop waypoints while the path stays free and the objective decreases."""
         best_val = self.cost.value(pc)
         improved = True
-        while improved and len(wps) > 2 and not deadline.expired:
+        until = _PRUNE_SHARE * deadline.budget_s
+        while improved and len(wps) > 2:
             improved = False
             for i in range(1, len(wps) - 1):
+                if deadline.elapsed_s >= until:
+                    return wps, pc
                 if not self.world.segment_free(wps[i - 1], wps[i + 1]):
                     continue
                 cand = np.delete(wps, i, axis=0)
