@@ -522,7 +522,10 @@ _SafeLoader.add_implicit_resolver(
 
 def _read_yaml(text: str, source: str) -> tuple[Any, _LineMap]:
     """Parse YAML safely; return the data and the line map."""
-    loader = _SafeLoader(text)
+    try:
+        loader = _SafeLoader(text)
+    except yaml.YAMLError as exc:  # e.g. a control character: the reader checks first
+        raise ScenarioError(f"{source}: invalid YAML: {_one_line(str(exc))}") from None
     try:
         try:
             node = loader.get_single_node()
