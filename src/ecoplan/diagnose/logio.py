@@ -361,6 +361,81 @@ def _parse_floats(name: str, cells: list[str], lines: list[int], source: str) ->
     return out
 
 
+_Parsed = tuple[dict[str, Any], "StrArray | None", npt.NDArray[np.int64]]
+
+
+def _parse_fast(body: list[str], header: list[str], header_line: int) -> _Parsed | None:
+    """Vectorised parse (``numpy.loadtxt``) of a clean body; None when anything is unusual.
+
+    Unusual -- quotes, blank lines, ragged rows, empty or non-numeric cells -- goes to
+    :func:`_parse_slow`, which finds and names the offending line.
+    """
+    width = len(header)
+    if not body or any(('"' in ln) or ln.count(",") != width - 1 for ln in body):
+        return None
+    index = {c: i for i, c in enumerate(header)}
+    names = [c for c in FLOAT_COLUMNS if c in index]
+    try:
+        arr = np.loadtxt(
+            body,
+            delimiter=",",
+            usecols=[index[c] for c in names],
+            comments=None,
+            ndmin=2,
+            dtype=np.float64,
+        )
+    except ValueError:
+        return None
+    cols = {c: np.ascontiguousarray(arr[:, k]) for k, c in enumerate(names)}
+    labels = None
+    if "terrain" in index:
+        j = index["terrain"]
+        labels = np.array([ln.split(",")[j].strip() for ln in body], dtype=np.str_)
+    lines = header_line + 1 + np.arange(len(body), dtype=np.int64)
+    return cols, labels, lines
+
+
+def _parse_slow(body: list[str], header: list[str], header_line: int, source: str) -> _Parsed:
+    """Cell-by-cell parse that names the first bad line, column and cell."""
+    rows: list[list[str]] = []
+    lines: list[int] = []
+    reader = csv.reader(body)
+    try:
+        for row in reader:
+            if not row or all(not c.strip() for c in row):
+                continue
+            rows.append(row)
+            lines.append(header_line + reader.line_num)
+    except csv.Error as exc:
+        where = _where(source, header_line + reader.line_num)
+        raise LogFormatError(f"{where}: unreadable CSV: {exc}") from None
+    width = len(header)
+    for row, line in zip(rows, lines, strict=True):
+        if len(row) != width:
+            raise LogFormatError(
+                f"{_where(source, line)}: {len(row)} cells, the header has {width}"
+            )
+    index = {c: i for i, c in enumerate(header)}
+    cols: dict[str, Any] = {}
+    for name in FLOAT_COLUMNS:
+        if name in index:
+            j = index[name]
+            cells = [r[j] for r in rows]
+            if name in REQUIRED_COLUMNS:
+                for cell, line in zip(cells, lines, strict=True):
+                    if not cell.strip():
+                        raise LogFormatError(
+                            f"{_where(source, line)}: required column {name!r} is empty; "
+                            "required columns must be finite"
+                        )
+            cols[name] = _parse_floats(name, cells, lines, source)
+    labels = None
+    if "terrain" in index:
+        j = index["terrain"]
+        labels = np.array([r[j].strip() for r in rows], dtype=np.str_)
+    return cols, labels, np.asarray(lines, dtype=np.int64)
+
+
 def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> Log:
     """Read and validate a log CSV (format in the module docstring).
 
@@ -387,35 +462,31 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
         fh = p.open(newline="", encoding="utf-8-sig")
     except OSError as exc:
         raise LogFormatError(f"{source}: cannot open log: {exc.strerror}") from None
+    try:
+        with fh:
+            text = fh.read()
+    except UnicodeDecodeError as exc:
+        raise LogFormatError(f"{source}: not UTF-8 text: {exc.reason}") from None
     meta_run: str | None = None
     notes: list[str] = []
-    with fh:
-        reader = csv.reader(fh)
-        header: list[str] | None = None
-        header_line = 0
-        rows: list[list[str]] = []
-        lines: list[int] = []
-        try:
-            for row in reader:
-                if not row or all(not c.strip() for c in row):
-                    continue
-                if header is None:
-                    first = row[0].lstrip()
-                    if first.startswith("#"):
-                        key, _, value = ",".join(row).lstrip("# ").partition(":")
-                        if key.strip() == "run_id":
-                            meta_run = value.strip()
-                        elif key.strip() == "note":
-                            notes.append(value.strip())
-                        continue
-                    header = [c.strip() for c in row]
-                    header_line = reader.line_num
-                    continue
-                rows.append(row)
-                lines.append(reader.line_num)
-        except (csv.Error, UnicodeDecodeError) as exc:
-            where = _where(source, reader.line_num)
-            raise LogFormatError(f"{where}: unreadable CSV: {exc}") from None
+    all_lines = [ln[:-1] if ln.endswith("\r") else ln for ln in text.split("\n")]
+    if all_lines and not all_lines[-1]:
+        all_lines.pop()  # the final newline
+    header: list[str] | None = None
+    header_line = 0
+    for k, raw in enumerate(all_lines):
+        if not raw.strip() or not raw.replace(",", "").strip():
+            continue
+        if raw.lstrip().startswith("#"):
+            key, _, value = raw.lstrip("# ").partition(":")
+            if key.strip() == "run_id":
+                meta_run = value.strip()
+            elif key.strip() == "note":
+                notes.append(value.strip())
+            continue
+        header = [c.strip() for c in next(csv.reader([raw]))]
+        header_line = k + 1
+        break
     if header is None:
         raise LogFormatError(f"{source}: empty file (no header row)")
     seen: set[str] = set()
@@ -429,37 +500,29 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
             f"{_where(source, header_line)}: missing required column(s) "
             f"{', '.join(repr(c) for c in missing)}; header is {', '.join(header)}"
         )
-    if not rows:
+    body = all_lines[header_line:]
+    parsed = _parse_fast(body, header, header_line)
+    if parsed is None:
+        parsed = _parse_slow(body, header, header_line, source)
+    cols, labels, line_arr = parsed
+    n_rows = line_arr.size
+    if n_rows == 0:
         raise LogFormatError(f"{source}: no data rows after the header (line {header_line})")
-    if len(rows) < 2:
+    if n_rows < 2:
         raise LogFormatError(
-            f"{_where(source, lines[0])}: a single data row; a log needs at least 2"
+            f"{_where(source, int(line_arr[0]))}: a single data row; a log needs at least 2"
         )
-    width = len(header)
-    for row, line in zip(rows, lines, strict=True):
-        if len(row) != width:
-            raise LogFormatError(
-                f"{_where(source, line)}: {len(row)} cells, the header has {width}"
-            )
-    index = {c: i for i, c in enumerate(header)}
     ignored = [c for c in header if c not in REQUIRED_COLUMNS and c not in OPTIONAL_COLUMNS]
-    cols: dict[str, Any] = {}
-    for name in FLOAT_COLUMNS:
-        if name in index:
-            j = index[name]
-            cols[name] = _parse_floats(name, [r[j] for r in rows], lines, source)
-    line_arr = np.asarray(lines, dtype=np.int64)
     for name in REQUIRED_COLUMNS:
         arr = cols[name]
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
             i = int(bad[0])
-            value = "empty" if not rows[i][index[name]].strip() else repr(float(arr[i]))
             raise LogFormatError(
-                f"{_where(source, lines[i])}: required column {name!r} is {value}; "
-                "required columns must be finite"
+                f"{_where(source, int(line_arr[i]))}: required column {name!r} is "
+                f"{float(arr[i])!r}; required columns must be finite"
             )
-    drop = np.zeros(len(rows), dtype=np.bool_)
+    drop = np.zeros(n_rows, dtype=np.bool_)
     for name in OPTIONAL_FLOAT_COLUMNS:
         if name not in cols:
             continue
@@ -472,13 +535,11 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
         if inf.size:
             i = int(inf[0])
             raise LogFormatError(
-                f"{_where(source, lines[i])}: column {name!r} is {float(arr[i])!r}; "
+                f"{_where(source, int(line_arr[i]))}: column {name!r} is {float(arr[i])!r}; "
                 "values must be finite"
             )
         drop |= np.isnan(arr)
-    if "terrain" in index:
-        j = index["terrain"]
-        labels = np.array([r[j].strip() for r in rows], dtype=np.str_)
+    if labels is not None:
         empty = labels == ""
         if np.all(empty):
             notes.append("column 'terrain' is empty on every row; treated as absent")
@@ -488,9 +549,9 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
     n_drop = int(drop.sum())
     if n_drop:
         keep = ~drop
-        first_line = lines[int(np.flatnonzero(drop)[0])]
+        first_line = int(line_arr[int(np.flatnonzero(drop)[0])])
         notes.append(
-            f"dropped {n_drop} of {len(rows)} rows with a missing optional value "
+            f"dropped {n_drop} of {n_rows} rows with a missing optional value "
             f"(first at line {first_line})"
         )
         if int(keep.sum()) < 2:
@@ -511,6 +572,12 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
         dropped_rows=n_drop,
         notes=tuple(notes),
     )
+
+
+def _csv_cell(text: str) -> str:
+    if any(ch in text for ch in ',"\r\n') or text != text.strip():
+        return '"' + text.replace('"', '""') + '"'
+    return text
 
 
 def write_log_csv(log: Log, path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
@@ -542,16 +609,23 @@ def write_log_csv(log: Log, path: str | os.PathLike[str], *, overwrite: bool = F
     if p.exists() and not overwrite:
         raise LogFormatError(f"{p}: file exists; pass overwrite=True to replace it")
     names = log.columns()
-    text_cols = [np.asarray(getattr(log, c)).astype(str) for c in names]
+    cells: list[list[str]] = []
+    for c in names:
+        val = getattr(log, c)
+        if c == "terrain":
+            quoted = {lab: _csv_cell(str(lab)) for lab in set(val.tolist())}
+            cells.append([quoted[lab] for lab in val.tolist()])
+        else:
+            cells.append(list(map(repr, val.tolist())))  # shortest round-trip text
     try:
         with p.open("w", newline="", encoding="utf-8") as fh:
             if log.run_id:
                 fh.write(f"# run_id: {log.run_id}\n")
             for note in log.notes:
                 fh.write("# note: " + note.replace("\n", " ") + "\n")
-            writer = csv.writer(fh, lineterminator="\n")
-            writer.writerow(names)
-            writer.writerows(zip(*text_cols, strict=True))
+            fh.write(",".join(names) + "\n")
+            fh.write("\n".join(map(",".join, zip(*cells, strict=True))))
+            fh.write("\n")
     except OSError as exc:
         raise LogFormatError(f"{p}: cannot write log: {exc.strerror}") from None
     return p
