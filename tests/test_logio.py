@@ -504,3 +504,21 @@ def test_read_logs_accepts_borealtc_specs() -> None:
     logs = read_logs(["borealtc:ASPHALT/02", "borealtc:asphalt"], bus_voltage_v=25.0)
     assert logs[0].run_id == "ASPHALT_02" and len(logs) == 1 + 7
     assert any("25 V" in n for n in logs[0].notes)
+
+
+def test_fast_and_cell_by_cell_parsers_agree(tmp_path: Path) -> None:
+    # a quoted cell anywhere sends the file to the cell-by-cell parser; the result must
+    # not depend on which parser read it
+    log = _full_log()
+    plain = log.to_csv(tmp_path / "plain.csv")
+    lines = plain.read_text().splitlines()
+    head = next(i for i, ln in enumerate(lines) if not ln.startswith("#"))
+    lines[head] += ",comment"
+    for i in range(head + 1, len(lines)):
+        lines[i] += ',"a, b"' if i == head + 5 else ",x"
+    quoted = tmp_path / "quoted.csv"
+    quoted.write_text("\n".join(lines) + "\n")
+    a, b = read_log_csv(plain), read_log_csv(quoted)
+    for col in log.columns():
+        np.testing.assert_array_equal(getattr(a, col), getattr(b, col))
+    assert any("ignored columns: comment" in n for n in b.notes)
