@@ -221,7 +221,8 @@ def test_terminal_stays_clean() -> None:
         w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
         c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
         for seed in (1, 2):
-            res = OmplPlanner(w, c, OmplOptions("RRTstar", 0.2, seed)).plan((1, 5), (9, 5))
+            opts = OmplOptions("RRTstar", 2.0, seed, max_iterations=300)
+            res = OmplPlanner(w, c, opts).plan((1, 5), (9, 5))
         print(res.best.cost.feasible)
         """
     )
@@ -231,6 +232,18 @@ def test_terminal_stays_clean() -> None:
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout == "True\n"
     assert proc.stderr == ""
+    # an uncaught planning failure shows its traceback, and nothing from OMPL/nanobind
+    failing = script.replace("(9, 5))", "(5, 5))")  # goal inside the obstacle's box
+    box = (
+        "rectangle(4, 3, 6, 4), rectangle(4, 6, 6, 7), rectangle(3, 3, 4, 7), rectangle(6, 3, 7, 7)"
+    )
+    failing = failing.replace("rectangle(4, 3, 6, 7)", box)
+    proc = subprocess.run(
+        [sys.executable, "-c", failing], capture_output=True, text=True, timeout=60
+    )
+    assert proc.returncode == 1
+    assert "PlanningError: RRTstar found no path" in proc.stderr
+    assert "nanobind" not in proc.stderr and "Info:" not in proc.stderr
 
 
 def test_free_space_check_matches_shapely(world: World) -> None:

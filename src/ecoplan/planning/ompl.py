@@ -581,9 +581,19 @@ class OmplPlanner:
         ):
             raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad!r}")
         space_name, radius = self.state_space()
+        if self.cost.segment_cost((0.0, 0.0), (1.0, 0.0)) is None:  # before any OMPL object
+            raise InputError(
+                f"straight driving at {self.cost.speed_mps:g} m/s is infeasible for this vehicle"
+            )
         with _quiet_ompl():
             raw, simplified, stats = self._search(
                 s, g, initial_heading_rad, space_name, radius, deadline
+            )
+        if raw is None:
+            raise PlanningError(
+                f"{self.options.planner} found no path from ({s[0]:g}, {s[1]:g}) to "
+                f"({g[0]:g}, {g[1]:g}) within {self.options.time_budget_s:g} s "
+                "(the goal may be unreachable)"
             )
         best, raw_value = self._choose(raw, simplified, space_name, initial_heading_rad, deadline)
         stats.update(
@@ -605,8 +615,11 @@ class OmplPlanner:
         space_name: str,
         radius: float,
         deadline: Deadline,
-    ) -> tuple[FloatArray, list[FloatArray], dict[str, float]]:
-        """Run OMPL; return the raw poses, simplified candidates (N, 3) and stats."""
+    ) -> tuple[FloatArray | None, list[FloatArray], dict[str, float]]:
+        """Run OMPL; return the raw poses, simplified candidates (N, 3) and stats.
+
+        The raw poses are None when no exact solution was found.
+        """
         opts = self.options
         ou.RNG.setSeed(int(opts.seed) % 2_147_483_646 + 1)  # OMPL ignores seed 0
         if space_name == "se2":
@@ -661,10 +674,8 @@ class OmplPlanner:
             ),
         }
         if not ss.haveExactSolutionPath():
-            raise PlanningError(
-                f"{opts.planner} found no path from ({s[0]:g}, {s[1]:g}) to ({g[0]:g}, {g[1]:g}) "
-                f"within {opts.time_budget_s:g} s (the goal may be unreachable)"
-            )
+            # raised by the caller, so that no traceback keeps OMPL objects alive
+            return None, [], stats
         path = og.PathGeometric(ss.getSolutionPath())
         raw = _poses(path)
         candidates: list[FloatArray] = []
