@@ -449,3 +449,32 @@ def test_magnitude_survey_reports_effect_and_noise() -> None:
     for lo, med, hi in out.values():
         assert 0.0 < lo <= med <= hi
     assert out["slope"][0] > out["noise"][2]
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.lists(st.floats(-0.86, 0.86), min_size=2, max_size=8),
+    st.floats(0.0, 1.0),
+)
+def test_drive_respects_the_acceleration_limit_and_settles(levels: list[float], tau: float) -> None:
+    dt, a = 0.01, AURIGA.accel_max_mps2
+    cmd = np.repeat(np.array(levels), 800)  # 8 s per level: enough to settle
+    t = np.arange(cmd.size) * dt
+    v = follow_commands(t, cmd, a, tau_s=tau)
+    assert np.max(np.abs(np.diff(v))) <= a * dt + 1e-12
+    ends = np.arange(1, len(levels) + 1) * 800 - 1
+    np.testing.assert_allclose(v[ends], levels, atol=1e-3)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    st.sampled_from(EFFECTS), st.sampled_from(["small", "moderate", "large"]), st.integers(0, 50)
+)
+def test_every_effect_gives_finite_power_of_the_right_shape(
+    effect: str, magnitude: str, seed: int
+) -> None:
+    case = generate_case(seed, effect, magnitude, n_waypoint_runs=0, rate_hz=10.0)
+    for lg, tr, p in zip(case.logs, case.trajectories, case.true_power, strict=True):
+        assert p.shape == tr.t.shape == lg.t.shape
+        assert np.all(np.isfinite(p))
+    assert case.truth.effect == effect
