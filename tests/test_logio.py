@@ -522,3 +522,9 @@ def test_fast_and_cell_by_cell_parsers_agree(tmp_path: Path) -> None:
     for col in log.columns():
         np.testing.assert_array_equal(getattr(a, col), getattr(b, col))
     assert any("ignored columns: comment" in n for n in b.notes)
+
+
+def test_logs_compare_by_identity_and_hash() -> None:
+    a, b = _full_log(), _full_log()
+    assert a == a and a != b  # arrays: no element-wise ambiguity
+    assert len({a, b}) == 2

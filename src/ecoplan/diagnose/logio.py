@@ -105,7 +105,7 @@ def _where(source: str, line: int | None = None) -> str:
     return f"{source}, line {line}" if line is not None else source
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Log:
     """One run of a skid-steer robot: time series in SI units, REP-103 frames.
 

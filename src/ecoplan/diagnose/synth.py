@@ -273,7 +273,7 @@ def _eta(vehicle: VehicleParams) -> float:
 # --------------------------------------------------------------------------- trajectories
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Trajectory:
     """True motion of one run (noise-free), in session time.
 
@@ -964,7 +964,7 @@ class SynthTruth:
         return dataclasses.asdict(self)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class SynthCase:
     """A blind-check case: logs for the diagnosis, the truth kept apart.
 
@@ -1035,7 +1035,7 @@ def _true_vehicle(
     return true_vehicle, changes
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class _RunPlan:
     """One run of a session, drawn once and replayed with or without the effect."""
 
