@@ -21,6 +21,7 @@ import pytest
 
 from ecoplan.cli import main
 from ecoplan.cost import path_cost
+from ecoplan.planning.speed import best_speed
 from ecoplan.presets import VehicleSpec
 from ecoplan.scenario import Scenario, load_scenario
 from ecoplan.sim.controller import HeadingController
@@ -73,9 +74,14 @@ def _check_against_library(
     np.testing.assert_allclose(wps[0], spec.start.xy)
     vehicle = VehicleSpec.of(spec.vehicle.preset, spec.terrain.default, spec.vehicle.overrides)
     # the route's analytic energy is the cost module's
-    pc = path_cost(
-        wps, vehicle, speed.v_mps, world=sc.world, initial_heading_rad=spec.start.yaw_rad
-    )
+    yaw0 = spec.start.yaw_rad
+    v_sp = case["speed_mps"]
+    if speed.policy == "fixed":
+        assert v_sp == speed.v_mps
+    else:  # the energy-optimal speed of the route, by the speed module
+        choice = best_speed(wps, vehicle, world=sc.world, initial_heading_rad=yaw0)
+        assert v_sp == pytest.approx(choice.speed_mps)
+    pc = path_cost(wps, vehicle, v_sp, world=sc.world, initial_heading_rad=yaw0)
     assert case["estimate_energy_j"] == pytest.approx(pc.energy_j, rel=1e-6)
     saved = json.loads((out_dir / "summary.json").read_text())["cases"]
     log_file = next(c["log_file"] for c in saved if c["name"] == case["name"])
@@ -94,7 +100,7 @@ def _check_against_library(
         sim = simulate_waypoints(
             vehicle.on(),
             wps,
-            HeadingController(controller.gain, speed.v_mps, controller.d_th_m),
+            HeadingController(controller.gain, v_sp, controller.d_th_m),
             start_yaw_rad=spec.start.yaw_rad,
             config=SimConfig(dt_s=dt, t_max_s=spec.simulation.t_max_s),
         )

@@ -292,25 +292,30 @@ def summary_table(results: Sequence[CaseResult]) -> str:
     """Side-by-side markdown table of cases, cheapest first is NOT imposed (case order)."""
     best = min((r.energy_j for r in results if r.sim is not None), default=math.nan)
     head = (
-        "| case | planner | waypoints | length [m] | time [s] | ψ [rad] | energy [kJ] "
-        "| vs best | peak [W] | limits |"
+        "| case | planner | waypoints | v_sp [m/s] | length [m] | time [s] | ψ [rad] "
+        "| energy [kJ] | vs best | peak [W] | limits |"
     )
-    lines = [head, "|" + "---|" * 10]
+    lines = [head, "|" + "---|" * 11]
     for r in results:
         if r.sim is None:
             lines.append(
-                f"| {r.name} | {r.plan.planner} | – | – | – | – | – | – | – | "
+                f"| {r.name} | {r.plan.planner} | – | – | – | – | – | – | – | – | "
                 f"no route: {r.error or 'not simulated'} |"
             )
             continue
         rel = 100.0 * (r.energy_j / best - 1.0) if best > 0 else math.nan
         lines.append(
-            f"| {r.name} | {r.plan.planner} | {len(r.plan.waypoints)} | "
+            f"| {r.name} | {r.plan.planner} | {len(r.plan.waypoints)} | {_speed_cell(r)} | "
             f"{r.sim.length_m:.1f} | {r.sim.time_s:.1f} | {r.sim.psi_rad:.2f} | "
             f"{r.energy_j / 1e3:.2f} | {'best' if rel == 0 else f'+{rel:.1f} %'} | "
             f"{r.peak_power_w:.0f} | {_limits_cell(r)} |"
         )
     return "\n".join(lines)
+
+
+def _speed_cell(r: CaseResult) -> str:
+    v = f"{r.plan.speed_mps:.2f}"
+    return f"{v} (optimal)" if r.plan.speed_policy == "optimal" else v
 
 
 def _limits_cell(r: CaseResult) -> str:

@@ -28,6 +28,7 @@ line, the field and what was expected, e.g.::
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import re
 import types
@@ -234,10 +235,22 @@ class PlannerSection(_Section):
 
 
 class SpeedSection(_Section):
-    """Speed policy: one ``fixed`` speed ``v_mps`` or the energy-``optimal`` speed."""
+    """Speed policy: one ``fixed`` speed ``v_mps`` or the energy-``optimal`` speed.
+
+    With ``optimal`` the route is planned at ``v_mps`` and its speed is then chosen in
+    ``[v_min_mps, v_max_mps]`` (default: up to the top track speed).
+    """
 
     policy: Literal["fixed", "optimal"] = "fixed"
     v_mps: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False)] = 0.5
+    v_min_mps: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False)] = 0.05
+    v_max_mps: Annotated[float, Field(gt=0.0, le=10.0, allow_inf_nan=False)] | None = None
+
+    @model_validator(mode="after")
+    def _range(self) -> SpeedSection:
+        if self.v_max_mps is not None and self.v_max_mps <= self.v_min_mps:
+            raise ValueError("v_max_mps must be greater than v_min_mps")
+        return self
 
 
 class ControllerSection(_Section):
@@ -842,7 +855,7 @@ def _check_speeds(sc: Scenario, lines: _LineMap) -> None:
     checks: list[tuple[tuple[str | int, ...], SpeedSection]] = [(("speed",), sc.spec.speed)]
     checks += [(("compare", i, "speed"), v.speed) for i, v in enumerate(sc.spec.compare) if v.speed]
     for loc, speed in checks:
-        if speed.policy == "fixed" and speed.v_mps > top:
+        if speed.v_mps > top:
             raise _err(
                 sc.source,
                 lines,
@@ -919,6 +932,9 @@ class PlanOutcome:
         The violated constraints, naming the segment or turn.
     alternatives : tuple of ndarray
         Further distinct waypoint sets the planner returned (``planner.k > 1``).
+    speed_policy : str
+        ``"fixed"`` or ``"optimal"`` (:func:`ecoplan.planning.speed.best_speed` on the
+        route, after planning at the nominal ``speed.v_mps``).
     """
 
     planner: str
@@ -929,6 +945,7 @@ class PlanOutcome:
     feasible: bool | None = None
     violations: tuple[str, ...] = ()
     alternatives: tuple[FloatArray, ...] = ()
+    speed_policy: str = "fixed"
 
     @property
     def length_m(self) -> float:
@@ -1070,6 +1087,7 @@ class CaseResult:
             "planner": self.plan.planner,
             "waypoints": self.plan.waypoints.tolist(),
             "speed_mps": self.plan.speed_mps,
+            "speed_policy": self.plan.speed_policy,
             "planning_time_s": round(self.plan.planning_time_s, 4),
             "planned_length_m": round(self.plan.length_m, 4),
             "estimate_energy_j": self.plan.estimate_energy_j,
@@ -1135,29 +1153,43 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
     sc = _case_scenario(case)
     spec = case.spec
     planner = case.planner
-    speed = _speed_setpoint(sc, spec.speed)
+    speed = float(spec.speed.v_mps)  # the fixed speed, or the nominal one to plan at
     start = np.asarray([spec.start.xy], dtype=np.float64)
     if planner.type == "none":
         assert spec.waypoints is not None
         wps = np.vstack([start, np.asarray(spec.waypoints, dtype=np.float64)])
-        pc = path_cost(
-            wps, sc.vehicle, speed, world=sc.world, initial_heading_rad=spec.start.yaw_rad
+        plan = PlanOutcome("fixed", wps, speed)
+    else:
+        plan = _plan_with(sc, planner, speed, time_budget_s)
+    if spec.speed.policy == "optimal":
+        from ecoplan.planning.speed import best_speed
+
+        top = sc.params.top_track_speed_mps
+        choice = best_speed(
+            plan.waypoints,
+            sc.vehicle,
+            world=sc.world,
+            initial_heading_rad=spec.start.yaw_rad,
+            v_min_mps=spec.speed.v_min_mps,
+            v_max_mps=min(spec.speed.v_max_mps or top, top),
         )
-        return PlanOutcome(
-            "fixed",
-            wps,
+        speed = float(choice.speed_mps)
+    if plan.estimate_energy_j is None or speed != plan.speed_mps:
+        pc = path_cost(
+            plan.waypoints,
+            sc.vehicle,
             speed,
+            world=sc.world,
+            initial_heading_rad=spec.start.yaw_rad,
+        )
+        plan = dataclasses.replace(
+            plan,
+            speed_mps=speed,
             estimate_energy_j=pc.energy_j,
             feasible=pc.feasible,
             violations=tuple(v.message() for v in pc.violations),
         )
-    return _plan_with(sc, planner, speed, time_budget_s)
-
-
-def _speed_setpoint(sc: Scenario, speed: SpeedSection) -> float:
-    if speed.policy == "fixed":
-        return float(speed.v_mps)
-    raise PlanningError("speed policy 'optimal' is not available yet (ecoplan.planning.speed)")
+    return dataclasses.replace(plan, speed_policy=spec.speed.policy)
 
 
 def _plan_with(
