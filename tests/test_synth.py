@@ -478,3 +478,12 @@ def test_every_effect_gives_finite_power_of_the_right_shape(
         assert p.shape == tr.t.shape == lg.t.shape
         assert np.all(np.isfinite(p))
     assert case.truth.effect == effect
+
+
+def test_write_cases_one_directory_per_seed(tmp_path: Path) -> None:
+    from ecoplan.diagnose.synth import write_cases
+
+    dirs = write_cases(tmp_path, [3, 4], "none", n_waypoint_runs=0, rate_hz=10.0)
+    assert [d.name for d in dirs] == ["case_3", "case_4"]
+    for d in dirs:
+        assert (d / "truth.json").is_file() and len(list(d.glob("run*.csv"))) == 3
