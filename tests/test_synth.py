@@ -458,11 +458,13 @@ def test_magnitude_survey_reports_effect_and_noise() -> None:
 )
 def test_drive_respects_the_acceleration_limit_and_settles(levels: list[float], tau: float) -> None:
     dt, a = 0.01, AURIGA.accel_max_mps2
-    cmd = np.repeat(np.array(levels), 800)  # 8 s per level: enough to settle
+    # 12 s per level: a 1.72 m/s swing ramps for at most (1.72 - a tau) / a = 4 s, then
+    # decays from a tau = 0.34 m/s with tau <= 1 s for 8 s: below 0.34 e^-8 = 1e-4 m/s
+    cmd = np.repeat(np.array(levels), 1200)
     t = np.arange(cmd.size) * dt
     v = follow_commands(t, cmd, a, tau_s=tau)
     assert np.max(np.abs(np.diff(v))) <= a * dt + 1e-12
-    ends = np.arange(1, len(levels) + 1) * 800 - 1
+    ends = np.arange(1, len(levels) + 1) * 1200 - 1
     np.testing.assert_allclose(v[ends], levels, atol=1e-3)
 
 
@@ -487,3 +489,12 @@ def test_write_cases_one_directory_per_seed(tmp_path: Path) -> None:
     assert [d.name for d in dirs] == ["case_3", "case_4"]
     for d in dirs:
         assert (d / "truth.json").is_file() and len(list(d.glob("run*.csv"))) == 3
+
+
+def test_encoders_read_zero_at_rest() -> None:
+    case = generate_case(6, "none", **FAST)
+    for lg, tr in zip(case.logs, case.trajectories, strict=True):
+        rest = tr.v_left == 0.0
+        assert rest.any() and np.all(lg.v_left[rest] == 0.0)
+        moving = ~rest
+        assert np.std(lg.v_left[moving] - tr.v_left[moving]) == pytest.approx(0.005, rel=0.2)

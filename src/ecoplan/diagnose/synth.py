@@ -833,7 +833,8 @@ class SensorNoise:
     power_abs_w : float
         Power noise floor [W] (3 W).
     speed_mps : float
-        Side-speed noise [m/s] (encoders, 0.005 m/s).
+        Side-speed noise [m/s] (encoders, 0.005 m/s), only while the side moves: an
+        encoder at rest reads zero.
     wz_radps : float
         Gyro noise [rad/s] (0.01 rad/s).
     position_m : float
@@ -902,10 +903,13 @@ def observe(
         return a + g.normal(0.0, 1.0, n) * sd
 
     yaw = jitter(traj.yaw, nz.yaw_rad)
+    # an encoder at rest reads exactly zero: speed noise only while the side turns
+    sd_l = np.where(traj.v_left != 0.0, nz.speed_mps, 0.0)
+    sd_r = np.where(traj.v_right != 0.0, nz.speed_mps, 0.0)
     return Log(
         t=traj.t,
-        v_left=jitter(traj.v_left, nz.speed_mps),
-        v_right=jitter(traj.v_right, nz.speed_mps),
+        v_left=jitter(traj.v_left, sd_l),
+        v_right=jitter(traj.v_right, sd_r),
         p_total=jitter(power_w, nz.power_rel * np.abs(power_w) + nz.power_abs_w),
         v_left_cmd=traj.cmd_left,
         v_right_cmd=traj.cmd_right,
