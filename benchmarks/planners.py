@@ -4,7 +4,10 @@ Run: ``.venv/bin/python benchmarks/planners.py [--maps 20] [--time 2] [--out DIR
 
 For each vehicle (Auriga-β narrow belts on asphalt at 0.5 m/s, Pioneer 3-AT on asphalt at
 0.4 m/s) and each of ``--maps`` seeded random maps (20 m x 12 m, 3-6 rectangular or
-round obstacles, footprint 0.4 m, start on the left edge, goal on the right edge):
+round obstacles, footprint 0.4 m, start on the left edge, goal on the right edge; for
+Auriga-β a random initial heading that every planner must turn from on the spot, for the
+Pioneer a free one -- the cost module charges an arc-only vehicle's initial turn without
+its lateral displacement, which Dubins paths cannot match; ``--aligned``: free for both):
 
 * ``graph``: :class:`ecoplan.planning.graph.GraphPlanner` with the energy cost;
 * ``graph-length``: the same planner with the length cost (the shortest path);
@@ -79,14 +82,21 @@ def random_map(seed: int) -> tuple[World, tuple[float, float], tuple[float, floa
             return world, start, goal
 
 
-def _reference(world: World, cost: EnergyCost, start: Any, goal: Any) -> tuple[float, str]:
+def initial_heading(seed: int) -> float:
+    """Seeded random initial heading [rad] of a map (its own random stream)."""
+    return float(np.random.default_rng([seed, 1]).uniform(-math.pi, math.pi))
+
+
+def _reference(
+    world: World, cost: EnergyCost, start: Any, goal: Any, heading: float | None
+) -> tuple[float, str]:
     """Energy of the dense reference, or nan when the reference module is missing."""
     try:
         from ecoplan.planning import reference
     except ImportError:
         return math.nan, "best-found"
     try:
-        res = reference.plan_reference(world, start, goal, cost)
+        res = reference.plan_reference(world, start, goal, cost, initial_heading_rad=heading)
     except EcoplanError:
         return math.nan, "best-found"
     if not res.best.cost.feasible:  # lattice corners too close for the Pioneer's fillets
@@ -107,13 +117,17 @@ def _row(vehicle: str, seed: int, planner: str, objective: str, res: Any, status
     return row
 
 
-def run_map(args: tuple[str, int, float, tuple[str, ...]]) -> list[dict]:
+def run_map(args: tuple[str, int, float, tuple[str, ...], bool]) -> list[dict]:
     """Every planner on one (vehicle, map)."""
     from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
     from ecoplan.planning.ompl import OmplOptions, OmplPlanner
 
-    vehicle, seed, budget, planners = args
+    vehicle, seed, budget, planners, aligned = args
     world, start, goal = random_map(seed)
+    # arc-only vehicles start free: the cost module draws no lateral displacement for an
+    # initial arc turn (its documented simplification), which a Dubins path cannot match
+    spot_turns = VehicleSpec.of(vehicle).kind == "tracked"
+    heading = None if aligned or not spot_turns else initial_heading(seed)
     spec = VehicleSpec.of(vehicle)
     speed = VEHICLES[vehicle]
     costs = {
@@ -124,9 +138,8 @@ def run_map(args: tuple[str, int, float, tuple[str, ...]]) -> list[dict]:
     for objective, cost in costs.items():
         name = "graph" if objective == "energy" else "graph-length"
         try:
-            res = GraphPlanner(world, cost, GraphPlannerOptions(k_paths=1, time_budget_s=60)).plan(
-                start, goal
-            )
+            graph = GraphPlanner(world, cost, GraphPlannerOptions(k_paths=1, time_budget_s=60))
+            res = graph.plan(start, goal, initial_heading_rad=heading)
             rows.append(_row(vehicle, seed, name, objective, res, "Exact solution"))
         except EcoplanError as exc:
             rows.append(_row(vehicle, seed, name, objective, None, type(exc).__name__))
@@ -135,13 +148,13 @@ def run_map(args: tuple[str, int, float, tuple[str, ...]]) -> list[dict]:
             name = f"ompl-{planner}" + ("" if objective == "energy" else "-length")
             opts = OmplOptions(planner, time_budget_s=budget, seed=seed)
             try:
-                res = OmplPlanner(world, cost, opts).plan(start, goal)
+                res = OmplPlanner(world, cost, opts).plan(start, goal, initial_heading_rad=heading)
                 rows.append(_row(vehicle, seed, name, objective, res, "Exact solution"))
             except EcoplanError as exc:
                 status = "Timeout" if "no path" in str(exc) else "Crash"
                 rows.append(_row(vehicle, seed, name, objective, None, status))
     t_ref = time.perf_counter()
-    ref, kind = _reference(world, costs["energy"], start, goal)
+    ref, kind = _reference(world, costs["energy"], start, goal, heading)
     t_ref = time.perf_counter() - t_ref
     if not math.isfinite(ref):
         ref = min((r["energy_j"] for r in rows if r["solved"]), default=math.nan)
@@ -243,12 +256,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=Path(__file__).parent / "out" / "planners")
     ap.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1))
     ap.add_argument("--planners", default=",".join(OMPL_PLANNERS), help="OMPL planners")
+    ap.add_argument("--aligned", action="store_true", help="no initial heading (free)")
     a = ap.parse_args(argv)
     if a.maps < 1 or a.time <= 0 or a.jobs < 1:
         ap.error("--maps and --jobs must be >= 1 and --time > 0")
     a.out.mkdir(parents=True, exist_ok=True)
     planners = tuple(p for p in a.planners.split(",") if p)
-    tasks = [(v, seed, a.time, planners) for v in VEHICLES for seed in range(a.maps)]
+    tasks = [(v, seed, a.time, planners, a.aligned) for v in VEHICLES for seed in range(a.maps)]
     t0 = time.perf_counter()
     rows: list[dict] = []
     ctx = mp.get_context("spawn")
@@ -265,7 +279,8 @@ def main(argv: list[str] | None = None) -> int:
     n_maps = {(r["vehicle"], r["map_seed"], r["reference_kind"]) for r in rows}
     counts = {k: sum(1 for m in n_maps if m[2] == k) for k in kinds}
     ref_text = ", ".join(f"{k} on {counts[k]} maps" for k in kinds)
-    print(f"{a.maps} maps per vehicle, OMPL budget {a.time:g} s, {a.jobs} jobs, "
+    start_text = "free start headings" if a.aligned else "random Auriga start heading"
+    print(f"{a.maps} maps per vehicle ({start_text}), OMPL budget {a.time:g} s, {a.jobs} jobs, "
           f"wall time {wall:.0f} s; reference: {ref_text}")  # fmt: skip
     if "best-found" in kinds:
         print("  best-found: no feasible lattice reference on that map (or the module is")
