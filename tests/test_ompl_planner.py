@@ -182,6 +182,8 @@ def test_bad_input_raises_typed_errors(world: World) -> None:
     with pytest.raises(InputError, match="speed"):
         EnergyCost(AURIGA, 0.0, world=world)
     pio = EnergyCost(PIONEER, 0.4, world=world)
+    with pytest.raises(InputError, match="reversible"):
+        OmplPlanner(world, pio, OmplOptions("RRTConnect")).plan(START, GOAL)
     with pytest.raises(InputError, match="smallest feasible radius"):
         OmplPlanner(world, pio, OmplOptions(state_space="dubins", turning_radius_m=0.5)).plan(
             START, GOAL

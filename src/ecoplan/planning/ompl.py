@@ -36,8 +36,16 @@ Decisions where the issue is silent
   gives the same plan on every run as long as the iteration cap, not the time budget,
   ends the search (``stats["stopped_by_time"]`` says which did).  OMPL's global seed
   (``ompl.util.RNG.setSeed``) is set before anything random is created.
-* ``PRMstar`` is refused: OMPL's PRM grows its roadmap in a second thread that calls
-  the Python objective and deadlocks on the interpreter lock.
+* Planners: ``RRTstar``, ``InformedRRTstar``, ``SORRTstar`` (r-disc neighbourhoods: the
+  k-nearest variant evaluated ~7x more motion costs per iteration), ``BITstar`` (the
+  default: few motion-cost calls, good in every space) and ``RRTConnect`` (feasibility
+  only; not in Dubins space, which is not reversible).  ``PRMstar`` is refused: OMPL's
+  PRM grows its roadmap in a second thread that calls the Python objective and
+  deadlocks on the interpreter lock.  ``FMT`` is refused: it found no exact solution
+  with this objective in our tests.
+* Speed: every motion cost is a Python call (~2-20 us for SE2 with the precomputed turn
+  table, more in Dubins / Reeds-Shepp spaces, whose curves are sampled); budgets of
+  1-2 s give a few thousand iterations.
 * Simplification never increases the objective: OMPL's ``PathSimplifier`` (with this
   objective), then greedy waypoint removal for SE2 paths; every candidate is evaluated
   by the cost module and the cheapest feasible one is kept.
@@ -530,6 +538,11 @@ class OmplPlanner:
             name = "se2" if self._spot_turns_ok() else "dubins"
         if name == "se2":
             return name, 0.0
+        if name == "dubins" and opts.planner == "RRTConnect":
+            raise InputError(
+                "RRTConnect grows a tree backwards from the goal and needs reversible "
+                "motions: use it with state_space 'se2' or 'reeds_shepp', not 'dubins'"
+            )
         r_min = float(min_radius_for_speed(params, self.cost.speed_mps))
         if not math.isfinite(r_min):
             raise InputError(f"no turn is feasible at {self.cost.speed_mps:g} m/s for this vehicle")
