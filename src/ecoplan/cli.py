@@ -140,35 +140,61 @@ def _budget(args: argparse.Namespace) -> float | None:
     return b
 
 
-def _report(
-    args: argparse.Namespace, sc: Any, results: Sequence[Any], out: _Out, **kw: Any
-) -> list[Path]:
-    if not args.out:
-        return []
-    from ecoplan.report import prepare_out_dir, write_report
+def _prepare(args: argparse.Namespace) -> Any:
+    """The --out folder (checked against the overwrite policy), or None without --out."""
+    if not getattr(args, "out", None):
+        return None
+    from ecoplan.report import prepare_out_dir
 
-    folder = prepare_out_dir(args.out, force=args.force)
+    return prepare_out_dir(args.out, force=args.force)
+
+
+def _report(
+    args: argparse.Namespace,
+    sc: Any,
+    results: Sequence[Any],
+    out: _Out,
+    *,
+    quiet: bool = False,
+    **kw: Any,
+) -> list[Path]:
+    folder = _prepare(args)  # already checked when the command started
+    if folder is None:
+        return []
+    from ecoplan.report import write_report
+
     files = write_report(sc, results, folder, force=args.force, **kw)
-    out.say(f"report written to {folder.path}/ ({len(files)} files):")
-    for f in files:
-        out.say(f"  {f}")
+    if not quiet:
+        _print_files(out, args, files)
     return files
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import simulate_case
+    from ecoplan.scenario import plan_case, simulate_case
 
     out = _out(args)
     sc = _load(args)
-    case = sc.cases()[0] if not sc.spec.compare else _base_case(sc)
-    with _progress(args, "planning + simulating", 2) as tick:
-        tick(0, 2)
-        result = simulate_case(case, time_budget_s=_budget(args))
-        tick(2, 2)
+    _prepare(args)
+    case = _base_case(sc)
+    steps = 3 if args.out else 2
+    with _progress(args, f"{sc.name}: plan, simulate, report", steps) as tick:
+        plan = plan_case(case, time_budget_s=_budget(args))
+        tick(1, steps)
+        result = simulate_case(case, plan)
+        tick(2, steps)
+        files = _report(args, sc, [result], out, quiet=True)
+        tick(steps, steps)
     _print_case(out, result)
-    files = _report(args, sc, [result], out)
+    _print_files(out, args, files)
     out.emit({"scenario": sc.name, "case": result.summary(), "files": files})
     return 0
+
+
+def _print_files(out: _Out, args: argparse.Namespace, files: Sequence[Path]) -> None:
+    if files:
+        out.say(f"report written to {args.out}/ ({len(files)} files):")
+        for f in files:
+            out.say(f"  {f}")
 
 
 def _base_case(sc: Any) -> Any:
@@ -253,6 +279,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         data.pop("planner", None)
         data.pop("goal", None)
         sc = parse_scenario(yaml.safe_dump(data), source=f"{sc.source} (--waypoints)")
+    _prepare(args)
     case = _base_case(sc)
     if case.planner.type != "none":
         raise InputError(
@@ -278,6 +305,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     cases = sc.cases()
     if len(cases) < 2:
         raise InputError(f"{sc.source}: compare needs a `compare:` list of at least two variants")
+    _prepare(args)
     task = partial(run_case, time_budget_s=_budget(args))
     with make_executor(args.scheduler, args.workers) as ex:
         with _progress(args, f"{len(cases)} cases on {ex.description}", len(cases)) as tick:
