@@ -121,6 +121,12 @@ Realism choices (documented assumptions)
   diagnosis must calibrate before it attributes.
 * Logs hold ``t, v_left, v_right, p_total, v_left_cmd, v_right_cmd, x, y, yaw, wz`` and a
   constant ``terrain`` label (patches are not labelled); no per-motor powers.
+* Sensor noise is white: power 2 % + 3 W, side speeds 0.005 m/s (zero at rest: an encoder
+  of a still wheel reads zero), gyro 0.01 rad/s, position 0.02 m, heading 0.005 rad;
+  commands are logged exactly.
+* A session: one stationary grid (6 pairs), two spirals (left and right) and
+  ``n_waypoint_runs`` A->B runs in random order, starting in a 10 m x 10 m area, 5-30 s
+  apart: about 5 minutes and 15 000 samples at 50 Hz.
 """
 
 from __future__ import annotations
