@@ -39,6 +39,17 @@ message names the file, the column and/or the 1-based line number of the file):
 Rows whose only defect is a missing/NaN value in an *optional* column are dropped and
 counted in :attr:`Log.dropped_rows` (never silently); an optional column that is empty
 on every row is treated as absent.  Infinite values in optional columns are errors.
+
+Loaders
+-------
+* :func:`read_log_csv` / :func:`write_log_csv` -- the format above (clean files are read
+  by ``numpy.loadtxt``: one hour at 100 Hz with 12 columns in about 1.4 s);
+* :func:`load_borealtc` -- BorealTC hard-ground runs (Husky A200) through
+  :mod:`ecoplan.datasets.borealtc`, the bus voltage an explicit assumption in the notes;
+* :func:`read_rosbag` -- ROS 2 bags (``rosbags``) with a :class:`TopicMap` (wheel joint
+  states, battery state or a power topic, odometry, IMU), resampled on a common time base;
+* :func:`read_logs` -- any mix of the three: CSV paths, ``borealtc:TERRAIN[/RUN]`` and
+  bags (topic map given, or ``<bag>.topics.yaml`` beside the bag, :func:`load_topic_map`).
 """
 
 from __future__ import annotations
