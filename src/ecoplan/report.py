@@ -313,6 +313,23 @@ def summary_table(results: Sequence[CaseResult]) -> str:
     return "\n".join(lines)
 
 
+def _panel_note(r: CaseResult) -> str:
+    if r.sim is None:
+        return "not simulated"
+    text = f"{r.energy_j / 1e3:.1f} kJ in {r.sim.time_s:.0f} s, ψ {r.sim.psi_rad:.2f} rad"
+    if r.battery is not None:
+        b = r.battery
+        if b.completes:
+            text += f"\nbattery: completes, margin {b.margin_j / 3600:.1f} Wh"
+        elif b.empty_at is not None:
+            text += f"\nbattery: empty after {b.empty_at[0]:.0f} s"
+        else:
+            text += "\nbattery: goal not reached"
+    if r.violation_s:
+        text += "\nover limit " + ", ".join(f"{v:.1f} s" for v in r.violation_s.values())
+    return text
+
+
 def _speed_cell(r: CaseResult) -> str:
     v = f"{r.plan.speed_mps:.2f}"
     return f"{v} (optimal)" if r.plan.speed_policy == "optimal" else v
@@ -409,7 +426,8 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
         ax = flat[i if n > 1 else 0]
         if i == 0 or n > 1:
             _draw_world(ax, sc)
-            ax.set_title(r.name if n > 1 else f"{sc.name}: {r.name}", fontsize=10)
+            title = r.name if n > 1 else sc.name + (f": {r.name}" if r.name != sc.name else "")
+            ax.set_title(title, fontsize=10)
         if r.error is not None:
             ax.set_title(f"{r.name}: no route", fontsize=10, color="darkred")
             ax.plot(*sc.spec.start.xy, marker="s", color="tab:green", mec="black", ms=8)
@@ -437,6 +455,12 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
         if r.sim is not None and np.any(r.over_limit):
             bad = np.flatnonzero(r.over_limit)
             ax.plot(r.sim.x[bad], r.sim.y[bad], "o", ms=4, mfc="none", mec="red", mew=0.8, zorder=5)
+        if n > 1 or len(results) == 1:  # one panel per case
+            ax.text(
+                0.01, 0.99, _panel_note(r), transform=ax.transAxes, va="top", ha="left",
+                fontsize=8, zorder=7,
+                bbox={"boxstyle": "round", "facecolor": "white", "alpha": 0.85, "lw": 0.5},
+            )  # fmt: skip
         if r.battery is not None and r.battery.empty_at is not None:
             _, bx, by, _ = r.battery.empty_at
             ax.plot(bx, by, marker="X", color="red", mec="black", ms=14, zorder=6)
