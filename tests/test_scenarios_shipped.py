@@ -198,3 +198,23 @@ def test_pioneer_power_limit_forbids_the_sharp_turn(
     assert cases["energy planner, G 0.2"]["plan_feasible"]
     assert cases["energy planner, G 0.2"]["limit_violation_s"] == {}
     assert cases["sharp corner, G 0.6"]["limit_violation_s"]["p_side_max_w"] > 1.0
+
+
+def test_case_logs_are_valid_diagnosis_logs(
+    runs: Callable[[str], tuple[Path, dict[str, Any]]],
+) -> None:
+    # the simulator's log is the diagnosis issue's log format: a run can be diagnosed
+    logio = pytest.importorskip("ecoplan.diagnose.logio")
+    out_dir, _ = runs("marble_asphalt_patch")
+    saved = json.loads((out_dir / "summary.json").read_text())["cases"]
+    paths = [out_dir / c["log_file"] for c in saved if c["log_file"]]
+    logs = logio.read_logs(paths)
+    assert len(logs) == len(paths)
+    for log, path in zip(logs, paths, strict=True):
+        table = _read_log(path)
+        np.testing.assert_allclose(log.p_total, table["p_total"])
+        np.testing.assert_allclose(log.v_left, table["v_left"])
+        assert log.terrain is not None and set(log.terrain) <= {"marble", "asphalt"}
+    # the planned routes cross the asphalt patch; the detour around it does not
+    crossing = {c["name"]: "asphalt" in set(log.terrain or ()) for c, log in zip(saved, logs)}
+    assert crossing == {"energy planner": True, "shortest path": True, "around the patch": False}
