@@ -216,5 +216,9 @@ def test_case_logs_are_valid_diagnosis_logs(
         np.testing.assert_allclose(log.v_left, table["v_left"])
         assert log.terrain is not None and set(log.terrain) <= {"marble", "asphalt"}
     # the planned routes cross the asphalt patch; the detour around it does not
-    crossing = {c["name"]: "asphalt" in set(log.terrain or ()) for c, log in zip(saved, logs)}
+    crossing = {
+        c["name"]: "asphalt" in set(log.terrain.tolist())
+        for c, log in zip(saved, logs, strict=True)
+        if log.terrain is not None
+    }
     assert crossing == {"energy planner": True, "shortest path": True, "around the patch": False}
