@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -202,3 +203,64 @@ def test_case_is_picklable_for_worker_processes() -> None:
     [case] = parse_scenario(MINIMAL).cases()
     again = pickle.loads(pickle.dumps(case))
     assert isinstance(again, Case) and again.spec == case.spec
+
+
+def _corrected_model_file(path: Path, effect: dict[str, object]) -> Path:
+    # the format of ecoplan.diagnose.loop.save_corrected_model, written by hand
+    path.write_text(
+        json.dumps(
+            {
+                "format": "ecoplan-corrected-model/1",
+                "vehicle": "auriga-beta-wide",
+                "terrain": "asphalt",
+                "kind": "tracked",
+                "params": {"k_resistance_n": 342.0, "p_powerup_w": 58.0},
+                "effect": effect,
+            }
+        )
+    )
+    return path
+
+
+def test_a_corrected_model_from_diagnosis_drives_the_scenario(tmp_path: Path) -> None:
+    pytest.importorskip("ecoplan.diagnose.loop")
+    _corrected_model_file(
+        tmp_path / "model.json",
+        {"name": "speed_dependent_resistance", "params": {"c_n_s_per_m": 100.0}},
+    )
+    text = """\
+name: corrected
+vehicle: {model: model.json}
+map: {bounds: {min: [-1, -3], max: [21, 3]}}
+start: {x: 0, y: 0}
+waypoints: [[20, 0]]
+"""
+    scenario_file = tmp_path / "s.yaml"
+    scenario_file.write_text(text)
+    sc = load_scenario(scenario_file)  # the model path is relative to the scenario file
+    assert sc.default_terrain == "asphalt" and sc.model is not None
+    r = simulate_case(sc.cases()[0])
+    assert r.sim is not None
+    cruise = (np.abs(r.sim.v_left - 0.5) < 1e-12) & (np.abs(r.sim.v_right - 0.5) < 1e-12)
+    # tracked eqs. 18-20 at 0.5 m/s on both tracks: (K (0.5 + 0.5) + P_pu) / eta, plus the
+    # fitted speed-dependent resistance c (V_l^2 + V_r^2) = 100 * 0.5 = 50 W
+    expected = (342.0 * 1.0 + 58.0) / 0.95 + 100.0 * (0.25 + 0.25)
+    np.testing.assert_allclose(r.p_total_w[cruise], expected)
+    assert sum(r.breakdown_j.values()) == pytest.approx(r.energy_j)
+
+
+def test_corrected_model_errors_name_the_line(tmp_path: Path) -> None:
+    base = "name: c\nvehicle: {model: %s}\n%smap: {bounds: {min: [0, 0], max: [9, 9]}}\n"
+    base += "start: {x: 1, y: 1}\nwaypoints: [[8, 8]]\n"
+    with pytest.raises(ScenarioError, match=r":2: vehicle.model: no such corrected-model file"):
+        parse_scenario(base % (tmp_path / "absent.json", ""))
+    pytest.importorskip("ecoplan.diagnose.loop")
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"format": "something else"}')
+    with pytest.raises(ScenarioError, match=r":2: vehicle.model: .*format"):
+        parse_scenario(base % (bad, ""))
+    good = _corrected_model_file(tmp_path / "m.json", {"name": "none", "params": {}})
+    with pytest.raises(ScenarioError, match=r":3: terrain: a corrected model is calibrated"):
+        parse_scenario(base % (good, "terrain: marble\n"))
+    with pytest.raises(ScenarioError, match=r"exactly one of preset"):
+        parse_scenario((base % (good, "")).replace("{model:", "{preset: pioneer-3at, model:"))

@@ -169,10 +169,22 @@ class Region(Shape):
 
 
 class VehicleSection(_Section):
-    """Vehicle preset (``ecoplan.presets``) and parameter overrides."""
+    """Vehicle preset (``ecoplan.presets``) or corrected model, and parameter overrides.
 
-    preset: Name
+    ``model`` is a file written by ``ecoplan diagnose --out`` (``corrected_model.json``:
+    the preset, its re-identified parameters and the fitted unmodelled effect), relative
+    to the scenario file.
+    """
+
+    preset: Name | None = None
+    model: Annotated[str, Field(min_length=1, max_length=4096)] | None = None
     overrides: dict[str, Any] = Field(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _one_source(self) -> VehicleSection:
+        if (self.preset is None) == (self.model is None):
+            raise ValueError("give exactly one of preset (a vehicle preset) or model (a file)")
+        return self
 
 
 class TerrainSection(_Section):
@@ -382,6 +394,8 @@ class Scenario:
         Terrain regions as (name, terrain preset, polygon), later ones on top.
     world : World
         The planning world (inflated obstacles, free space, terrain lookup).
+    model : CorrectedModel or None
+        The corrected model of ``vehicle.model`` (:mod:`ecoplan.diagnose.loop`), if any.
     """
 
     spec: ScenarioSpec
@@ -391,6 +405,7 @@ class Scenario:
     obstacles: tuple[Polygon, ...]
     regions: tuple[tuple[str, str, Polygon], ...]
     world: World
+    model: Any = None
 
     @property
     def name(self) -> str:
@@ -405,7 +420,7 @@ class Scenario:
     @property
     def default_terrain(self) -> str:
         """Default terrain preset name."""
-        return self.vehicle.terrain or _default_terrain(self.spec.vehicle.preset)
+        return self.vehicle.terrain or _default_terrain(self.vehicle.name)
 
     @property
     def goal_xy(self) -> tuple[float, float]:
@@ -790,7 +805,8 @@ def _valid_polygon(
 
 
 def _build(spec: ScenarioSpec, source: str, lines: _LineMap) -> Scenario:
-    veh = _build_vehicle(spec, source, lines)
+    model = _load_model(spec, source, lines) if spec.vehicle.model is not None else None
+    veh = _build_vehicle(spec, source, lines, model)
     for i, region in enumerate(spec.terrain.regions):
         try:
             veh.on(region.terrain)
@@ -819,14 +835,59 @@ def _build(spec: ScenarioSpec, source: str, lines: _LineMap) -> Scenario:
         )
     except GeometryError as exc:
         raise _err(source, lines, ("map",), str(exc)) from None
-    scenario = Scenario(spec, source, veh, bounds, obstacles, regions, world)
+    scenario = Scenario(spec, source, veh, bounds, obstacles, regions, world, model)
     _check_speeds(scenario, lines)
     _check_points(scenario, lines)
     return scenario
 
 
-def _build_vehicle(spec: ScenarioSpec, source: str, lines: _LineMap) -> VehicleSpec:
+def _load_model(spec: ScenarioSpec, source: str, lines: _LineMap) -> Any:
+    """The corrected model named by ``vehicle.model`` (path relative to the scenario)."""
+    from ecoplan.diagnose.loop import load_corrected_model
+
+    assert spec.vehicle.model is not None
+    path = Path(spec.vehicle.model).expanduser()
+    if not path.is_absolute() and not source.startswith("<"):
+        path = Path(source).parent / path
+    loc = ("vehicle", "model")
+    if not path.is_file():
+        raise _err(source, lines, loc, f"no such corrected-model file {str(path)!r}")
+    if path.stat().st_size > MAX_FILE_BYTES:
+        raise _err(source, lines, loc, f"{str(path)!r} is too large for a corrected model")
+    try:
+        model = load_corrected_model(path)
+    except InputError as exc:
+        raise _err(source, lines, loc, _one_line(str(exc))) from None
+    if spec.terrain.regions or spec.terrain.default not in (None, model.terrain):
+        raise _err(
+            source,
+            lines,
+            ("terrain",),
+            f"a corrected model is calibrated on {model.terrain!r}: give no other terrain "
+            "and no terrain regions",
+        )
+    return model
+
+
+def _model_overrides(model: Any) -> dict[str, Any]:
+    from ecoplan.models.wheeled import SideCoefficients
+
+    params: dict[str, Any] = model.to_dict()["params"]
+    return {k: SideCoefficients(**v) if isinstance(v, dict) else v for k, v in params.items()}
+
+
+def _build_vehicle(
+    spec: ScenarioSpec, source: str, lines: _LineMap, model: Any = None
+) -> VehicleSpec:
     v = spec.vehicle
+    if model is not None:
+        try:
+            return VehicleSpec.of(
+                model.vehicle, model.terrain, {**_model_overrides(model), **v.overrides}
+            )
+        except (InputError, TypeError, ValueError) as exc:
+            raise _err(source, lines, ("vehicle", "overrides"), _one_line(str(exc))) from None
+    assert v.preset is not None
     try:
         return VehicleSpec.of(v.preset, spec.terrain.default, v.overrides)
     except (InputError, TypeError, ValueError) as exc:
@@ -1325,6 +1386,8 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
         p_left = np.asarray(sim.p_left, dtype=np.float64)
         p_right = np.asarray(sim.p_right, dtype=np.float64)
         comps = {k: np.asarray(v, dtype=np.float64) for k, v in sim.components_w.items()}
+    if sc.model is not None and sc.model.effect != "none":
+        p_total, comps = _with_effect(sc.model, sim, p_total, comps)
     violated = np.full(len(sim.t), "", dtype=object)
     for terr in sorted(set(terrain)):
         idx = np.flatnonzero(np.asarray(terrain) == terr)
@@ -1355,6 +1418,26 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
         clearance_s,
         np.asarray(violated != "", dtype=np.bool_),
     )
+
+
+def _with_effect(
+    model: Any, sim: SimResult, p_total: FloatArray, comps: dict[str, FloatArray]
+) -> tuple[FloatArray, dict[str, FloatArray]]:
+    """Add a corrected model's fitted effect along the simulated trajectory.
+
+    :meth:`CorrectedModel.trajectory_power` gives the total power with the effect (from the
+    commanded speeds for ``actuator_lag``); the difference to the base model's power is
+    booked under traction resistance, as the corrected model's steady-state power does.
+    """
+    lag = model.effect == "actuator_lag"
+    vl = sim.v_left_cmd if lag else sim.v_left
+    vr = sim.v_right_cmd if lag else sim.v_right
+    total = np.asarray(
+        model.trajectory_power(sim.t, vl, vr, x=sim.x, y=sim.y, yaw=sim.yaw), dtype=np.float64
+    )
+    comps = dict(comps)
+    comps["resistance_w"] = comps["resistance_w"] + (total - p_total)
+    return total, comps
 
 
 def _battery(
