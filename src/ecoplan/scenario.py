@@ -843,9 +843,13 @@ def _build(spec: ScenarioSpec, source: str, lines: _LineMap) -> Scenario:
 
 def _load_model(spec: ScenarioSpec, source: str, lines: _LineMap) -> Any:
     """The corrected model named by ``vehicle.model`` (path relative to the scenario)."""
-    from ecoplan.diagnose.loop import load_corrected_model
-
     assert spec.vehicle.model is not None
+    try:
+        from ecoplan.diagnose.loop import load_corrected_model
+    except ImportError:  # pragma: no cover - the diagnosis package ships with ecoplan
+        raise _err(
+            source, lines, ("vehicle", "model"), "corrected models need ecoplan.diagnose.loop"
+        ) from None
     path = Path(spec.vehicle.model).expanduser()
     if not path.is_absolute() and not source.startswith("<"):
         path = Path(source).parent / path
