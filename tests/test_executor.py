@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import pytest
 
+from ecoplan.cli import main
 from ecoplan.errors import InputError
 from ecoplan.executor import DaskExecutor, LocalExecutor, make_executor
 from ecoplan.scenario import CaseResult, parse_scenario, run_case
@@ -68,17 +72,27 @@ def test_unreachable_scheduler_is_input_error() -> None:
         DaskExecutor("tcp://127.0.0.1:1", timeout_s=0.5)
 
 
-def test_dask_local_cluster_gives_the_same_numbers_as_local_processes() -> None:
+def test_dask_local_cluster_gives_the_same_numbers_as_local_processes(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     distributed = pytest.importorskip("distributed")
     cases = parse_scenario(SWEEP).cases()
     with make_executor(workers=2) as ex:
         local = ex.map(run_case, cases)
+    scenario = tmp_path / "sweep.yaml"
+    scenario.write_text(SWEEP)
     with distributed.LocalCluster(
         n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None
     ) as cluster:
         with make_executor(scheduler=cluster.scheduler_address) as ex:
             assert ex.description.startswith("dask ")
             remote = ex.map(run_case, cases)
+        # the command line takes the same path: ecoplan compare --scheduler ADDR
+        args = ["compare", str(scenario), "--scheduler", cluster.scheduler_address, "--json"]
+        assert main(args) == 0
+        payload = json.loads(capsys.readouterr().out)
+    assert payload["executor"] == f"dask {cluster.scheduler_address}"
+    assert [c["energy_j"] for c in payload["cases"]] == _energies(local)
     assert [r.name for r in remote] == ["slow", "fast", "zigzag"]
     # deterministic simulation: bit-identical energies wherever the cases run
     assert _energies(remote) == _energies(local)
