@@ -53,7 +53,7 @@ def runs(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], tuple[Path
         if stem not in cache:
             out_dir = tmp_path_factory.mktemp(stem)
             args = ["compare", str(SCENARIOS / f"{stem}.yaml"), "--workers", "2"]
-            args += ["--time-budget", "1.0", "--out", str(out_dir), "--json", "-q"]
+            args += ["--time-budget", "3.0", "--out", str(out_dir), "--json", "-q"]
             buf = io.StringIO()
             with contextlib.redirect_stdout(buf):
                 assert main(args) == 0
