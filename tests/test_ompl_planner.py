@@ -157,6 +157,32 @@ def test_curve_motion_cost_matches_the_power_model() -> None:
     assert motion(st(0, 0, 0), st(r, r, math.pi / 2)) == pytest.approx(arc, rel=1e-6)
 
 
+def test_reverse_motion_cost_matches_the_power_model() -> None:
+    # Reeds-Shepp: 5 m straight backwards costs P_T(-v, -v) L / v; backing along a
+    # quarter circle with the body turning left (w > 0, centre on the right) ends at
+    # (-r, -r, pi/2) and costs P_T(cmd(-v, -r)) (r pi/2) / v
+    world = World(rectangle(-10, -10, 10, 10))
+    cost = EnergyCost(PIONEER, 0.4, world=world)
+    r = 3.0
+    space = ob.ReedsSheppStateSpace(r)
+    motion = _CurveMotions(cost, space, r, 0.5)
+    params = vehicle("pioneer-3at")
+
+    def st(x: float, y: float, yaw: float) -> object:
+        s = space.allocState()
+        s.setX(x)
+        s.setY(y)
+        s.setYaw(yaw)
+        return s
+
+    back = float(params.power(-0.4, -0.4).total_w) * 5.0 / 0.4
+    assert motion(st(0, 0, 0), st(-5, 0, 0)) == pytest.approx(back, rel=1e-9)
+    vl, vr = vr_to_tracks(params, -0.4, -r)
+    assert vr > vl  # the body turns left (REP-103: right track faster)
+    arc = float(params.power(vl, vr).total_w) * (r * math.pi / 2) / 0.4
+    assert motion(st(0, 0, 0), st(-r, -r, math.pi / 2)) == pytest.approx(arc, rel=1e-6)
+
+
 def test_bad_input_raises_typed_errors(world: World) -> None:
     cost = EnergyCost(AURIGA, 0.5, world=world)
     planner = OmplPlanner(world, cost, OmplOptions(time_budget_s=0.2))

@@ -362,7 +362,7 @@ class _CurveMotions:
     def _coefficients(
         self, cost: PathCostModel, terrain: str | None
     ) -> dict[tuple[int, int], float]:
-        """Cost per metre of ``(direction, turn)``: direction +-1, turn -1/0/1 (right/none/left)."""
+        """Cost per metre of ``(direction, turn)``: direction +-1, turn = sign of the yaw rate."""
         params = cost.params(terrain)
         v = cost.speed_mps
         out: dict[tuple[int, int], float] = {}
@@ -371,7 +371,7 @@ class _CurveMotions:
                 if k == 0:
                     vl, vr = np.asarray(d * v), np.asarray(d * v)
                 else:
-                    # moving backwards along a left arc turns the body clockwise: w = v / r
+                    # yaw rate w = (d v) / (d k r) has the sign of k, forwards or backwards
                     vl, vr = vr_to_tracks(params, d * v, d * k * self.radius)
                 if not check_tracks(params, vl, vr).ok.all():
                     out[(d, k)] = math.inf
@@ -411,8 +411,7 @@ class _CurveMotions:
             coef = self.coef.get(terr, self.coef[self.default])
             arc = min(self.radius * abs(dyaw), ds)
             if arc > 0.0:
-                k = d if dyaw > 0 else -d  # left/right arc in the direction of travel
-                total += coef[(int(d), 1 if k > 0 else -1)] * arc
+                total += coef[(int(d), 1 if dyaw > 0 else -1)] * arc
             total += coef[(int(d), 0)] * (ds - arc)
         return total
 
