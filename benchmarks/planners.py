@@ -24,7 +24,7 @@ Every path's energy comes from the cost module (:func:`ecoplan.cost.path_cost` f
 waypoint paths, :func:`ecoplan.cost.trajectory_cost` for Dubins curves).  Per row: energy,
 length, ψ, planning time, ratio to the reference and energy saved against the
 shortest path (``graph-length``) in %.  Outputs in ``--out`` (default
-``benchmarks/out/planners``): ``planners.csv``, ``planners.png`` and one OMPL benchmark
+``reports/planners``, git-ignored): ``planners.csv``, ``planners.png`` and one OMPL benchmark
 log per vehicle (``ompl_<vehicle>.log``; ``ompl_benchmark_statistics LOG -d out.db``
 builds Planner Arena's database from it).  Prints per planner the median energy ratio,
 median planning time and median energy saved.
@@ -253,7 +253,7 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--maps", type=int, default=20, help="random maps per vehicle")
     ap.add_argument("--time", type=float, default=2.0, help="OMPL time budget per run [s]")
-    ap.add_argument("--out", type=Path, default=Path(__file__).parent / "out" / "planners")
+    ap.add_argument("--out", type=Path, default=Path(__file__).parents[1] / "reports" / "planners")
     ap.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1))
     ap.add_argument("--planners", default=",".join(OMPL_PLANNERS), help="OMPL planners")
     ap.add_argument("--aligned", action="store_true", help="no initial heading (free)")
