@@ -237,3 +237,25 @@ def test_demo_writes_the_replay_report(tmp_path: Path, capsys: pytest.CaptureFix
     pngs = sorted(out_dir.glob("*.png"))
     assert len(pngs) >= 2 and all(p.stat().st_size > 0 for p in pngs)
     assert any(out_dir.glob("*.csv")) and any(out_dir.glob("*.md"))
+
+
+def test_bench_runs_planners_through_the_executor(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    scenario = tmp_path / "goal.yaml"
+    scenario.write_text(
+        QUICK.split("waypoints:")[0] + "goal: {x: 12, y: 0}\nsimulation: {dt_s: 0.05}\n"
+    )
+    out_dir = tmp_path / "bench"
+    args = ["bench", str(scenario), "--planners", "graph", "--workers", "1", "--json"]
+    assert main([*args, "--out", str(out_dir)]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    [row] = payload["runs"]
+    assert row["planner"] == "graph" and row["error"] is None and row["energy_j"] > 0
+    [summary] = payload["summary"]
+    assert summary["median_energy_j"] == row["energy_j"]
+    assert (out_dir / "bench.csv").read_text().startswith("scenario,planner,seed,")
+    assert main(["bench", str(scenario), "--planners", "astar"]) == 2
+    assert main(["bench", str(scenario), "--planners", "ompl"]) == 2
+    assert main(["bench", str(tmp_path / "absent.yaml")]) == 2
+    capsys.readouterr()

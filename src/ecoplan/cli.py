@@ -356,24 +356,22 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 
 @dataclass(frozen=True)
 class _BenchCase:
+    """One benchmark case; carries the scenario itself, so remote workers need no files."""
+
     scenario: str
+    case: Any  # ecoplan.scenario.Case with the planner set
     planner: str
     seed: int
-    time_s: float
 
 
 def _bench_one(c: _BenchCase) -> dict[str, Any]:
     """One benchmark case: plan the scenario with a planner and seed, then simulate."""
-    from ecoplan.scenario import Case, PlannerSection, load_scenario, run_case
+    from ecoplan.scenario import run_case
 
-    sc = load_scenario(c.scenario)
-    kind, _, name = c.planner.partition(":")
-    planner = PlannerSection(type=kind, name=name or None, seed=c.seed, time_s=c.time_s)  # type: ignore[arg-type]
-    spec = sc.spec.model_copy(update={"compare": [], "planner": planner, "waypoints": None})
     t0 = time.perf_counter()
-    r = run_case(Case(f"{c.planner}#{c.seed}", spec, sc.source))
+    r = run_case(c.case)
     return {
-        "scenario": sc.name,
+        "scenario": c.scenario,
         "planner": c.planner,
         "seed": c.seed,
         "planning_time_s": r.plan.planning_time_s,
@@ -386,9 +384,33 @@ def _bench_one(c: _BenchCase) -> dict[str, Any]:
     }
 
 
+def _bench_cases(args: argparse.Namespace, planners: Sequence[str]) -> list[_BenchCase]:
+    from ecoplan.scenario import Case, PlannerSection, load_scenario
+
+    out = []
+    for path in args.scenarios:
+        sc = load_scenario(path)  # validate up front: bad input fails before any work
+        if sc.spec.goal is None:
+            raise InputError(f"{path}: bench needs a scenario with a goal (it plans the route)")
+        for label in planners:
+            kind, _, name = label.partition(":")
+            for seed in range(args.seeds) if kind == "ompl" else range(1):
+                planner = PlannerSection(
+                    type="graph" if kind == "graph" else "ompl",
+                    name=name or None,
+                    seed=seed,
+                    time_s=args.time,
+                )
+                update = {"compare": [], "planner": planner, "waypoints": None}
+                spec = sc.spec.model_copy(update=update)
+                out.append(
+                    _BenchCase(sc.name, Case(f"{label}#{seed}", spec, sc.source), label, seed)
+                )
+    return out
+
+
 def _cmd_bench(args: argparse.Namespace) -> int:
     from ecoplan.executor import make_executor
-    from ecoplan.scenario import load_scenario
 
     out = _out(args)
     planners = [p.strip() for p in args.planners.split(",") if p.strip()]
@@ -398,16 +420,10 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             raise InputError(f"--planners {p!r}: expected graph or ompl:<name> (e.g. ompl:RRTstar)")
     if args.seeds < 1 or args.seeds > 10_000:
         raise InputError(f"--seeds {args.seeds}: expected 1..10000")
-    for s in args.scenarios:
-        sc = load_scenario(s)  # validate up front: bad input fails before any work
-        if sc.spec.goal is None:
-            raise InputError(f"{s}: bench needs a scenario with a goal (it plans the route)")
-    cases = [
-        _BenchCase(str(s), p, seed, args.time)
-        for s in args.scenarios
-        for p in planners
-        for seed in (range(args.seeds) if p.startswith("ompl") else range(1))
-    ]
+    if not (0.0 < args.time <= 3600.0):
+        raise InputError(f"--time {args.time}: expected seconds in (0, 3600]")
+    cases = _bench_cases(args, planners)
+    folder = _prepare(args)
     with make_executor(args.scheduler, args.workers) as ex:
         with _progress(args, f"{len(cases)} cases on {ex.description}", len(cases)) as tick:
             rows = ex.map(_bench_one, cases, on_done=tick)
@@ -440,12 +456,10 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     out.say(f"bench: {len(cases)} cases on {where}")
     out.say("\n".join(table))
     files: list[Path] = []
-    if args.out:
+    if folder is not None:
         import csv
 
-        from ecoplan.report import prepare_out_dir
-
-        folder = prepare_out_dir(args.out, force=args.force)
+        folder.claim(["bench.csv", "bench.md"], force=args.force)
         with folder.file("bench.csv").open("w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=list(rows[0]))
             w.writeheader()

@@ -127,6 +127,10 @@ class OutDir:
         self.written.append(p)
         return p
 
+    def claim(self, names: Sequence[str], *, force: bool = False) -> None:
+        """Refuse (InputError) to replace a file ecoplan did not write, unless ``force``."""
+        _check_not_foreign(self, names, force)
+
     def finish(self) -> list[Path]:
         """Write the manifest; return the files written."""
         manifest = {
