@@ -222,3 +222,22 @@ def test_case_logs_are_valid_diagnosis_logs(
         if log.terrain is not None
     }
     assert crossing == {"energy planner": True, "shortest path": True, "around the patch": False}
+
+
+def test_a_simulated_run_goes_through_ecoplan_diagnose(
+    runs: Callable[[str], tuple[Path, dict[str, Any]]],
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    for module in ("ecoplan.diagnose.pipeline", "ecoplan.diagnose.loop", "ecoplan.diagnose.report"):
+        pytest.importorskip(module)
+    out_dir, _ = runs("ab_obstacle")
+    saved = json.loads((out_dir / "summary.json").read_text())["cases"]
+    log = out_dir / saved[0]["log_file"]
+    target = tmp_path / "diagnosis.json"
+    args = ["diagnose", str(log), "--vehicle", "auriga-beta-wide", "--terrain", "asphalt"]
+    assert main([*args, "--json", str(target)]) == 0
+    capsys.readouterr()
+    result = json.loads(target.read_text())
+    assert {"gap", "where", "effects", "verdict"} <= set(result)
+    assert isinstance(result["verdict"]["effect"], str)
