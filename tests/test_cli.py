@@ -259,3 +259,18 @@ def test_bench_runs_planners_through_the_executor(
     assert main(["bench", str(scenario), "--planners", "ompl"]) == 2
     assert main(["bench", str(tmp_path / "absent.yaml")]) == 2
     capsys.readouterr()
+
+
+def test_plan_writes_the_route_map(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    scenario = tmp_path / "goal.yaml"
+    scenario.write_text(
+        QUICK.split("waypoints:")[0] + "goal: {x: 12, y: 0}\nplanner: {type: graph, k: 2}\n"
+    )
+    out_dir = tmp_path / "plan"
+    assert main(["plan", str(scenario), "--out", str(out_dir), "--json"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["planner"] == "graph:energy"
+    assert payload["waypoints"][0] == [0.0, 0.0] and payload["waypoints"][-1] == [12.0, 0.0]
+    assert len(payload["alternatives"]) == 1
+    assert (out_dir / "map.png").stat().st_size > 0
+    assert not (out_dir / "power.png").exists()  # nothing simulated

@@ -223,10 +223,11 @@ def _print_case(out: _Out, r: Any) -> None:
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import plan_case
+    from ecoplan.scenario import CaseResult, plan_case
 
     out = _out(args)
     sc = _load(args)
+    _prepare(args)
     case = _base_case(sc)
     plan = plan_case(case, time_budget_s=_budget(args))
     out.say(
@@ -246,6 +247,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             "planning_time_s": plan.planning_time_s,
             "estimate_energy_j": plan.estimate_energy_j,
             "alternatives": [a.tolist() for a in plan.alternatives],
+            "files": _report(args, sc, [CaseResult.unsimulated(case.name, plan)], out),
         }
     )
     return 0
@@ -574,7 +576,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     plan.add_argument("scenario", type=Path)
     plan.add_argument("--time-budget", type=float, metavar="S")
-    _common(plan, out=False)
+    _common(plan)
     plan.set_defaults(func=_cmd_plan)
 
     sim = sub.add_parser(

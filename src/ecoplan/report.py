@@ -319,7 +319,9 @@ def summary_table(results: Sequence[CaseResult]) -> str:
 
 def _panel_note(r: CaseResult) -> str:
     if r.sim is None:
-        return "not simulated"
+        est = r.plan.estimate_energy_j
+        text = f"planned {r.plan.length_m:.1f} m"
+        return text + (f", analytic {est / 1e3:.1f} kJ" if est is not None else "")
     text = f"{r.energy_j / 1e3:.1f} kJ in {r.sim.time_s:.0f} s, ψ {r.sim.psi_rad:.2f} rad"
     if r.battery is not None:
         b = r.battery
@@ -437,6 +439,8 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
             ax.plot(*sc.spec.start.xy, marker="s", color="tab:green", mec="black", ms=8)
             ax.plot(*sc.goal_xy, marker="*", color="gold", mec="black", ms=13)
             continue
+        for alt in r.plan.alternatives:  # further waypoint sets the planner returned
+            ax.plot(alt[:, 0], alt[:, 1], "--", color="grey", linewidth=0.8, zorder=2)
         wp = r.plan.waypoints
         ax.plot(wp[:, 0], wp[:, 1], "--", color="black", linewidth=1.0, zorder=3)
         ax.plot(wp[1:-1, 0], wp[1:-1, 1], "o", color="white", mec="black", ms=5, zorder=4)
@@ -479,10 +483,19 @@ def plot_map(sc: Scenario, results: Sequence[CaseResult], *, vmax_w: float | Non
                 zorder=6,
             )
     handles = list(getattr(flat[0], "_ecoplan_handles", []))
+    handles.append(
+        Line2D([], [], linestyle="--", color="black", marker="o", mfc="white", label="planned")
+    )
+    if any(len(r.plan.alternatives) for r in results):
+        handles.append(Line2D([], [], linestyle="--", color="grey", label="alternatives"))
+    if sims:
+        cmap = plt.get_cmap("plasma")
+        handles.append(Line2D([], [], color=cmap(0.6), linewidth=3, label="simulated"))
+    if any(np.any(r.over_limit) for r in sims):
+        handles.append(
+            Line2D([], [], linestyle="", marker="o", mfc="none", mec="red", label="over a limit")
+        )
     handles += [
-        Line2D([], [], linestyle="--", color="black", marker="o", mfc="white", label="planned"),
-        Line2D([], [], color=plt.get_cmap("plasma")(0.6), linewidth=3, label="simulated"),
-        Line2D([], [], linestyle="", marker="o", mfc="none", mec="red", label="over a limit"),
         Line2D([], [], linestyle="", marker="s", color="tab:green", mec="black", label="start"),
         Line2D([], [], linestyle="", marker="*", color="gold", mec="black", ms=12, label="goal"),
     ]

@@ -1130,6 +1130,16 @@ class CaseResult:
     over_limit: BoolArray
     error: str | None = None
 
+    @classmethod
+    def unsimulated(cls, name: str, plan: PlanOutcome, error: str | None = None) -> CaseResult:
+        """A result holding only a route (``ecoplan plan``) or a planner failure."""
+        empty = np.zeros(0)
+        no_steps = np.zeros(0, dtype=np.bool_)
+        return cls(
+            name, plan, None, empty, empty, empty, {}, (), 0.0, {}, None, {}, 0.0, no_steps,
+            error=error,
+        )  # fmt: skip
+
     @property
     def cumulative_energy_j(self) -> FloatArray:
         """Energy used up to the start of each step [J]."""
@@ -1359,11 +1369,7 @@ def run_case(case: Case, time_budget_s: float | None = None) -> CaseResult:
         planner = case.planner
         name = planner.type if planner.name is None else f"{planner.type}:{planner.name}"
         plan = PlanOutcome(name, np.asarray([spec.start.xy]), spec.speed.v_mps)
-        empty = np.zeros(0)
-        return CaseResult(
-            case.name, plan, None, empty, empty, empty, {}, (), 0.0, {}, None, {}, 0.0,
-            np.zeros(0, dtype=np.bool_), error=str(exc),
-        )  # fmt: skip
+        return CaseResult.unsimulated(case.name, plan, error=str(exc))
 
 
 def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> CaseResult:
