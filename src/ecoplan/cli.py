@@ -341,17 +341,24 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
         raise EcoplanError(
             "diagnosis is not available in this build (ecoplan.diagnose.pipeline)"
         ) from None
-    out_dir = args.out
-    if out_dir:
-        from ecoplan.report import prepare_out_dir
-
-        folder = prepare_out_dir(out_dir, force=args.force)
-        out_dir = str(folder.path)
+    folder = _prepare(args)
+    started = time.time()
     code = run_diagnose_cli(
-        [str(p) for p in args.logs], args.vehicle, args.terrain, args.json, out_dir
+        [str(p) for p in args.logs],
+        args.vehicle,
+        args.terrain,
+        args.json,
+        None if folder is None else str(folder.path),
     )
-    if out_dir:
-        folder.written.extend(p for p in folder.path.iterdir() if p.is_file())
+    if folder is not None:
+        from ecoplan.report import MANIFEST
+
+        # what the diagnosis wrote in this run becomes ecoplan's (replaceable next time)
+        folder.written.extend(
+            p
+            for p in sorted(folder.path.iterdir())
+            if p.is_file() and p.name != MANIFEST and p.stat().st_mtime >= started - 1.0
+        )
         folder.finish()
     return int(code)
 
