@@ -702,10 +702,11 @@ def _markdown(
     if executor:
         lines.append(f"- cases ran on: {executor}")
     lines.append("")
-    for r in results:
-        lines += _case_markdown(r, single=len(results) == 1)
-    if len(results) > 1:
+    single = len(results) == 1
+    if not single:  # the comparison first, the details of each case after the figures
         lines += ["## Side by side", "", summary_table(results), ""]
+    else:
+        lines += _case_markdown(results[0], single=True)
     for stem, caption in (
         ("map", "Map: planned routes (dashed) and simulated paths coloured by power"),
         ("power", "Power and cumulative energy over time"),
@@ -713,6 +714,9 @@ def _markdown(
     ):
         if stem in figures:
             lines += [f"![{caption}]({figures[stem][0].name})", "", f"*{caption}.*", ""]
+    if not single:
+        for r in results:
+            lines += _case_markdown(r, single=False)
     return "\n".join(lines)
 
 
