@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ecoplan.errors import ScenarioError
 from ecoplan.scenario import (
@@ -264,3 +266,44 @@ def test_corrected_model_errors_name_the_line(tmp_path: Path) -> None:
         parse_scenario(base % (good, "terrain: marble\n"))
     with pytest.raises(ScenarioError, match=r"exactly one of preset"):
         parse_scenario((base % (good, "")).replace("{model:", "{preset: pioneer-3at, model:"))
+
+
+_BATTERY_RUN: list[object] = []
+
+
+def _short_run() -> object:
+    if not _BATTERY_RUN:
+        text = STRAIGHT.replace("waypoints: [[20, 0]]", "waypoints: [[10, 2], [20, 0]]")
+        _BATTERY_RUN.append(simulate_case(parse_scenario(text).cases()[0]))
+    return _BATTERY_RUN[0]
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    capacity_wh=st.floats(min_value=1e-4, max_value=1.0),
+    reserve=st.floats(min_value=0.0, max_value=0.9),
+)
+def test_battery_verdict_properties(capacity_wh: float, reserve: float) -> None:
+    from ecoplan.scenario import BatterySection, CaseResult, _battery
+
+    r = _short_run()
+    assert isinstance(r, CaseResult) and r.sim is not None
+    b = _battery(
+        BatterySection(capacity_wh=capacity_wh, reserve_fraction=reserve),
+        r.sim,
+        r.p_total_w,
+        r.energy_j,
+    )
+    usable = capacity_wh * 3600.0 * (1.0 - reserve)
+    assert b.margin_j == pytest.approx(usable - r.energy_j)
+    assert b.completes == (r.energy_j <= usable)
+    if b.completes:
+        assert b.empty_at is None and b.margin_j >= 0
+    else:
+        assert b.empty_at is not None
+        t_empty = b.empty_at[0]
+        k = round(t_empty / r.sim.dt_s)
+        cum = r.cumulative_energy_j
+        # the first step at which the energy used reaches the usable energy
+        assert cum[k] >= usable and (k == 0 or cum[k - 1] < usable)
+        assert 0.0 <= b.empty_at[3] <= r.sim.length_m + 1e-9
