@@ -185,7 +185,9 @@ def test_simulate_with_waypoints_override(quick: Path, capsys: pytest.CaptureFix
     assert "expected X,Y" in capsys.readouterr().err
     # a waypoint inside the obstacle is bad input, caught by the scenario checks
     assert main(["simulate", str(quick), "--waypoints", "6,0", "12,0"]) == 2
-    assert "inside obstacle 0" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    expected = "(--waypoints): waypoints[0]: point (6.0, 0.0) lies inside obstacle 0"
+    assert err.strip().endswith(expected)
 
 
 def test_json_to_file(quick: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

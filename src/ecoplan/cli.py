@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
-from ecoplan.errors import EcoplanError, InputError, PlanningError
+from ecoplan.errors import EcoplanError, InputError, PlanningError, ScenarioError
 
 __all__ = ["main"]
 
@@ -280,7 +280,14 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
         data.update(waypoints=_parse_points(args.waypoints), compare=[])
         data.pop("planner", None)
         data.pop("goal", None)
-        sc = parse_scenario(yaml.safe_dump(data), source=f"{sc.source} (--waypoints)")
+        source = f"{sc.source} (--waypoints)"
+        try:
+            sc = parse_scenario(yaml.safe_dump(data), source=source)
+        except ScenarioError as exc:  # lines of the regenerated YAML would mislead
+            msg = str(exc)
+            if msg.startswith(source + ":"):
+                msg = source + ":" + msg[len(source) + 1 :].split(":", 1)[-1]
+            raise ScenarioError(msg) from None
     _prepare(args)
     case = _base_case(sc)
     if case.planner.type != "none":
