@@ -569,6 +569,9 @@ def build_parser() -> argparse.ArgumentParser:
         epilog=_EPILOG,
         formatter_class=fmt,
     )
+    from ecoplan import __version__
+
+    parser.add_argument("--version", action="version", version=f"ecoplan {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     run = sub.add_parser(
