@@ -29,6 +29,11 @@ State spaces and what a motion costs
     own interpolation.  The returned path is turned into a timed track-speed trajectory
     and evaluated by :func:`ecoplan.cost.trajectory_cost`.
 
+Benchmark logs
+--------------
+:func:`write_benchmark_log` writes runs in OMPL's benchmark log format, which OMPL's own
+``ompl_benchmark_statistics LOG -d out.db`` turns into the database of Planner Arena.
+
 Decisions where the issue is silent
 -----------------------------------
 * Reproducibility: OMPL planners are anytime, so a time budget alone stops them after a
@@ -88,6 +93,7 @@ from ecoplan.world import World
 __all__ = [
     "PLANNERS",
     "STATE_SPACES",
+    "STATUS_NAMES",
     "BenchmarkRun",
     "OmplOptions",
     "OmplPlanner",
