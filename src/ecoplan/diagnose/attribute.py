@@ -29,7 +29,15 @@ import numpy as np
 from scipy.stats import chi2, norm
 
 from ecoplan._typing import BoolArray, FloatArray
-from ecoplan.diagnose.effects import EFFECTS, Effect, EffectData, NoEffect, make_effect
+from ecoplan.diagnose.effects import (
+    EFFECTS,
+    ActuatorLag,
+    Effect,
+    EffectData,
+    IcrAsymmetry,
+    NoEffect,
+    make_effect,
+)
 from ecoplan.diagnose.replay import Frame, smooth_derivative
 
 __all__ = [
@@ -159,6 +167,7 @@ class PairEffect(Effect):
         )
         self.second.fit(shifted)
         self.coef_ = np.zeros(0)
+        self.chi_ = self.second.chi_
         self.params_ = {
             **{f"{self.first.name}.{k}": v for k, v in self.first.params_.items()},
             **{f"{self.second.name}.{k}": v for k, v in self.second.params_.items()},
@@ -237,7 +246,7 @@ def distinguishability(
         A = A[:, ok] / scale[ok]
         R = _orth(A, Q0)
         frac = np.sqrt(np.sum(R**2) / max(np.sum(A**2), 1e-300))
-        if frac < 0.1:
+        if frac < 0.02:
             not_excited.append(name)
             continue
         Qa, _ = np.linalg.qr(R)
@@ -262,34 +271,48 @@ class EffectScore:
     ----------
     name : str
         Candidate name.
-    before_w, after_w : float
-        Held-out MAE of the calibrated model and with the candidate [W].
-    reduction_w : float
-        ``before_w - after_w`` [W].
-    ci_low_w, ci_high_w : float
-        95 % block-bootstrap interval of the reduction [W].
+    channel : str
+        Where the candidate is judged: ``"power_w"`` (power residual), ``"speed_mps"``
+        (measured side speeds against the commands through the drive, ``actuator_lag``) or
+        ``"pose_speed_mps"`` (forward speed from the pose against the side speeds,
+        ``icr_asymmetry``).
+    before, after : float
+        Held-out mean absolute residual in the channel's unit, without and with the candidate.
+    reduction : float
+        ``before - after``.
+    ci_low, ci_high : float
+        95 % block-bootstrap interval of the reduction.
     p_value : float
-        One-sided p-value of "no reduction" (before correction).
+        One-sided p-value of "no reduction" (before the Bonferroni correction).
+    explained : float
+        Share of the channel's gap above its noise floor that the candidate closes [-].
+    significant : bool
+        p-value below the corrected level and reduction above the minimum gain.
+    power_before_w, power_after_w : float
+        Held-out power MAE without and with the candidate [W] (for ``actuator_lag``: the
+        power the model predicts from the commands).
     params : dict
         Fitted physical parameters.
-    significant : bool
-        p-value below the Bonferroni-corrected level and reduction above the minimum gain.
     """
 
     name: str
-    before_w: float
-    after_w: float
-    reduction_w: float
-    ci_low_w: float
-    ci_high_w: float
+    channel: str
+    before: float
+    after: float
+    reduction: float
+    ci_low: float
+    ci_high: float
     p_value: float
-    params: dict[str, float]
+    explained: float
     significant: bool
+    power_before_w: float
+    power_after_w: float
+    params: dict[str, float]
 
     @property
     def reduction_pct(self) -> float:
-        """Reduction in percent of the held-out calibrated MAE."""
-        return 100.0 * self.reduction_w / self.before_w if self.before_w > 0 else 0.0
+        """Reduction in percent of the channel's held-out residual."""
+        return 100.0 * self.reduction / self.before if self.before > 0 else 0.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -299,11 +322,12 @@ class Attribution:
     Attributes
     ----------
     scores : list of EffectScore
-        Candidates ranked by held-out reduction, best first.
+        Candidates ranked best first (the verdict's effect first, then by relative reduction).
     verdict : str
         An effect name, ``"none"``, ``"unexplained"`` or ``"ambiguous"``.
     confidence : float
-        In [0, 1]: ``1 - p`` of the winner (bootstrap), or of "no gap" / "unexplained".
+        In [0, 1]: ``1 - p`` (Bonferroni) of the winner; for ``none`` the chance that the best
+        candidate's reduction is noise; for ``unexplained`` ``1 -`` the share the best explains.
     tied : tuple of str
         Names tied in an ambiguous verdict.
     indistinguishable : list of (str, str, float, str)
@@ -313,17 +337,19 @@ class Attribution:
     unavailable : list of str
         Candidates needing signals the log lacks (commands, pose).
     pair : tuple of (str, str) or None
-        Best pair tried.
+        Best pair of power-channel candidates tried.
     pair_after_w : float or None
         Held-out MAE with the best pair [W].
     noise_floor_w : float
-        MAE white noise alone would leave on the held-out split [W].
+        MAE white noise alone would leave on the held-out power [W].
     ljung_box_p : float
-        Ljung-Box p-value of the held-out residual after the best candidate.
+        Ljung-Box p-value of the held-out power residual after the verdict's model.
     explained_fraction : float
-        Share of the held-out gap above the noise floor that the best candidate closes.
+        Share of the power gap above the noise floor that the best power candidate closes.
     residual_after_w : ndarray
-        Held-out residual after the verdict's model (best candidate, or calibrated model).
+        Held-out power residual after the verdict's model.
+    fitted : dict
+        Fitted effects by name (``"none"``: the calibrated model refitted alone).
     """
 
     scores: list[EffectScore]
@@ -340,6 +366,59 @@ class Attribution:
     explained_fraction: float
     residual_after_w: FloatArray = field(repr=False)
     fitted: dict[str, Effect] = field(repr=False, default_factory=dict)
+
+
+KINEMATIC = ("actuator_lag", "icr_asymmetry")
+
+
+def _score(
+    name: str,
+    channel: str,
+    r0: FloatArray,
+    r1: FloatArray,
+    test: EffectData,
+    rng: np.random.Generator,
+    level: float,
+    min_gain: float,
+    floor: float,
+    power: tuple[float, float],
+    params: dict[str, float],
+) -> EffectScore:
+    before = float(np.mean(np.abs(r0)))
+    red, lo, hi, p = block_bootstrap(r0, r1, test.frame.block.astype(np.float64), rng)
+    explained = float(np.clip(red / max(before - floor, 1e-12), 0.0, 1.0))
+    sig = p < level and red > min_gain * before
+    return EffectScore(
+        name, channel, before, before - red, red, lo, hi, p, explained, sig, *power, params
+    )
+
+
+def _lag_channel(
+    train: EffectData, test: EffectData
+) -> tuple[FloatArray, FloatArray, Effect, float]:
+    """Side-speed residuals without and with the fitted lag, the effect and its power base."""
+    lag = ActuatorLag().fit(train)
+    f = test.frame
+    tau = float(lag.theta_)
+    s0 = lag.speeds(test, 0.0)
+    s1 = lag.speeds(test, tau)
+    r0 = 0.5 * (np.abs(f.vl - s0[0]) + np.abs(f.vr - s0[1]))
+    r1 = 0.5 * (np.abs(f.vl - s1[0]) + np.abs(f.vr - s1[1]))
+    no_lag = ActuatorLag(theta=0.0).fit(train)
+    return r0, r1, lag, no_lag.score(test)
+
+
+def _offset_channel(
+    train: EffectData, test: EffectData
+) -> tuple[FloatArray, FloatArray, float]:
+    """Pose-speed residuals without and with the fitted ICR offset, and the offset [m]."""
+    assert train.frame.v_pose_err is not None and test.frame.v_pose_err is not None
+    d0 = float(train.params.icr_offset_m)
+    wz = train.frame.wz
+    den = float(np.dot(wz, wz))
+    delta = d0 + (float(np.dot(wz, train.frame.v_pose_err - d0 * wz)) / den if den > 0 else 0.0)
+    e = test.frame.v_pose_err
+    return e - d0 * test.frame.wz, e - delta * test.frame.wz, delta
 
 
 def attribute(
@@ -362,9 +441,10 @@ def attribute(
     names : sequence of str, optional
         Candidates to try (default: the whole library).
     alpha : float
-        Family-wise significance level (Bonferroni over the candidates).
+        Family-wise significance level (Bonferroni over the candidates and channels).
     min_gain : float
-        Minimum relative held-out reduction for an effect to count [-].
+        Minimum relative held-out reduction for a power-channel effect to count [-]
+        (kinematic channels: three times it).
     explain_min : float
         Share of the gap above the noise floor the best candidate must close, else
         ``unexplained``.
@@ -375,31 +455,96 @@ def attribute(
         Ranked scores and verdict.
     """
     names = list(EFFECTS) if names is None else list(names)
+    for n in names:
+        make_effect(n)  # validates the name
     unavailable = [n for n in names if not EFFECTS[n].available(train.frame)]
     usable = [n for n in names if n not in unavailable]
-    pairs, not_excited = distinguishability(train, usable)
-    candidates = [n for n in usable if n not in not_excited]
+    power_names = [n for n in usable if n != "actuator_lag"]
+    pairs, not_excited = distinguishability(train, power_names)
+    candidates = [n for n in power_names if n not in not_excited]
+    kin_names = [n for n in usable if n == "actuator_lag"]
+    if "icr_asymmetry" in usable and train.frame.v_pose_err is not None:
+        kin_names.append("icr_asymmetry")
+    level = alpha / max(len(candidates) + len(kin_names), 1)
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
     floor = noise_floor_mae(r0, test.frame.run.astype(np.float64))
-    level = alpha / max(len(candidates), 1)
     fitted: dict[str, Effect] = {"none": base}
-    scores: list[EffectScore] = []
     residuals: dict[str, FloatArray] = {}
+    power_scores: list[EffectScore] = []
     for name in candidates:
         eff = make_effect(name).fit(train)
         fitted[name] = eff
         r1 = test.p - eff.predict(test)
         residuals[name] = r1
-        red, lo, hi, p = block_bootstrap(r0, r1, test.frame.block.astype(np.float64), rng)
-        sig = p < level and red > min_gain * before
-        scores.append(
-            EffectScore(name, before, before - red, red, lo, hi, p, dict(eff.params_), sig)
+        power_scores.append(
+            _score(name, "power_w", r0, r1, test, rng, level, min_gain, floor,
+                   (before, float(np.mean(np.abs(r1)))), dict(eff.params_))
         )
-    scores.sort(key=lambda s: -s.reduction_w)
+    power_scores.sort(key=lambda s: -s.reduction)
+    kin_scores: list[EffectScore] = []
+    if "actuator_lag" in kin_names:
+        k0, k1, lag, p0 = _lag_channel(train, test)
+        fitted["actuator_lag"] = lag
+        kin_scores.append(
+            _score("actuator_lag", "speed_mps", k0, k1, test, rng, level, 3 * min_gain,
+                   noise_floor_mae(k0), (p0, lag.score(test)), dict(lag.params_))
+        )
+    if "icr_asymmetry" in kin_names:
+        k0, k1, delta = _offset_channel(train, test)
+        off = IcrAsymmetry(theta=delta).fit(train)
+        fitted["icr_asymmetry"] = off
+        residuals["icr_asymmetry"] = test.p - off.predict(test)
+        kin_scores.append(
+            _score("icr_asymmetry", "pose_speed_mps", k0, k1, test, rng, level, 3 * min_gain,
+                   noise_floor_mae(k0), (before, off.score(test)), dict(off.params_))
+        )
+        power_scores = [s for s in power_scores if s.name != "icr_asymmetry"]
+    verdict, conf, tied, lb_p, explained, res_after, pair_names, pair_after = _power_verdict(
+        power_scores, residuals, r0, before, floor, pairs, test, rng, train, explain_min,
+        len(candidates),
+    )
+    kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min]
+    kin_win.sort(key=lambda s: -s.reduction_pct)
+    if kin_win:
+        k = kin_win[0]
+        top_power = power_scores[0] if power_scores else None
+        if verdict in ("none", "unexplained") or (
+            top_power is not None and k.reduction_pct > top_power.reduction_pct
+        ):
+            verdict, tied = k.name, ()
+            conf = float(1.0 - min(k.p_value * alpha / level, 1.0))
+            if k.name in residuals:
+                res_after = residuals[k.name]
+            _, lb_p = ljung_box(res_after, decimate=_decimation(test.frame))
+    scores = power_scores + kin_scores
+    scores.sort(
+        key=lambda s: (s.name != verdict and s.name not in tied, -s.significant, -s.reduction_pct)
+    )
+    return Attribution(
+        scores, verdict, float(conf), tied, pairs, not_excited, unavailable, pair_names,
+        pair_after, floor, lb_p, explained, res_after, fitted,
+    )
+
+
+def _power_verdict(
+    scores: list[EffectScore],
+    residuals: dict[str, FloatArray],
+    r0: FloatArray,
+    before: float,
+    floor: float,
+    pairs: list[tuple[str, str, float, str]],
+    test: EffectData,
+    rng: np.random.Generator,
+    train: EffectData,
+    explain_min: float,
+    n_cand: int,
+) -> tuple[str, float, tuple[str, ...], float, float, FloatArray, tuple[str, str] | None,
+           float | None]:
+    """Verdict from the power channel alone (see the module docstring)."""
+    dec = _decimation(test.frame)
     best = scores[0] if scores else None
-    excess = max(before - floor, 1e-9)
     pair_names: tuple[str, str] | None = None
     pair_after: float | None = None
     if len(scores) >= 2 and scores[0].significant:
@@ -407,43 +552,32 @@ def attribute(
         pe = PairEffect(make_effect(a), make_effect(b)).fit(train)
         pair_names, pair_after = (a, b), pe.score(test)
     if best is None or not best.significant:
-        _, lb_p = ljung_box(r0, decimate=_decimation(test.frame))
+        _, lb_p = ljung_box(r0, decimate=dec)
         gap_sig = (before - floor) > 0.25 * floor and lb_p < 0.01
-        verdict = "unexplained" if gap_sig else "none"
-        conf = 1.0 - lb_p if gap_sig else (1.0 - min(best.p_value * len(candidates), 1.0)
-                                           if best else 1.0)
-        if verdict == "none" and best is not None:
-            conf = float(min(1.0, max(0.0, best.p_value * len(candidates))))
-            conf = max(conf, 1.0 - best.reduction_w / max(before, 1e-9))
-        return Attribution(
-            scores, verdict, float(conf), (), pairs, not_excited, unavailable, pair_names,
-            pair_after, floor, lb_p, 0.0, r0, fitted,
-        )
+        if gap_sig:
+            return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0, pair_names, pair_after
+        conf = 1.0
+        if best is not None:
+            conf = max(min(best.p_value * n_cand, 1.0), 1.0 - best.reduction / max(before, 1e-9))
+        return "none", conf, (), lb_p, 0.0, r0, pair_names, pair_after
     r_best = residuals[best.name]
-    explained = float(min(max(best.reduction_w / excess, 0.0), 1.0))
-    _, lb_p = ljung_box(r_best, decimate=_decimation(test.frame))
-    conf = float(1.0 - min(best.p_value * len(candidates), 1.0))
+    explained = float(min(max(best.reduction / max(before - floor, 1e-9), 0.0), 1.0))
+    _, lb_p = ljung_box(r_best, decimate=dec)
     if explained < explain_min:
-        return Attribution(
-            scores, "unexplained", float(1.0 - explained), (), pairs, not_excited, unavailable,
-            pair_names, pair_after, floor, lb_p, explained, r_best, fitted,
-        )
-    tied: tuple[str, ...] = ()
+        return ("unexplained", 1.0 - explained, (), lb_p, explained, r_best, pair_names,
+                pair_after)
+    conf = float(1.0 - min(best.p_value * n_cand, 1.0))
     second = scores[1] if len(scores) > 1 else None
     if second is not None and second.significant:
         flagged = any({best.name, second.name} == {a, b} for a, b, _, _ in pairs)
-        close = second.reduction_w >= 0.9 * best.reduction_w
-        if flagged and close:
+        if flagged and second.reduction >= 0.9 * best.reduction:
             diff = block_bootstrap(
                 residuals[second.name], r_best, test.frame.block.astype(np.float64), rng
             )
             if diff[1] <= 0.0:
-                tied = (best.name, second.name)
-    verdict = "ambiguous" if tied else best.name
-    return Attribution(
-        scores, verdict, conf, tied, pairs, not_excited, unavailable, pair_names, pair_after,
-        floor, lb_p, explained, r_best, fitted,
-    )
+                return ("ambiguous", conf, (best.name, second.name), lb_p, explained, r_best,
+                        pair_names, pair_after)
+    return best.name, conf, (), lb_p, explained, r_best, pair_names, pair_after
 
 
 def _decimation(frame: Frame) -> int:

@@ -33,7 +33,14 @@ from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import SideCoefficients, WheeledParams, side_power
 from ecoplan.presets import VehicleParams
 
-__all__ = ["BaseDesign", "Calibration", "base_design", "calibrate", "fit_accel_limit"]
+__all__ = [
+    "BaseDesign",
+    "Calibration",
+    "base_design",
+    "calibrate",
+    "fit_accel_limit",
+    "with_linear_params",
+]
 
 _TRACKED_LINEAR = ("mu", "k_resistance_n", "p_powerup_w", "p_braking_w", "k_nonregen_n")
 _SIDE_LINEAR = ("a_inf", "a_alpha", "b_inf", "b_alpha")
@@ -109,7 +116,13 @@ def base_design(
     return _wheeled_design(frame, params, signs)
 
 
-def _apply(params: VehicleParams, names: tuple[str, ...], theta: FloatArray) -> VehicleParams:
+def with_linear_params(
+    params: VehicleParams, names: tuple[str, ...], theta: FloatArray
+) -> VehicleParams:
+    """Parameters with the linear coefficients of :func:`base_design` set to ``theta``.
+
+    Tracked coefficients are clipped at zero (µ, K and the driver terms are non-negative).
+    """
     if isinstance(params, TrackedParams):
         return dataclasses.replace(params, **{n: float(max(v, 0.0)) for n, v in zip(names, theta)})
     inner = dict(zip(_SIDE_LINEAR, theta[0:4]))
@@ -134,11 +147,11 @@ def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[Vehicl
     p = dataclasses.replace(params, chi=chi)
     if isinstance(p, TrackedParams):
         d = base_design(frame, p)
-        p = _apply(p, d.names, _solve(d, frame.p))
+        p = with_linear_params(p, d.names, _solve(d, frame.p))
     else:
         for _ in range(3):
             d = base_design(frame, p)
-            p = _apply(p, d.names, _solve(d, frame.p))
+            p = with_linear_params(p, d.names, _solve(d, frame.p))
     pred = p.power(frame.vl, frame.vr).total_w
     return p, float(np.mean((frame.p - pred) ** 2))
 

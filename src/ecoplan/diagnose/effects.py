@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from scipy.optimize import minimize_scalar
@@ -63,6 +63,7 @@ __all__ = [
     "effect_names",
     "make_effect",
     "prepare",
+    "subsample",
 ]
 
 
@@ -105,6 +106,12 @@ class EffectData:
         """Measured power [W]."""
         return self.frame.p
 
+    def at_chi(self, chi: float) -> EffectData:
+        """The same samples prepared with the base parameters at another χ (eq. 12)."""
+        if chi == self.params.chi:
+            return self
+        return prepare(self.frame, dataclasses.replace(self.params, chi=chi), self.t_rel)
+
     def subset(self, mask: BoolArray) -> EffectData:
         """The samples where ``mask`` is true."""
         return EffectData(
@@ -124,15 +131,13 @@ def _per_run(frame: Frame) -> list[FloatArray]:
     return [np.flatnonzero(frame.run == r) for r in np.unique(frame.run)]
 
 
-def prepare(frame: Frame, params: VehicleParams) -> EffectData:
+def prepare(frame: Frame, params: VehicleParams, t_rel: FloatArray | None = None) -> EffectData:
     """Build :class:`EffectData` for a frame and calibrated parameters."""
     pb = params.power(frame.vl, frame.vr)
     design = base_design(frame, params)
     yaw = np.empty(frame.n)
-    t_rel = np.empty(frame.n)
     for idx in _per_run(frame):
         t = frame.t[idx]
-        t_rel[idx] = t
         if frame.yaw is not None:
             yaw[idx] = np.unwrap(frame.yaw[idx])
         else:
@@ -147,31 +152,77 @@ def prepare(frame: Frame, params: VehicleParams) -> EffectData:
         resistance_w=pb.resistance_w,
         side_neg_w=np.minimum(pb.left_w, 0.0) + np.minimum(pb.right_w, 0.0),
         yaw=yaw,
-        t_rel=t_rel,
+        t_rel=frame.t if t_rel is None else t_rel,
     )
 
 
 def _lstsq(X: FloatArray, y: FloatArray) -> FloatArray:
+    """Least squares by the normal equations of the RMS-scaled columns (k is small).
+
+    Cholesky of ``XᵀX`` costs ``O(n k²)``, far less than an SVD of ``X``; a tiny ridge keeps a
+    column the log does not excite from blowing up (its coefficient then stays near zero).
+    """
     scale = np.sqrt(np.mean(X**2, axis=0))
     scale[scale < 1e-12] = 1.0
     Xs = X / scale
-    coef, *_ = np.linalg.lstsq(Xs, y, rcond=1e-10)
+    gram = Xs.T @ Xs
+    rhs = Xs.T @ y
+    ridge = 1e-9 * max(float(np.trace(gram)), 1e-300) / max(gram.shape[0], 1)
+    try:
+        coef = np.linalg.solve(gram + ridge * np.eye(gram.shape[0]), rhs)
+    except np.linalg.LinAlgError:
+        coef = np.linalg.lstsq(Xs, y, rcond=1e-10)[0]
     return np.asarray(coef / scale, dtype=np.float64)
+
+
+#: Nonlinear searches run on at most this many samples (a strided subsample).
+MAX_SEARCH_SAMPLES = 20_000
+
+
+def subsample(data: EffectData, max_n: int = MAX_SEARCH_SAMPLES) -> EffectData:
+    """A strided subsample of at most ``max_n`` samples (searches only; final fits use all)."""
+    n = data.frame.n
+    if n <= max_n:
+        return data
+    mask = np.zeros(n, dtype=bool)
+    mask[:: int(np.ceil(n / max_n))] = True
+    return data.subset(mask)
 
 
 class Effect:
     """Base class of the candidate effects (fit / predict / score contract).
 
-    Subclasses define :meth:`columns` (extra linear regressors for a nonlinear parameter
-    vector ``theta``), and optionally :meth:`_search` for their nonlinear parameters.
+    A subclass gives its extra linear regressors (:meth:`columns`) for a nonlinear parameter
+    ``theta`` found by :meth:`_search`; the base model's linear parameters are refitted with
+    them and χ (tracked eq. 12) is searched again with the effect in place, since calibration
+    without the effect may have bent χ to mimic it.
+
+    Parameters
+    ----------
+    theta : object, optional
+        Nonlinear parameter to use instead of searching it (e.g. an ICR offset measured on
+        the pose).
+
+    Attributes
+    ----------
+    theta_ : object
+        Fitted nonlinear parameter (None for purely linear effects).
+    chi_ : float
+        χ refitted with the effect.
+    coef_ : ndarray
+        Linear coefficients: base columns, then the effect's.
+    params_ : dict
+        Fitted physical parameters by name (units in the names).
     """
 
     name: ClassVar[str] = "effect"
     #: What the log must contain for the effect to be fitted.
     needs: ClassVar[tuple[str, ...]] = ()
 
-    def __init__(self) -> None:
-        self.theta_: float | None = None
+    def __init__(self, theta: Any = None) -> None:
+        self.theta = theta
+        self.theta_: Any = None
+        self.chi_: float | None = None
         self.coef_: FloatArray | None = None
         self.params_: dict[str, float] = {}
 
@@ -185,39 +236,66 @@ class Effect:
         return all(have[k] for k in cls.needs)
 
     # -- to be specialised ------------------------------------------------------------
-    def columns(self, data: EffectData, theta: float | None) -> FloatArray:
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:
         """Extra regressors of the effect, shape (n, m) (m may be 0)."""
         return np.zeros((data.frame.n, 0))
 
-    def design(self, data: EffectData, theta: float | None) -> FloatArray:
+    def design(self, data: EffectData, theta: Any) -> FloatArray:
         """Full design: base columns then the effect's columns."""
         return np.column_stack([data.X, self.columns(data, theta)])
 
-    def _search(self, data: EffectData) -> float | None:
+    def _search(self, data: EffectData) -> Any:
         return None
 
-    def _name_params(self, coef: FloatArray, k_base: int) -> dict[str, float]:
+    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        return _lstsq(self.design(data, theta), data.p)
+
+    def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
+        return np.asarray(self.design(data, theta) @ coef, dtype=np.float64)
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         return {}
 
-    # -- the contract --------------------------------------------------------------------
-    def _sse(self, data: EffectData, theta: float | None) -> float:
-        X = self.design(data, theta)
-        coef = _lstsq(X, data.p)
-        return float(np.sum((data.p - X @ coef) ** 2))
+    def _sse(self, data: EffectData, theta: Any) -> float:
+        pred = self._predict(data, theta, self._fit_coef(data, theta))
+        return float(np.sum((data.p - pred) ** 2))
 
+    # -- the contract --------------------------------------------------------------------
     def fit(self, data: EffectData) -> Effect:
-        """Fit the effect (with the base linear parameters) on a training split; returns self."""
-        self.theta_ = self._search(data)
-        X = self.design(data, self.theta_)
-        self.coef_ = _lstsq(X, data.p)
-        self.params_ = self._name_params(self.coef_, data.X.shape[1])
+        """Fit the effect (with the base linear parameters and χ) on training data; returns self."""
+        sub = subsample(data)
+        search = self._search if self.theta is None else (lambda _d: self.theta)
+        theta = search(sub)
+        chi0 = float(data.params.chi)
+        res = minimize_scalar(
+            lambda c: self._sse(sub.at_chi(float(c)), theta),
+            bounds=(max(0.3, chi0 - 0.25), min(0.999, chi0 + 0.25)),
+            method="bounded",
+            options={"xatol": 5e-3},
+        )
+        chi = float(res.x) if res.fun < self._sse(sub, theta) else chi0
+        if chi != chi0:
+            theta = search(sub.at_chi(chi))
+        full = data.at_chi(chi)
+        self.theta_, self.chi_ = theta, chi
+        self.coef_ = self._fit_coef(full, theta)
+        self.params_ = {**self._name_params(full, theta, self.coef_), "chi": chi}
         return self
+
+    def _ready(self, data: EffectData) -> tuple[EffectData, FloatArray]:
+        if self.coef_ is None or self.chi_ is None:
+            raise InputError(f"effect {self.name!r} is not fitted")
+        return data.at_chi(self.chi_), self.coef_
 
     def predict(self, data: EffectData) -> FloatArray:
         """Power predicted with the effect [W]."""
-        if self.coef_ is None:
-            raise InputError(f"effect {self.name!r} is not fitted")
-        return np.asarray(self.design(data, self.theta_) @ self.coef_, dtype=np.float64)
+        d, coef = self._ready(data)
+        return self._predict(d, self.theta_, coef)
+
+    def base_part(self, data: EffectData) -> FloatArray:
+        """The refitted base model's part of :meth:`predict` [W]."""
+        d, coef = self._ready(data)
+        return np.asarray(d.X @ coef[: d.X.shape[1]], dtype=np.float64)
 
     def score(self, data: EffectData) -> float:
         """Mean absolute error of :meth:`predict` on ``data`` [W]."""
@@ -225,10 +303,7 @@ class Effect:
 
     def effect_w(self, data: EffectData) -> FloatArray:
         """The effect's own contribution: prediction minus the refitted base part [W]."""
-        if self.coef_ is None:
-            raise InputError(f"effect {self.name!r} is not fitted")
-        k = data.X.shape[1]
-        return np.asarray(self.predict(data) - data.X @ self.coef_[:k], dtype=np.float64)
+        return np.asarray(self.predict(data) - self.base_part(data), dtype=np.float64)
 
 
 class NoEffect(Effect):
@@ -242,12 +317,13 @@ class Inertia(Effect):
 
     name = "inertia"
 
-    def columns(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         f = data.frame
         return np.column_stack([f.vx * f.ax, f.wz * f.alpha])
 
-    def _name_params(self, coef: FloatArray, k_base: int) -> dict[str, float]:
-        return {"mass_kg": float(coef[k_base]), "yaw_inertia_kgm2": float(coef[k_base + 1])}
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        k = data.X.shape[1]
+        return {"mass_kg": float(coef[k]), "yaw_inertia_kgm2": float(coef[k + 1])}
 
 
 class SpeedDependentResistance(Effect):
@@ -255,12 +331,12 @@ class SpeedDependentResistance(Effect):
 
     name = "speed_dependent_resistance"
 
-    def columns(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         f = data.frame
         return (f.vl**2 + f.vr**2)[:, None]
 
-    def _name_params(self, coef: FloatArray, k_base: int) -> dict[str, float]:
-        return {"c_n_s_per_m": float(coef[k_base])}
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        return {"c_n_s_per_m": float(coef[data.X.shape[1]])}
 
 
 class Regeneration(Effect):
@@ -268,11 +344,11 @@ class Regeneration(Effect):
 
     name = "regeneration"
 
-    def columns(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         return data.side_neg_w[:, None]
 
-    def _name_params(self, coef: FloatArray, k_base: int) -> dict[str, float]:
-        return {"fraction": float(coef[k_base])}
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        return {"fraction": float(coef[data.X.shape[1]])}
 
 
 class Slope(Effect):
@@ -280,46 +356,42 @@ class Slope(Effect):
 
     name = "slope"
 
-    def columns(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         f = data.frame
         mg = data.params.mass_kg * GRAVITY_MPS2
         return np.column_stack([mg * f.vx * np.cos(data.yaw), mg * f.vx * np.sin(data.yaw)])
 
-    def _name_params(self, coef: FloatArray, k_base: int) -> dict[str, float]:
-        sx, sy = float(coef[k_base]), float(coef[k_base + 1])
-        return {
-            "grade": float(np.hypot(sx, sy)),
-            "uphill_heading_rad": float(np.arctan2(sy, sx)),
-        }
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        k = data.X.shape[1]
+        sx, sy = float(coef[k]), float(coef[k + 1])
+        return {"grade": float(np.hypot(sx, sy)), "uphill_heading_rad": float(np.arctan2(sy, sx))}
 
 
 class EfficiencyDrift(Effect):
-    """η drifting linearly over each run: ``P_base (1 + β (t - t̄))`` [W]."""
+    """η drifting linearly with time: ``P_base (1 + β (t - t0))`` [W]."""
 
     name = "efficiency_drift"
 
-    def columns(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         return (data.base_w * data.t_rel)[:, None]
 
-    def fit(self, data: EffectData) -> Effect:  # noqa: D102
-        super().fit(data)
-        assert self.coef_ is not None
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         k = data.X.shape[1]
-        mean_base = float(np.mean(data.X @ self.coef_[:k]))
-        base_mean = float(np.mean(data.base_w)) or 1.0
-        self.params_ = {"rate_per_s": float(self.coef_[k]) * base_mean / (mean_base or 1.0)}
-        return self
+        base = float(np.mean(data.X @ coef[:k])) or 1.0
+        return {"power_rate_per_s": float(coef[k]) * float(np.mean(data.base_w)) / base}
 
 
 class _ScalarSearch(Effect):
-    """An effect with one nonlinear parameter found by bounded scalar search."""
+    """An effect with one nonlinear parameter found by a grid then a bounded scalar search."""
+
+    n_grid: ClassVar[int] = 9
 
     def _bounds(self, data: EffectData) -> tuple[float, float]:
         raise NotImplementedError
 
-    def _search(self, data: EffectData) -> float | None:
+    def _search(self, data: EffectData) -> Any:
         lo, hi = self._bounds(data)
-        grid = np.linspace(lo, hi, 9)
+        grid = np.linspace(lo, hi, self.n_grid)
         sse = [self._sse(data, float(g)) for g in grid]
         i = int(np.argmin(sse))
         a, b = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
@@ -327,7 +399,7 @@ class _ScalarSearch(Effect):
             lambda th: self._sse(data, float(th)),
             bounds=(a, b),
             method="bounded",
-            options={"xatol": (hi - lo) * 1e-3},
+            options={"xatol": (hi - lo) * 2e-3},
         )
         return float(res.x) if res.fun < sse[i] else float(grid[i])
 
@@ -339,16 +411,14 @@ class IcrAsymmetry(_ScalarSearch):
 
     def _bounds(self, data: EffectData) -> tuple[float, float]:
         half = data.params.track_gauge_m / (2.0 * data.params.chi)
-        return -0.5 * half, 0.5 * half
+        return -0.6 * half, 0.6 * half
 
-    def design(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
+    def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         p = dataclasses.replace(data.params, icr_offset_m=float(theta or 0.0))
         return base_design(data.frame, p).X
 
-    def fit(self, data: EffectData) -> Effect:  # noqa: D102
-        super().fit(data)
-        self.params_ = {"icr_offset_m": float(self.theta_ or 0.0)}
-        return self
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        return {"icr_offset_m": float(theta or 0.0)}
 
 
 class SensorDelay(_ScalarSearch):
@@ -360,7 +430,7 @@ class SensorDelay(_ScalarSearch):
         # at least one sample period: a sub-sample shift only smooths the speed noise
         return float(np.median(data.frame.dt)), 1.5
 
-    def design(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
+    def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         d = float(theta or 0.0)
         if d == 0.0:
             return data.X
@@ -372,10 +442,8 @@ class SensorDelay(_ScalarSearch):
                 out[idx, j] = np.interp(t - d, t, data.X[idx, j])
         return out
 
-    def fit(self, data: EffectData) -> Effect:  # noqa: D102
-        super().fit(data)
-        self.params_ = {"delay_s": float(self.theta_ or 0.0)}
-        return self
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        return {"delay_s": float(theta or 0.0)}
 
 
 class PowerSaturation(_ScalarSearch):
@@ -386,32 +454,19 @@ class PowerSaturation(_ScalarSearch):
     def _bounds(self, data: EffectData) -> tuple[float, float]:
         return float(np.quantile(data.p, 0.5)), float(np.max(data.p)) * 1.05
 
-    def _sse(self, data: EffectData, theta: float | None) -> float:
-        return float(np.sum((data.p - self._fit_pred(data, theta)[1]) ** 2))
-
-    def _fit_pred(self, data: EffectData, theta: float | None) -> tuple[FloatArray, FloatArray]:
-        cap = np.inf if theta is None else theta
-        below = data.p < cap - 1e-9
+    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        cap = np.inf if theta is None else float(theta)
+        below = data.p < cap
         if np.count_nonzero(below) < data.X.shape[1] + 5:
             below = np.ones(data.frame.n, dtype=bool)
-        coef = _lstsq(data.X[below], data.p[below])
-        return coef, np.minimum(data.X @ coef, cap)
+        return _lstsq(data.X[below], data.p[below])
 
-    def fit(self, data: EffectData) -> Effect:  # noqa: D102
-        self.theta_ = self._search(data)
-        self.coef_, _ = self._fit_pred(data, self.theta_)
-        self.params_ = {"p_max_w": float(self.theta_ or np.inf)}
-        return self
+    def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
+        cap = np.inf if theta is None else float(theta)
+        return np.asarray(np.minimum(data.X @ coef, cap), dtype=np.float64)
 
-    def predict(self, data: EffectData) -> FloatArray:  # noqa: D102
-        if self.coef_ is None:
-            raise InputError(f"effect {self.name!r} is not fitted")
-        cap = np.inf if self.theta_ is None else self.theta_
-        return np.asarray(np.minimum(data.X @ self.coef_, cap), dtype=np.float64)
-
-    def effect_w(self, data: EffectData) -> FloatArray:  # noqa: D102
-        assert self.coef_ is not None
-        return np.asarray(self.predict(data) - data.X @ self.coef_, dtype=np.float64)
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        return {"p_max_w": float(theta) if theta is not None else float("inf")}
 
 
 class TerrainPatch(Effect):
@@ -420,74 +475,75 @@ class TerrainPatch(Effect):
     name = "terrain_patch"
     needs = ("pose",)
 
-    def __init__(self) -> None:
-        super().__init__()
-        self.disc_: tuple[float, float, float] | None = None
-
-    def _inside(self, data: EffectData, disc: tuple[float, float, float]) -> FloatArray:
+    @staticmethod
+    def _inside(data: EffectData, disc: tuple[float, float, float]) -> FloatArray:
         f = data.frame
         assert f.x is not None and f.y is not None
         cx, cy, r = disc
         return np.asarray(np.hypot(f.x - cx, f.y - cy) <= r, dtype=np.float64)
 
-    def columns(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
-        if self.disc_ is None:
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        if theta is None:
             return np.zeros((data.frame.n, 0))
-        ins = self._inside(data, self.disc_)
+        ins = self._inside(data, theta)
         return np.column_stack([ins * data.friction_w, ins * data.resistance_w])
 
-    def fit(self, data: EffectData) -> Effect:  # noqa: D102
+    def _search(self, data: EffectData) -> Any:
+        """Discs centred on a grid over the visited box and on visited points, with radii at
+        quantiles of the distance to the samples; then one local refinement of the best."""
         f = data.frame
         assert f.x is not None and f.y is not None
         x0, x1 = np.quantile(f.x, [0.02, 0.98])
         y0, y1 = np.quantile(f.y, [0.02, 0.98])
         span = max(x1 - x0, y1 - y0, 1e-3)
-        best = (np.inf, (0.0, 0.0, 0.0))
-        # coarse grid of discs, then one refinement around the best
-        cand = [
-            (float(cx), float(cy), float(span * rf))
-            for cx in np.linspace(x0, x1, 9)
-            for cy in np.linspace(y0, y1, 9)
-            for rf in (0.08, 0.15, 0.25)
-        ]
-        for _round in range(2):
-            for disc in cand:
-                self.disc_ = disc
-                ins = self._inside(data, disc)
-                if ins.sum() < 20 or ins.sum() > 0.9 * f.n:
-                    continue
-                sse = self._sse(data, None)
-                if sse < best[0]:
-                    best = (sse, disc)
+        step_i = max(f.n // 48, 1)
+        centres = [(float(cx), float(cy)) for cx in np.linspace(x0, x1, 7)
+                   for cy in np.linspace(y0, y1, 7)]
+        centres += list(zip(f.x[::step_i].tolist(), f.y[::step_i].tolist()))
+        best: tuple[float, Any] = (self._sse(data, None), None)
+
+        def trial(disc: tuple[float, float, float]) -> None:
+            nonlocal best
+            n_in = float(self._inside(data, disc).sum())
+            if n_in < 20 or n_in > 0.9 * f.n:
+                return
+            sse = self._sse(data, disc)
+            if sse < best[0]:
+                best = (sse, disc)
+
+        for cx, cy in centres:
+            dist = np.hypot(f.x - cx, f.y - cy)
+            for r in np.quantile(dist, [0.1, 0.2, 0.3, 0.45]):
+                trial((cx, cy, float(max(r, 1e-3))))
+        if best[1] is not None:
             cx, cy, r = best[1]
-            step = span / 16.0
-            cand = [
-                (cx + dx, cy + dy, r * rf)
-                for dx in (-step, 0.0, step)
-                for dy in (-step, 0.0, step)
-                for rf in (0.7, 1.0, 1.4)
-            ]
-        self.disc_ = best[1]
-        X = self.design(data, None)
-        self.coef_ = _lstsq(X, data.p)
+            h = span / 30.0
+            for dx in (-h, 0.0, h):
+                for dy in (-h, 0.0, h):
+                    for rf in (0.85, 1.0, 1.15):
+                        trial((cx + dx, cy + dy, r * rf))
+        return best[1]
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        if theta is None:
+            return {}
         k = data.X.shape[1]
-        cx, cy, r = self.disc_
-        self.params_ = {
-            "center_x_m": cx,
-            "center_y_m": cy,
-            "radius_m": r,
-            "friction_gain": float(self.coef_[k]),
-            "resistance_gain": float(self.coef_[k + 1]),
+        cx, cy, r = theta
+        return {
+            "center_x_m": float(cx),
+            "center_y_m": float(cy),
+            "radius_m": float(r),
+            "friction_gain": float(coef[k]),
+            "resistance_gain": float(coef[k + 1]),
         }
-        return self
 
 
 class ActuatorLag(_ScalarSearch):
-    """Drives follow the commands through a lag ``τ`` (needs commands).
+    """Drives follow the commands through a first-order lag ``τ`` after the rate limit.
 
-    The power is predicted from the side speeds the rate-limited, lagged drive reaches from the
-    commands, against the measured power: a log with a lag that the model lacks shows it both
-    in the speeds and in the power the model predicts from the commands.
+    Fitted on the side speeds (the speeds the lagged, rate-limited drive reaches from the
+    commands against the measured ones); its power is the model's power at those speeds, so
+    it is compared with the model's power from the commands without the lag (needs commands).
     """
 
     name = "actuator_lag"
@@ -496,7 +552,8 @@ class ActuatorLag(_ScalarSearch):
     def _bounds(self, data: EffectData) -> tuple[float, float]:
         return 0.0, 1.5
 
-    def _speeds(self, data: EffectData, tau: float) -> tuple[FloatArray, FloatArray]:
+    def speeds(self, data: EffectData, tau: float) -> tuple[FloatArray, FloatArray]:
+        """Side speeds reached from the commands with lag ``tau`` [m/s]."""
         f = data.frame
         assert f.vl_cmd is not None and f.vr_cmd is not None
         sl = np.empty(f.n)
@@ -507,17 +564,21 @@ class ActuatorLag(_ScalarSearch):
             sr[idx] = rate_limit(f.t[idx], f.vr_cmd[idx], a, tau)
         return sl, sr
 
-    def _sse(self, data: EffectData, theta: float | None) -> float:
-        sl, sr = self._speeds(data, float(theta or 0.0))
+    def _sse(self, data: EffectData, theta: Any) -> float:
+        sl, sr = self.speeds(data, float(theta or 0.0))
         return float(np.sum((data.frame.vl - sl) ** 2 + (data.frame.vr - sr) ** 2))
 
-    def design(self, data: EffectData, theta: float | None) -> FloatArray:  # noqa: D102
-        sl, sr = self._speeds(data, float(theta or 0.0))
+    def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        sl, sr = self.speeds(data, float(theta or 0.0))
         return base_design(dataclasses.replace(data.frame, vl=sl, vr=sr), data.params).X
 
     def fit(self, data: EffectData) -> Effect:  # noqa: D102
-        super().fit(data)
-        self.params_ = {"tau_s": float(self.theta_ or 0.0)}
+        # the lag is found on speeds; χ stays (speeds do not depend on it)
+        th = self.theta if self.theta is not None else self._search(subsample(data))
+        self.theta_ = float(th)
+        self.chi_ = float(data.params.chi)
+        self.coef_ = _lstsq(self.design(data, self.theta_), data.p)
+        self.params_ = {"tau_s": float(self.theta_)}
         return self
 
 

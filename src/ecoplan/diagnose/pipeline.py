@@ -89,6 +89,8 @@ class Diagnosis:
         The held-out samples.
     residual_calibrated_w : ndarray
         Held-out residual of the calibrated model [W].
+    prediction_final_w : ndarray
+        Held-out power predicted by the final model [W].
     dropped_rows : int
         Rows the log reader dropped for a missing optional value (summed over logs).
     n_runs : int
@@ -114,6 +116,7 @@ class Diagnosis:
     attribution: Attribution
     test_frame: Frame = field(repr=False)
     residual_calibrated_w: FloatArray = field(repr=False)
+    prediction_final_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
     dropped_rows: int = 0
     n_runs: int = 1
     duration_s: float = 0.0
@@ -183,7 +186,7 @@ def diagnose(
     tol = case_tolerance(log_list)
     if tol > params.case_tol_mps:
         params = dataclasses.replace(params, case_tol_mps=tol)
-    frame = build_frame(log_list, params, block_s)
+    frame = build_frame(log_list, params, block_s, snap_mps=params.case_tol_mps)
     train_m, test_m = split_masks(frame)
     if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
         raise InputError("log too short to diagnose: need at least 40 samples after the split")
@@ -195,9 +198,10 @@ def diagnose(
     att = attribute(train, test, gen, effects)
     r_cal = test.p - att.fitted["none"].predict(test)
     gap_cal = float(np.mean(np.abs(r_cal)))
-    final = att.fitted.get(att.verdict if att.verdict in att.fitted else "none", att.fitted["none"])
-    if att.verdict == "ambiguous" and att.tied:
-        final = att.fitted[att.tied[0]]
+    final_name = att.tied[0] if att.verdict == "ambiguous" and att.tied else att.verdict
+    if final_name == "actuator_lag" or final_name not in att.fitted:
+        final_name = "none"  # a lag changes no power at the measured speeds
+    final = att.fitted[final_name]
     r_fin = test.p - final.predict(test)
     _, lo, hi, _ = block_bootstrap(r_cal, r_fin, test_f.block.astype(np.float64), gen)
     dropped = int(sum(int(getattr(lg, "dropped_rows", 0) or 0) for lg in log_list))
@@ -217,6 +221,7 @@ def diagnose(
         attribution=att,
         test_frame=test_f,
         residual_calibrated_w=r_cal,
+        prediction_final_w=test.p - r_fin,
         dropped_rows=dropped,
         n_runs=len(log_list),
         duration_s=frame.duration_s,

@@ -37,6 +37,7 @@ __all__ = [
     "case_tolerance",
     "rate_limit",
     "smooth",
+    "snap_speeds",
     "replay_residuals",
     "smooth_derivative",
 ]
@@ -94,15 +95,21 @@ def rate_limit(t: FloatArray, target: FloatArray, accel_max: float, tau_s: float
     ``dv/dt = clip((target - v) / tau, -a_max, a_max)`` (``tau = 0``: pure rate limit), explicit
     Euler on the log's time stamps, starting at ``target[0]``.
     """
-    v = np.empty_like(target)
-    v[0] = target[0]
-    dts = np.diff(t)
-    for i, dt in enumerate(dts, start=1):
-        err = target[i - 1] - v[i - 1]
-        step = err if tau_s <= 0.0 else err * min(dt / tau_s, 1.0)
+    tl = target.tolist()
+    dts = np.diff(t).tolist()
+    out = [0.0] * len(tl)
+    v = out[0] = tl[0]
+    gain = 1.0
+    for i in range(1, len(tl)):
+        dt = dts[i - 1]
+        err = tl[i - 1] - v
+        if tau_s > 0.0:
+            gain = dt / tau_s if dt < tau_s else 1.0
+        step = err * gain
         lim = accel_max * dt
-        v[i] = v[i - 1] + min(max(step, -lim), lim)
-    return v
+        v += lim if step > lim else (-lim if step < -lim else step)
+        out[i] = v
+    return np.asarray(out, dtype=np.float64)
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,6 +140,10 @@ class Frame:
         Logged yaw rate [rad/s].
     vl_cmd, vr_cmd : ndarray or None
         Commanded side speeds [m/s].
+    v_pose_err : ndarray or None
+        Forward speed from the logged pose (``ẋ cos ψ + ẏ sin ψ``) minus the mean side speed,
+        both smoothed over 1 s [m/s]; tracked eq. (2) makes it ``wz (y_l + y_r) / 2``, zero
+        for symmetric ICRs.
     block : ndarray of int
         Time-block index (global, for splits and bootstrap).
     """
@@ -154,6 +165,7 @@ class Frame:
     wz_log: FloatArray | None
     vl_cmd: FloatArray | None
     vr_cmd: FloatArray | None
+    v_pose_err: FloatArray | None
     block: IntArray
 
     @property
@@ -196,6 +208,36 @@ def _window(t: FloatArray, window_s: float) -> int:
     return max(int(round(window_s / dt)) | 1, 3)
 
 
+def snap_speeds(
+    vl: FloatArray,
+    vr: FloatArray,
+    tol_mps: float,
+    ref_left: FloatArray | None = None,
+    ref_right: FloatArray | None = None,
+) -> tuple[FloatArray, FloatArray]:
+    """Resolve side speeds that the noise leaves undecided (within ``tol_mps``).
+
+    Without a reference, pairs within ``tol_mps`` of each other become equal (their mean) and
+    speeds within ``tol_mps`` of zero become zero.  With a noise-free reference (the commands
+    through the drive's rate limit), those samples take the reference's speed difference and
+    its zero speeds instead: the commands say whether the sides are meant to be equal.
+    """
+    eq = np.abs(vl - vr) <= tol_mps
+    mean = 0.5 * (vl + vr)
+    half = np.zeros_like(vl) if ref_left is None or ref_right is None else 0.5 * (
+        ref_right - ref_left
+    )
+    half = np.clip(half, -0.5 * tol_mps, 0.5 * tol_mps)
+    vl = np.where(eq, mean - half, vl)
+    vr = np.where(eq, mean + half, vr)
+    if ref_left is not None and ref_right is not None:
+        zl = (np.abs(vl) <= tol_mps) & (ref_left == 0.0)
+        zr = (np.abs(vr) <= tol_mps) & (ref_right == 0.0)
+    else:
+        zl, zr = np.abs(vl) <= tol_mps, np.abs(vr) <= tol_mps
+    return np.where(zl, 0.0, vl), np.where(zr, 0.0, vr)
+
+
 def case_tolerance(logs: Sequence[LogLike], smooth_s: float = 0.3) -> float:
     """Speed tolerance for the motion cases that the encoder noise calls for [m/s].
 
@@ -227,6 +269,7 @@ def build_frame(
     params: VehicleParams,
     block_s: float | None = None,
     smooth_s: float = 0.3,
+    snap_mps: float = 0.0,
 ) -> Frame:
     """Concatenate logs into a :class:`Frame`, computing kinematics and smoothed derivatives.
 
@@ -237,7 +280,7 @@ def build_frame(
     params : TrackedParams or WheeledParams
         Vehicle parameters (their ICRs give ``vx`` and ``wz``).
     block_s : float, optional
-        Length of a time block [s]; default: the total duration / 80, at least 2 s.
+        Length of a time block [s]; default: the total duration / 150, at least 1.5 s.
     smooth_s : float
         Window of the zero-phase smoothing of the measured side speeds [s] (0: none).  The
         power model is static in the speeds: encoder noise would otherwise turn into model
@@ -256,6 +299,7 @@ def build_frame(
     }
     for k in ("vx", "wz", "ax", "alpha", "dp"):
         cols[k] = []
+    opt["v_pose_err"] = []
     icr = params.icr
     for i, log in enumerate(logs):
         t = np.asarray(log.t, dtype=np.float64)
@@ -274,6 +318,12 @@ def build_frame(
             raise InputError(f"log {i} column 't' is not strictly increasing")
         vl = smooth(t, vl, smooth_s)
         vr = smooth(t, vr, smooth_s)
+        if snap_mps > 0.0:
+            cl, cr = _opt(log, "v_left_cmd", n), _opt(log, "v_right_cmd", n)
+            if cl is not None and cr is not None:
+                cl = rate_limit(t, cl, params.accel_max_mps2)
+                cr = rate_limit(t, cr, params.accel_max_mps2)
+            vl, vr = snap_speeds(vl, vr, snap_mps, cl, cr)
         tw = tracks_to_twist(vl, vr, icr)
         dt = np.diff(t)
         cols["t"].append(t)
@@ -293,9 +343,17 @@ def build_frame(
         opt["wz_log"].append(_opt(log, "wz", n))
         opt["vl_cmd"].append(_opt(log, "v_left_cmd", n))
         opt["vr_cmd"].append(_opt(log, "v_right_cmd", n))
+        x, y, yaw = opt["x"][-1], opt["y"][-1], opt["yaw"][-1]
+        if x is not None and y is not None and yaw is not None:
+            v_pose = smooth_derivative(t, x, 1.0) * np.cos(yaw) + smooth_derivative(
+                t, y, 1.0
+            ) * np.sin(yaw)
+            opt["v_pose_err"].append(v_pose - smooth(t, 0.5 * (vl + vr), 1.0))
+        else:
+            opt["v_pose_err"].append(None)
     dt_all = np.concatenate(cols["dt"])
     total = float(np.sum(dt_all))
-    bs = block_s if block_s is not None else max(total / 80.0, 2.0)
+    bs = block_s if block_s is not None else max(total / 150.0, 1.5)
     # blocks restart at each run so that no block spans two runs
     blocks = []
     offset = 0
@@ -323,6 +381,7 @@ def build_frame(
         wz_log=_concat(opt["wz_log"]),
         vl_cmd=_concat(opt["vl_cmd"]),
         vr_cmd=_concat(opt["vr_cmd"]),
+        v_pose_err=_concat(opt["v_pose_err"]),
         block=np.concatenate(blocks),
     )
 

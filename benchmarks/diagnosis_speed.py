@@ -1,0 +1,50 @@
+"""Speed of the diagnosis: one hour of 100 Hz log diagnosed on one core (issue 6, item 5).
+
+Generates a session of about one hour at 100 Hz with :func:`ecoplan.diagnose.synth.generate_case`
+(inertia at moderate magnitude, 40 A->B runs plus the grid and spirals), then times
+:func:`ecoplan.diagnose.pipeline.diagnose` on it.  Target: under 30 s.  Run with one BLAS thread::
+
+    OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/diagnosis_speed.py
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("MKL_NUM_THREADS", "1")
+
+from ecoplan.diagnose.pipeline import diagnose  # noqa: E402
+from ecoplan.diagnose.synth import generate_case  # noqa: E402
+
+TARGET_S = 30.0
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=40, help="A->B runs in the session")
+    ap.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz]")
+    ap.add_argument("--seed", type=int, default=0)
+    args = ap.parse_args()
+    case = generate_case(args.seed, "inertia", "moderate", n_waypoint_runs=args.runs,
+                         rate_hz=args.rate)
+    n = sum(len(lg) for lg in case.logs)
+    dur_h = sum(lg.duration_s for lg in case.logs) / 3600.0
+    t0 = time.process_time()
+    w0 = time.perf_counter()
+    d = diagnose(list(case.logs), case.vehicle, case.terrain)
+    cpu = time.process_time() - t0
+    wall = time.perf_counter() - w0
+    per_hour = wall / dur_h
+    print(f"log: {len(case.logs)} runs, {n} samples, {dur_h:.2f} h at {args.rate:g} Hz")
+    print(f"diagnosis: wall {wall:.1f} s, cpu {cpu:.1f} s -> {per_hour:.1f} s per hour of log "
+          f"(target < {TARGET_S:.0f} s)  verdict={d.verdict} (truth {case.truth.effect})")
+    print(f"ratio to target: {per_hour / TARGET_S:.2f}")
+    return 0 if per_hour < TARGET_S else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

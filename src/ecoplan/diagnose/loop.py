@@ -1,0 +1,432 @@
+"""Closing the loop: the corrected model as a file, and whether it changes a route ranking.
+
+:func:`save_corrected_model` writes the base preset, the calibrated parameters (refitted with the
+winning effect) and the effect's fitted physical parameters to JSON (or YAML by suffix);
+:func:`load_corrected_model` reads it back into a :class:`CorrectedModel` whose ``power(vl, vr)``
+is a drop-in for ``params.power`` (steady state) and whose :meth:`CorrectedModel.trajectory_power`
+adds the time-dependent part of the effect along a trajectory.
+
+:func:`ranking_change` compares the energy ranking of candidate routes — each a trajectory
+``(t, v_left, v_right)`` or a way-point polyline — under the preset and under the corrected
+model.  It needs no planner: polylines are driven turn-on-the-spot then straight (the
+tracked paper's A->B manoeuvre, §IV) through the drive's acceleration limit.
+
+Effects in the steady-state ``power(vl, vr)``: ``speed_dependent_resistance``, ``regeneration``,
+``power_saturation``, ``icr_asymmetry`` (in the parameters).  Only along a trajectory:
+``inertia`` (needs accelerations), ``slope`` (heading), ``terrain_patch`` (position),
+``actuator_lag`` (the trajectory's speeds are then commands), ``efficiency_drift`` (time since
+the log's clock origin).  ``sensor_delay`` is a logging artefact and changes no power.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from ecoplan._typing import ArrayLike, FloatArray
+from ecoplan.diagnose.calibrate import base_design, with_linear_params
+from ecoplan.diagnose.replay import rate_limit, smooth_derivative
+from ecoplan.errors import InputError
+from ecoplan.models.kinematics import setpoint_to_tracks, tracks_to_twist
+from ecoplan.models.power import PowerBreakdown
+from ecoplan.models.tracked import GRAVITY_MPS2
+from ecoplan.models.wheeled import SideCoefficients
+from ecoplan.presets import VehicleParams, vehicle
+
+if TYPE_CHECKING:
+    from ecoplan.diagnose.pipeline import Diagnosis
+
+__all__ = [
+    "FORMAT",
+    "CorrectedModel",
+    "RankingChange",
+    "corrected_model",
+    "load_corrected_model",
+    "polyline_trajectory",
+    "ranking_change",
+    "save_corrected_model",
+]
+
+#: Format tag of the corrected-model file.
+FORMAT = "ecoplan-corrected-model/1"
+
+
+def _param_dict(params: VehicleParams) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(params):
+        if not f.init or f.name == "name":
+            continue
+        val = getattr(params, f.name)
+        out[f.name] = dataclasses.asdict(val) if isinstance(val, SideCoefficients) else val
+    return out
+
+
+@dataclass(frozen=True, slots=True)
+class CorrectedModel:
+    """Base model with re-identified parameters plus one fitted effect.
+
+    Attributes
+    ----------
+    vehicle : str
+        Vehicle preset name.
+    terrain : str or None
+        Terrain preset name.
+    params : TrackedParams or WheeledParams
+        Calibrated parameters (refitted together with the effect).
+    effect : str
+        Effect name (``"none"`` when the verdict named no effect).
+    effect_params : dict
+        Fitted physical parameters of the effect.
+    """
+
+    vehicle: str
+    terrain: str | None
+    params: VehicleParams
+    effect: str = "none"
+    effect_params: Mapping[str, float] = dataclasses.field(default_factory=dict)
+
+    @property
+    def kind(self) -> str:
+        """``"tracked"`` or ``"wheeled"``."""
+        return self.params.kind
+
+    def _static_extra(self, vl: FloatArray, vr: FloatArray, pb: PowerBreakdown) -> FloatArray:
+        e, p = self.effect, self.effect_params
+        if e == "speed_dependent_resistance":
+            return p["c_n_s_per_m"] * (vl**2 + vr**2)
+        if e == "regeneration":
+            return p["fraction"] * (np.minimum(pb.left_w, 0.0) + np.minimum(pb.right_w, 0.0))
+        return np.zeros(np.shape(pb.total_w))
+
+    def power(self, v_left: ArrayLike, v_right: ArrayLike) -> PowerBreakdown:
+        """Steady-state power breakdown with the correction [W].
+
+        The effect's steady-state power is added to ``resistance_w`` (it resists the motion or,
+        negative, returns power); a supply limit clips ``total_w`` and ``elec_loss_w`` absorbs the
+        clipped part so that the components still add up.
+        """
+        vl = np.asarray(v_left, dtype=np.float64)
+        vr = np.asarray(v_right, dtype=np.float64)
+        pb = self.params.power(vl, vr)
+        extra = self._static_extra(vl, vr, pb)
+        total = pb.total_w + extra
+        loss = pb.elec_loss_w
+        if self.effect == "power_saturation":
+            cap = float(self.effect_params.get("p_max_w", math.inf) or math.inf)
+            clipped = np.minimum(total, cap)
+            loss = loss + (clipped - total)
+            total = clipped
+        return dataclasses.replace(
+            pb, resistance_w=pb.resistance_w + extra, elec_loss_w=loss, total_w=total
+        )
+
+    def trajectory_power(
+        self,
+        t: ArrayLike,
+        v_left: ArrayLike,
+        v_right: ArrayLike,
+        *,
+        x: ArrayLike | None = None,
+        y: ArrayLike | None = None,
+        yaw: ArrayLike | None = None,
+    ) -> FloatArray:
+        """Power along a trajectory [W], with the effect's time-dependent part.
+
+        Parameters
+        ----------
+        t : array_like
+            Time [s], strictly increasing.
+        v_left, v_right : array_like
+            Side speeds [m/s] (commands, when the effect is ``actuator_lag``).
+        x, y, yaw : array_like, optional
+            Pose [m, m, rad]; integrated from the speeds when absent.
+        """
+        tt = np.asarray(t, dtype=np.float64)
+        vl = np.asarray(v_left, dtype=np.float64)
+        vr = np.asarray(v_right, dtype=np.float64)
+        e, p = self.effect, self.effect_params
+        if e == "actuator_lag":
+            tau = float(p.get("tau_s", 0.0))
+            vl = rate_limit(tt, vl, self.params.accel_max_mps2, tau)
+            vr = rate_limit(tt, vr, self.params.accel_max_mps2, tau)
+        total = np.asarray(self.power(vl, vr).total_w, dtype=np.float64)
+        tw = tracks_to_twist(vl, vr, self.params.icr)
+        if e == "inertia":
+            ax = smooth_derivative(tt, tw.vx)
+            al = smooth_derivative(tt, tw.wz)
+            total = total + p["mass_kg"] * tw.vx * ax + p["yaw_inertia_kgm2"] * tw.wz * al
+        elif e == "efficiency_drift":
+            total = total * (1.0 + p.get("power_rate_per_s", 0.0) * tt)
+        elif e in ("slope", "terrain_patch"):
+            px, py, heading = _pose(tt, tw.vx, tw.wz, x, y, yaw)
+            if e == "slope":
+                g, h = p["grade"], p["uphill_heading_rad"]
+                mg = self.params.mass_kg * GRAVITY_MPS2
+                total = total + mg * g * tw.vx * np.cos(heading - h)
+            else:
+                pb = self.params.power(vl, vr)
+                inside = np.hypot(px - p["center_x_m"], py - p["center_y_m"]) <= p["radius_m"]
+                total = total + inside * (
+                    p["friction_gain"] * pb.friction_w + p["resistance_gain"] * pb.resistance_w
+                )
+        return np.asarray(total, dtype=np.float64)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON/YAML-ready dictionary (the file format)."""
+        return {
+            "format": FORMAT,
+            "vehicle": self.vehicle,
+            "terrain": self.terrain,
+            "kind": self.kind,
+            "params": _param_dict(self.params),
+            "effect": {
+                "name": self.effect,
+                "params": {
+                    k: (float(v) if math.isfinite(float(v)) else None)
+                    for k, v in self.effect_params.items()
+                },
+            },
+        }
+
+
+def _pose(
+    t: FloatArray,
+    vx: FloatArray,
+    wz: FloatArray,
+    x: ArrayLike | None,
+    y: ArrayLike | None,
+    yaw: ArrayLike | None,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    dt = np.diff(t, prepend=t[0])
+    heading = np.asarray(yaw, dtype=np.float64) if yaw is not None else np.cumsum(wz * dt)
+    px = np.asarray(x, dtype=np.float64) if x is not None else np.cumsum(vx * np.cos(heading) * dt)
+    py = np.asarray(y, dtype=np.float64) if y is not None else np.cumsum(vx * np.sin(heading) * dt)
+    return px, py, heading
+
+
+def corrected_model(d: Diagnosis) -> CorrectedModel:
+    """The corrected model of a diagnosis: calibrated base refitted with the verdict's effect."""
+    from ecoplan.diagnose.effects import prepare
+
+    att = d.attribution
+    name = att.tied[0] if att.verdict == "ambiguous" and att.tied else att.verdict
+    eff = att.fitted.get(name)
+    if eff is None or name in ("none", "unexplained"):
+        return CorrectedModel(d.vehicle, d.terrain, d.calibration.params)
+    params = d.calibration.params
+    if eff.chi_ is not None:
+        params = dataclasses.replace(params, chi=eff.chi_)
+    if name == "icr_asymmetry":
+        params = dataclasses.replace(params, icr_offset_m=float(eff.params_["icr_offset_m"]))
+    if eff.coef_ is not None and eff.coef_.size and name != "actuator_lag":
+        data = prepare(d.test_frame, params)
+        names = base_design(data.frame, params).names
+        params = with_linear_params(params, names, eff.coef_[: len(names)])
+    eparams = {k: v for k, v in eff.params_.items() if k != "chi"}
+    if name == "sensor_delay":
+        return CorrectedModel(d.vehicle, d.terrain, params, "sensor_delay", eparams)
+    return CorrectedModel(d.vehicle, d.terrain, params, name, eparams)
+
+
+def save_corrected_model(d: Diagnosis | CorrectedModel, path: str | os.PathLike[str]) -> Path:
+    """Write the corrected model to JSON (``.json``) or YAML (``.yaml``/``.yml``)."""
+    model = d if isinstance(d, CorrectedModel) else corrected_model(d)
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    obj = model.to_dict()
+    if p.suffix.lower() in (".yaml", ".yml"):
+        import yaml
+
+        p.write_text(yaml.safe_dump(obj, sort_keys=False))
+    else:
+        p.write_text(json.dumps(obj, indent=2))
+    return p
+
+
+def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
+    """Load a file written by :func:`save_corrected_model`.
+
+    Raises
+    ------
+    InputError
+        Unreadable file, wrong format tag, unknown vehicle or parameter.
+    """
+    p = Path(path)
+    try:
+        text = p.read_text()
+    except OSError as exc:
+        raise InputError(f"{p}: cannot read corrected model: {exc}") from None
+    try:
+        if p.suffix.lower() in (".yaml", ".yml"):
+            import yaml
+
+            obj = yaml.safe_load(text)
+        else:
+            obj = json.loads(text)
+    except Exception as exc:  # noqa: BLE001 - any parse error is a bad file
+        raise InputError(f"{p}: not a valid corrected-model file: {exc}") from None
+    if not isinstance(obj, dict) or obj.get("format") != FORMAT:
+        raise InputError(f"{p}: 'format' must be {FORMAT!r}")
+    for key in ("vehicle", "params", "effect"):
+        if key not in obj:
+            raise InputError(f"{p}: missing key {key!r}")
+    params = vehicle(obj["vehicle"], obj.get("terrain"), obj["params"])
+    eff = obj["effect"] or {}
+    name = str(eff.get("name", "none"))
+    eparams = {k: (math.inf if v is None else float(v)) for k, v in (eff.get("params") or {}).items()}
+    return CorrectedModel(obj["vehicle"], obj.get("terrain"), params, name, eparams)
+
+
+def polyline_trajectory(
+    points: Sequence[Sequence[float]],
+    params: VehicleParams,
+    *,
+    speed_mps: float | None = None,
+    yaw_rate_radps: float | None = None,
+    dt_s: float = 0.05,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Drive a polyline turn-on-the-spot then straight, through the acceleration limit.
+
+    Parameters
+    ----------
+    points : sequence of (x, y)
+        Way points [m]; the robot starts at the first, heading to the second.
+    params : TrackedParams or WheeledParams
+        Vehicle (ICRs, top speed, acceleration limit).
+    speed_mps : float, optional
+        Cruise speed (default half the top track speed).
+    yaw_rate_radps : float, optional
+        On-the-spot turning rate (default: side speeds at half the top speed).
+    dt_s : float
+        Time step [s].
+
+    Returns
+    -------
+    tuple of ndarray
+        ``(t, v_left, v_right)`` [s, m/s, m/s].
+    """
+    pts = np.asarray(points, dtype=np.float64)
+    if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 2:
+        raise InputError("a route polyline needs at least two (x, y) points")
+    icr = params.icr
+    v = 0.5 * params.top_track_speed_mps if speed_mps is None else float(speed_mps)
+    w = (params.top_track_speed_mps / icr.spread_m) if yaw_rate_radps is None else yaw_rate_radps
+    cl: list[FloatArray] = []
+    cr: list[FloatArray] = []
+    seg = np.diff(pts, axis=0)
+    heading = math.atan2(seg[0, 1], seg[0, 0])
+    for dx, dy in seg:
+        target = math.atan2(dy, dx)
+        turn = (target - heading + math.pi) % (2 * math.pi) - math.pi
+        if abs(turn) > 1e-6:
+            n = max(int(round(abs(turn) / w / dt_s)), 1)
+            l_, r_ = setpoint_to_tracks(0.0, math.copysign(w, turn), icr)
+            cl.append(np.full(n, float(l_)))
+            cr.append(np.full(n, float(r_)))
+        heading = target
+        n = max(int(round(math.hypot(dx, dy) / v / dt_s)), 1)
+        cl.append(np.full(n, v))
+        cr.append(np.full(n, v))
+    cl.append(np.zeros(int(2.0 * params.top_track_speed_mps / params.accel_max_mps2 / dt_s) + 1))
+    cr.append(np.zeros_like(cl[-1]))
+    cmd_l, cmd_r = np.concatenate(cl), np.concatenate(cr)
+    t = np.arange(cmd_l.size) * dt_s
+    return (t, rate_limit(t, cmd_l, params.accel_max_mps2), rate_limit(t, cmd_r, params.accel_max_mps2))
+
+
+@dataclass(frozen=True, slots=True)
+class RankingChange:
+    """Energy of candidate routes under the preset and the corrected model.
+
+    Attributes
+    ----------
+    names : list of str
+        Route names.
+    energy_base_j, energy_corrected_j : ndarray
+        Energy of every route [J].
+    rank_base, rank_corrected : list of str
+        Route names from the least to the most energy.
+    changed : bool
+        Whether the order differs.
+    best_changed : bool
+        Whether the least-energy route differs.
+    """
+
+    names: list[str]
+    energy_base_j: FloatArray
+    energy_corrected_j: FloatArray
+    rank_base: list[str]
+    rank_corrected: list[str]
+    changed: bool
+    best_changed: bool
+
+    def summary(self) -> str:
+        """One line per route and the conclusion."""
+        lines = [
+            f"{n:16s} preset {eb / 1e3:8.2f} kJ   corrected {ec / 1e3:8.2f} kJ"
+            for n, eb, ec in zip(self.names, self.energy_base_j, self.energy_corrected_j)
+        ]
+        lines.append(
+            f"ranking preset: {' < '.join(self.rank_base)}; corrected: "
+            f"{' < '.join(self.rank_corrected)} -> "
+            + ("CHANGED" if self.changed else "unchanged")
+            + (" (best route changes)" if self.best_changed else "")
+        )
+        return "\n".join(lines)
+
+
+Route = tuple[ArrayLike, ArrayLike, ArrayLike] | Sequence[Sequence[float]]
+
+
+def ranking_change(
+    routes: Mapping[str, Route],
+    corrected: CorrectedModel,
+    base: VehicleParams | None = None,
+) -> RankingChange:
+    """Whether the correction changes the energy ranking of candidate routes.
+
+    Parameters
+    ----------
+    routes : mapping of name -> route
+        Either a trajectory ``(t, v_left, v_right)`` (three equal-length arrays) or a polyline
+        ``[(x, y), ...]`` of way points (driven by :func:`polyline_trajectory`).
+    corrected : CorrectedModel
+        The corrected model.
+    base : TrackedParams or WheeledParams, optional
+        The model to compare with (default: the corrected model's preset).
+
+    Returns
+    -------
+    RankingChange
+        Energies and rankings.
+    """
+    if not routes:
+        raise InputError("no routes to rank")
+    base_p = base if base is not None else vehicle(corrected.vehicle, corrected.terrain)
+    names = list(routes)
+    eb, ec = [], []
+    for name in names:
+        r = routes[name]
+        arr = [np.asarray(a, dtype=np.float64) for a in r]  # type: ignore[union-attr]
+        if len(arr) == 3 and arr[0].ndim == 1 and arr[0].size > 2 and all(
+            a.shape == arr[0].shape for a in arr
+        ):
+            t, vl, vr = arr
+        else:
+            t, vl, vr = polyline_trajectory(r, base_p)  # type: ignore[arg-type]
+        dt = np.diff(t, append=t[-1])
+        eb.append(float(np.sum(base_p.power(vl, vr).total_w * dt)))
+        ec.append(float(np.sum(corrected.trajectory_power(t, vl, vr) * dt)))
+    ebase, ecorr = np.array(eb), np.array(ec)
+    rb = [names[i] for i in np.argsort(ebase, kind="stable")]
+    rc = [names[i] for i in np.argsort(ecorr, kind="stable")]
+    return RankingChange(names, ebase, ecorr, rb, rc, rb != rc, rb[0] != rc[0])
+

@@ -1,0 +1,302 @@
+"""Diagnosis report: text summary, figures and JSON with a stable shape.
+
+JSON shape (stable; the four first keys are the contract of issue 6)::
+
+    {"gap": {"metric": "mae_w", "before": float, "after": float},
+     "where": [{"regime": str, "error_share": float, "time_share": float}, ...],
+     "effects": [{"name": str, "before": float, "after": float, "params": {...}}, ...],
+     "verdict": {"effect": str, "confidence": float},
+     ...extra keys below}
+
+* ``gap.before`` is the held-out MAE of the preset model as given, ``gap.after`` that of the
+  final model (calibrated, plus the verdict's effect when there is one) [W].
+* ``where`` lists every regime of :mod:`ecoplan.diagnose.localise` (``group:name``) for the
+  calibrated model's held-out residual.
+* ``effects`` are ranked best first; ``before``/``after`` are the held-out power MAE without and
+  with the effect [W] (for ``actuator_lag``: of the power the model predicts from the commands);
+  ``params`` are the fitted physical parameters (non-finite values written as null).
+* ``verdict.effect`` is an effect name, ``none``, ``unexplained`` or ``ambiguous``.
+
+Extra top-level keys (documented, optional for readers): ``calibration`` (held-out MAE before
+and after re-identifying the base parameters, and the changed parameters), ``how_far`` (the
+winner's held-out reduction in W and %, its 95 % bootstrap interval, the best pair), ``channels``
+(each effect's deciding channel, its reduction and p-value), ``distinguishability`` (pairs the
+log cannot tell apart with the separating manoeuvre, candidates not excited or unavailable),
+``tied`` (names of an ambiguous verdict) and ``log`` (runs, duration, dropped rows, split).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ecoplan.diagnose.pipeline import Diagnosis
+
+__all__ = ["JSON_KEYS", "save_figures", "summary", "to_json_dict", "validate_json", "write_json"]
+
+#: The contract keys of the JSON report, in order.
+JSON_KEYS: tuple[str, ...] = ("gap", "where", "effects", "verdict")
+
+
+def _num(x: float) -> float | None:
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+def to_json_dict(d: Diagnosis) -> dict[str, Any]:
+    """The diagnosis as a JSON-ready dictionary (see the module docstring for the shape)."""
+    att = d.attribution
+    effects = [
+        {
+            "name": s.name,
+            "before": _num(s.power_before_w),
+            "after": _num(s.power_after_w),
+            "params": {k: _num(v) for k, v in s.params.items()},
+        }
+        for s in att.scores
+    ]
+    red = d.gap_calibrated_w - d.gap_final_w
+    return {
+        "gap": {"metric": "mae_w", "before": _num(d.gap_preset_w), "after": _num(d.gap_final_w)},
+        "where": [
+            {"regime": w.regime, "error_share": _num(w.error_share), "time_share": _num(w.time_share)}
+            for w in d.where
+        ],
+        "effects": effects,
+        "verdict": {"effect": att.verdict, "confidence": _num(att.confidence)},
+        "calibration": {
+            "before": _num(d.gap_preset_w),
+            "after": _num(d.gap_calibrated_w),
+            "changed": {k: [_num(a), _num(b)] for k, (a, b) in d.calibration.changed.items()},
+        },
+        "how_far": {
+            "before_w": _num(d.gap_calibrated_w),
+            "after_w": _num(d.gap_final_w),
+            "reduction_w": _num(red),
+            "reduction_pct": _num(100.0 * red / d.gap_calibrated_w if d.gap_calibrated_w else 0.0),
+            "ci95_w": [_num(d.final_ci_w[0]), _num(d.final_ci_w[1])],
+            "noise_floor_w": _num(att.noise_floor_w),
+            "pair": list(att.pair) if att.pair else None,
+            "pair_after_w": _num(att.pair_after_w) if att.pair_after_w is not None else None,
+            "ljung_box_p": _num(att.ljung_box_p),
+        },
+        "channels": [
+            {
+                "name": s.name,
+                "channel": s.channel,
+                "before": _num(s.before),
+                "after": _num(s.after),
+                "p_value": _num(s.p_value),
+                "explained": _num(s.explained),
+                "significant": bool(s.significant),
+            }
+            for s in att.scores
+        ],
+        "distinguishability": {
+            "pairs": [
+                {"names": [a, b], "correlation": _num(c), "separating_manoeuvre": m}
+                for a, b, c, m in att.indistinguishable
+            ],
+            "not_excited": list(att.not_excited),
+            "unavailable": list(att.unavailable),
+        },
+        "tied": list(att.tied),
+        "log": {
+            "runs": d.n_runs,
+            "duration_s": _num(d.duration_s),
+            "dropped_rows": d.dropped_rows,
+            "split": d.split,
+        },
+    }
+
+
+def validate_json(obj: Any) -> None:
+    """Raise ``ValueError`` naming the first field that breaks the stable JSON shape."""
+
+    def need(cond: bool, what: str) -> None:
+        if not cond:
+            raise ValueError(f"diagnosis JSON: {what}")
+
+    def is_num(x: Any) -> bool:
+        return isinstance(x, int | float) and not isinstance(x, bool)
+
+    need(isinstance(obj, dict), "top level must be an object")
+    for k in JSON_KEYS:
+        need(k in obj, f"missing key {k!r}")
+    g = obj["gap"]
+    need(isinstance(g, dict) and set(g) == {"metric", "before", "after"}, "gap keys")
+    need(g["metric"] == "mae_w", "gap.metric must be 'mae_w'")
+    need(is_num(g["before"]) and is_num(g["after"]), "gap.before/after must be numbers")
+    need(isinstance(obj["where"], list), "where must be a list")
+    for i, w in enumerate(obj["where"]):
+        need(set(w) == {"regime", "error_share", "time_share"}, f"where[{i}] keys")
+        need(isinstance(w["regime"], str), f"where[{i}].regime must be a string")
+        need(is_num(w["error_share"]) and is_num(w["time_share"]), f"where[{i}] shares")
+    need(isinstance(obj["effects"], list), "effects must be a list")
+    for i, e in enumerate(obj["effects"]):
+        need(set(e) == {"name", "before", "after", "params"}, f"effects[{i}] keys")
+        need(isinstance(e["name"], str), f"effects[{i}].name must be a string")
+        need(is_num(e["before"]) and is_num(e["after"]), f"effects[{i}].before/after")
+        need(isinstance(e["params"], dict), f"effects[{i}].params must be an object")
+    v = obj["verdict"]
+    need(isinstance(v, dict) and set(v) == {"effect", "confidence"}, "verdict keys")
+    need(isinstance(v["effect"], str), "verdict.effect must be a string")
+    need(is_num(v["confidence"]) and 0.0 <= v["confidence"] <= 1.0, "verdict.confidence in [0,1]")
+
+
+def write_json(d: Diagnosis, path: str | os.PathLike[str]) -> Path:
+    """Write :func:`to_json_dict` to ``path`` (validated first) and return the path."""
+    obj = to_json_dict(d)
+    validate_json(obj)
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(json.dumps(obj, indent=2))
+    return p
+
+
+def summary(d: Diagnosis) -> str:
+    """Plain-text summary: gap, calibration, where, which, how far, what the log cannot tell."""
+    att = d.attribution
+    lines = [
+        f"Diagnosis of {d.n_runs} log(s), {d.duration_s:.0f} s, against {d.preset.name} "
+        f"(held-out split by {d.split}; {d.dropped_rows} row(s) dropped by the reader)",
+        f"gap (held-out MAE): preset {d.gap_preset_w:.1f} W -> calibrated "
+        f"{d.gap_calibrated_w:.1f} W -> final {d.gap_final_w:.1f} W "
+        f"(noise floor ~{att.noise_floor_w:.1f} W)",
+    ]
+    if d.calibration.changed:
+        ch = ", ".join(f"{k} {a:.3g}->{b:.3g}" for k, (a, b) in d.calibration.changed.items())
+        lines.append(f"calibration closes {d.gap_preset_w - d.gap_calibrated_w:.1f} W: {ch}")
+    top = sorted(d.where, key=lambda w: -(w.error_share - w.time_share))[:4]
+    lines.append("where (error share vs time share, most over-represented first):")
+    for w in top:
+        lines.append(
+            f"  {w.regime:24s} {100 * w.error_share:5.1f} % of |error| in "
+            f"{100 * w.time_share:5.1f} % of time (MAE {w.mae_w:.1f} W)"
+        )
+    lines.append("which (held-out, ranked):")
+    for s in att.scores[:6]:
+        unit = "W" if s.channel == "power_w" else "m/s"
+        star = "*" if s.significant else " "
+        lines.append(
+            f" {star}{s.name:28s} {s.reduction_pct:6.1f} % of {s.channel} "
+            f"({s.before:.3g} -> {s.after:.3g} {unit}, p={s.p_value:.2g}) "
+            f"power {s.power_before_w:.1f} -> {s.power_after_w:.1f} W"
+        )
+    verdict = att.verdict + (f" ({' / '.join(att.tied)})" if att.tied else "")
+    lines.append(f"verdict: {verdict}  confidence {att.confidence:.2f}")
+    red = d.gap_calibrated_w - d.gap_final_w
+    pct = 100.0 * red / d.gap_calibrated_w if d.gap_calibrated_w else 0.0
+    lines.append(
+        f"how far: {d.gap_calibrated_w:.1f} -> {d.gap_final_w:.1f} W ({pct:.1f} %, 95 % CI of "
+        f"the reduction {d.final_ci_w[0]:.1f} .. {d.final_ci_w[1]:.1f} W)"
+        + (f"; best pair {'+'.join(att.pair)}: {att.pair_after_w:.1f} W"
+           if att.pair and att.pair_after_w is not None else "")
+    )
+    lines.append(f"residual whiteness after the verdict (Ljung-Box): p = {att.ljung_box_p:.2g}")
+    for a, b, c, m in att.indistinguishable:
+        lines.append(f"cannot tell apart: {a} / {b} (canonical corr {c:.2f}); try: {m}")
+    if att.not_excited:
+        lines.append(f"not excited by this log: {', '.join(att.not_excited)}")
+    if att.unavailable:
+        lines.append(f"needs signals the log lacks: {', '.join(att.unavailable)}")
+    return "\n".join(lines)
+
+
+_CASE_COLOURS = ("#999999", "#1f77b4", "#2ca02c", "#ff7f0e", "#d62728")
+
+
+def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
+    """Residual over time by regime, candidates' bar chart, where chart and residual map (PNG)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ecoplan.models.power import MotionCase, motion_case
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths: list[Path] = []
+    f = d.test_frame
+    r = d.residual_calibrated_w
+    clock = np.cumsum(f.dt) - f.dt
+    case = motion_case(f.vl, f.vr, d.calibration.params.case_tol_mps)
+    fig, ax = plt.subplots(figsize=(10, 3.8))
+    for c in MotionCase:
+        m = case == int(c)
+        if np.any(m):
+            ax.plot(clock[m], r[m], ".", ms=1.5, color=_CASE_COLOURS[int(c)],
+                    label=f"case {int(c)} {c.name.lower()}")
+    tp = d.time_profile
+    ax.plot(tp.t_s, tp.mean_w, "k-", lw=1.0, label="block mean")
+    ax.axhline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("held-out time (runs concatenated) [s]")
+    ax.set_ylabel("measured - calibrated model [W]")
+    ax.set_title("Power residual over time, coloured by motion case (Fig. 3)")
+    ax.legend(loc="upper right", fontsize=7, markerscale=6, ncol=3)
+    fig.tight_layout()
+    paths.append(out / "residual_time.png")
+    fig.savefig(paths[-1], dpi=120)
+    plt.close(fig)
+
+    att = d.attribution
+    fig, ax = plt.subplots(figsize=(8, 4))
+    names = [s.name for s in att.scores]
+    vals = [s.reduction_pct for s in att.scores]
+    err = np.array([
+        [s.reduction_pct - 100 * s.ci_low / s.before if s.before else 0.0,
+         100 * s.ci_high / s.before - s.reduction_pct if s.before else 0.0]
+        for s in att.scores
+    ]).T if att.scores else np.zeros((2, 0))
+    colours = ["#2ca02c" if s.name == att.verdict else
+               ("#1f77b4" if s.significant else "#bbbbbb") for s in att.scores]
+    y = np.arange(len(names))
+    ax.barh(y, vals, xerr=np.abs(err), color=colours, capsize=3)
+    ax.set_yticks(y, [f"{n} [{s.channel}]" for n, s in zip(names, att.scores)], fontsize=8)
+    ax.invert_yaxis()
+    ax.axvline(0.0, color="k", lw=0.5)
+    ax.set_xlabel("held-out reduction of the residual [%] (95 % block-bootstrap CI)")
+    ax.set_title(f"Candidate effects — verdict: {att.verdict}\n(green: verdict, blue: significant, grey: not)", fontsize=10)
+    fig.tight_layout()
+    paths.append(out / "candidates.png")
+    fig.savefig(paths[-1], dpi=120)
+    plt.close(fig)
+
+    fig, ax = plt.subplots(figsize=(8, 5))
+    regs = [w.regime for w in d.where]
+    yy = np.arange(len(regs))
+    ax.barh(yy - 0.2, [100 * w.error_share for w in d.where], 0.4, label="share of |energy error|")
+    ax.barh(yy + 0.2, [100 * w.time_share for w in d.where], 0.4, label="share of time")
+    ax.set_yticks(yy, regs, fontsize=7)
+    ax.invert_yaxis()
+    ax.set_xlabel("[%]")
+    ax.set_title("Where the calibrated model's gap lies (held-out)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    paths.append(out / "where.png")
+    fig.savefig(paths[-1], dpi=120)
+    plt.close(fig)
+
+    if d.space_map is not None:
+        sm = d.space_map
+        fig, ax = plt.subplots(figsize=(6, 5))
+        lim = float(np.nanmax(np.abs(sm.mean_w))) if np.any(np.isfinite(sm.mean_w)) else 1.0
+        mesh = ax.pcolormesh(sm.x_edges, sm.y_edges, sm.mean_w.T, cmap="RdBu_r",
+                             vmin=-lim, vmax=lim, shading="flat")
+        fig.colorbar(mesh, ax=ax, label="mean residual [W]")
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        ax.set_title("Residual map (held-out, calibrated model)")
+        fig.tight_layout()
+        paths.append(out / "residual_map.png")
+        fig.savefig(paths[-1], dpi=120)
+        plt.close(fig)
+    return paths
