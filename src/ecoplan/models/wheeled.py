@@ -34,10 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ecoplan._typing import ArrayLike, FloatArray
+from ecoplan._typing import ArrayLike, FloatArray, IntArray
 from ecoplan.models._validate import check_range, finite_array
-from ecoplan.models.kinematics import TrackICR, tracks_to_twist
-from ecoplan.models.power import MotionCase, PowerBreakdown, motion_case
+from ecoplan.models.kinematics import TrackICR
+from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
 
 __all__ = [
     "SideCoefficients",
@@ -201,45 +201,106 @@ def wheeled_power(v_left: ArrayLike, v_right: ArrayLike, params: WheeledParams) 
     ``resistance_w`` the straight-line power at the same speed, ``sum (a_inf |v| + b_inf)``,
     to ``braking_w`` the magnitude of a side's negative power, and the rest to
     ``friction_w`` (skidding).  A stopped vehicle draws only ``p_powerup_w``.
+
+    Large inputs are evaluated in blocks, branch-free (0/1 factors instead of
+    ``np.where`` on masks), with one ``log(r + 1)`` shared by the four decay curves.
     """
     vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
-    tw = tracks_to_twist(vl, vr, params.icr)
-    v = np.abs(tw.vx)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
-    p_in, p_out = wheeled_power_vr(v, r, params)
-    case = motion_case(vl, vr, params.case_tol_mps)
-    moving = case != MotionCase.STOPPED
-    p_in = np.where(moving, p_in, 0.0)
-    p_out = np.where(moving, p_out, 0.0)
-    # the turn centre lies at y = vx / wz: on the left when vx and wz share a sign (forward
-    # left turn, or reversing along the same arc); on the spot the turning side decides
-    left_inner = np.where(tw.vx != 0.0, tw.vx * tw.wz > 0.0, tw.wz > 0.0)
-    # straight (r = inf): no inner or outer side; Tables I-II's a_inf differ between the
-    # two fits, so each side draws their mean (the total is unchanged)
-    mean = 0.5 * (p_in + p_out)
-    straight_motion = np.isinf(r)
-    left = np.where(straight_motion, mean, np.where(left_inner, p_in, p_out))
-    right = np.where(straight_motion, mean, np.where(left_inner, p_out, p_in))
-    draw = np.abs(p_in) + np.abs(p_out)
-    straight = np.where(
-        moving,
-        (params.inner.a_inf + params.outer.a_inf) * v + params.inner.b_inf + params.outer.b_inf,
-        0.0,
-    )
-    braking = np.maximum(-p_in, 0.0) + np.maximum(-p_out, 0.0)
-    resistance = np.minimum(np.maximum(straight, 0.0), draw - braking)
-    powerup = np.full(vl.shape, params.p_powerup_w)
-    zeros = np.zeros(vl.shape)
+    shape = vl.shape
+    n = vl.size
+    flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)
+    outs = [np.empty(n) for _ in range(6)]
+    case = np.empty(n, dtype=np.int64)
+    for lo in range(0, max(n, 1), _BLOCK):
+        hi = min(lo + _BLOCK, n)
+        _wheeled_block(flat_l[lo:hi], flat_r[lo:hi], params, [o[lo:hi] for o in outs], case[lo:hi])
+    friction, resistance, braking, total, left, right = (o.reshape(shape) for o in outs)
+    zeros = np.zeros(shape)
     return PowerBreakdown(
-        friction_w=draw - braking - resistance,
+        friction_w=friction,
         resistance_w=resistance,
-        powerup_w=powerup,
+        powerup_w=np.full(shape, params.p_powerup_w),
         braking_w=braking,
         nonregen_w=zeros,
         elec_loss_w=zeros.copy(),
-        total_w=draw + powerup,
+        total_w=total,
         left_w=left,
         right_w=right,
-        case=case,
+        case=case.reshape(shape),
     )
+
+
+_BLOCK = 16384
+_MOVING_TABLE = (CASE_TABLE != MotionCase.STOPPED).astype(np.float64)
+
+
+def _decay(log_r1: FloatArray, beta: float, turning: FloatArray) -> FloatArray:
+    """``(r + 1)^-beta`` from ``log(r + 1)``; 0 in straight motion (r = inf) unless beta = 0."""
+    if beta == 0.0:
+        return np.ones_like(log_r1)
+    out = log_r1 * -beta
+    np.exp(out, out=out)
+    out *= turning
+    return out
+
+
+def _wheeled_block(
+    vl: FloatArray, vr: FloatArray, params: WheeledParams, out: list[FloatArray], case: IntArray
+) -> None:
+    """One block of :func:`wheeled_power` into the output slices."""
+    friction, resistance, braking, total, left, right = out
+    icr = params.icr
+    d = vr - vl
+    wz = d / icr.spread_m  # tracked eq. (3)
+    vx = vl + vr
+    vx *= 0.5
+    vx += wz * (0.5 * (icr.y_left_m + icr.y_right_m))  # tracked eq. (2)
+    v = np.abs(vx)
+    aw = np.abs(wz)
+    turning_b = aw > 1e-12
+    turning = turning_b.astype(np.float64)
+    r = v / np.maximum(aw, 1e-300)  # finite placeholder where straight (masked below)
+    log_r1 = np.log1p(r)
+    sides = []
+    for c in (params.inner, params.outer):  # eqs. (12), (14), (15)
+        p = _decay(log_r1, c.a_beta, turning)
+        p *= c.a_alpha
+        p += c.a_inf
+        p *= v
+        b = _decay(log_r1, c.b_beta, turning)
+        b *= c.b_alpha
+        p += b
+        p += c.b_inf
+        sides.append(p)
+    p_in, p_out = sides
+    idx = motion_case_index(vl, vr, np.abs(vl), np.abs(vr), np.abs(d), params.case_tol_mps)
+    np.take(CASE_TABLE, idx, out=case)
+    moving = np.take(_MOVING_TABLE, idx)
+    p_in *= moving
+    p_out *= moving
+    # inner side: the turn centre (y = vx / wz) is on the left when vx and wz share a sign;
+    # on the spot (vx = 0) the turning side decides; straight: each side the mean
+    left_inner = (vx * wz > 0.0) | ((vx == 0.0) & (wz > 0.0))
+    diff = p_in - p_out
+    np.multiply(diff, left_inner, out=left)
+    half = diff * 0.5
+    left -= half
+    left *= turning
+    left += half
+    np.subtract(diff, left, out=right)  # right - p_out = (p_in - p_out) - (left - p_out)
+    left += p_out
+    right += p_out
+    a_in, a_out = np.abs(p_in), np.abs(p_out)
+    draw = a_in + a_out
+    np.subtract(a_in, p_in, out=braking)  # 2 max(-P, 0) = |P| - P
+    braking += a_out
+    braking -= p_out
+    braking *= 0.5
+    net = draw - braking
+    straight = v * (params.inner.a_inf + params.outer.a_inf)
+    straight += params.inner.b_inf + params.outer.b_inf
+    np.maximum(straight, 0.0, out=straight)
+    straight *= moving
+    np.minimum(straight, net, out=resistance)
+    np.subtract(net, resistance, out=friction)
+    np.add(draw, params.p_powerup_w, out=total)
