@@ -162,3 +162,15 @@ def test_bad_parameters() -> None:
         vehicle("pioneer-3at", overrides={"outer": {"a_beta": -1.0}})
     with pytest.raises(InputError, match="v_left must be finite"):
         _p().power(math.nan, 0.2)
+
+
+def test_blocked_evaluation_is_independent_of_the_block_boundaries() -> None:
+    rng = np.random.default_rng(9)
+    vl, vr = rng.uniform(-0.9, 0.9, (2, 40_000))
+    vr[16_384] = vl[16_384]  # a straight sample at a block boundary
+    p = _p()
+    out = p.power(vl, vr)
+    for i in (0, 16_383, 16_384, 39_999):
+        one = p.power(vl[i], vr[i])
+        assert float(out.left_w[i]) == float(one.left_w)
+        assert float(out.total_w[i]) == float(one.total_w)

@@ -41,6 +41,8 @@ from ecoplan.models.tracked import TrackedParams, tracked_power
 from ecoplan.models.wheeled import SideCoefficients, WheeledParams, wheeled_power_vr
 
 __all__ = [
+    "HUSKY_CHI",
+    "HUSKY_TRACK_GAUGE_M",
     "PAPER_RADII_M",
     "PAPER_SPEEDS_MPS",
     "SMALL_RADII_M",
