@@ -113,6 +113,26 @@ def _corner_nodes(world: World, distance_m: float, quad_segs: int) -> FloatArray
     return np.concatenate(out)
 
 
+def _coarse_corner_nodes(world: World, distance_m: float, tolerance: float) -> FloatArray:
+    """Few, well separated corners around each obstacle (for vehicles that turn on arcs).
+
+    The obstacle's convex hull is simplified (Douglas-Peucker, ``tolerance`` times the
+    square root of its area), then offset with mitred corners by ``distance_m`` plus that
+    tolerance, so the polygon still keeps ``distance_m`` from the obstacle while its
+    corners stay far enough apart for the fillets between them.
+    """
+    out = [np.zeros((0, 3, 2))]
+    for obs in world.obstacles:
+        hull = obs.convex_hull
+        tol = tolerance * math.sqrt(hull.area)
+        simp = hull.simplify(tol)
+        if simp.is_empty or simp.geom_type != "Polygon" or simp.area <= 0.0:
+            simp, tol = hull, 0.0
+        ring = simp.buffer(distance_m + tol, join_style="mitre", mitre_limit=3.0)
+        out.append(_convex_corners(ring))
+    return np.concatenate(out)
+
+
 def _tangent(node: FloatArray, nb: FloatArray, other: FloatArray) -> BoolArray:
     """True where the line ``node -> other`` leaves both ring neighbours on one side.
 
@@ -216,6 +236,12 @@ class GraphPlanner:
             _corner_nodes(world, world.inflation_m + e, o.corner_segments)
             for e in (o.offset_m, *rings)
         ]
+        if o.ring_offsets_m is None and rings:  # arc-only vehicle: sparse corners too
+            cand += [
+                _coarse_corner_nodes(world, world.inflation_m + e, 0.25)
+                for e in (o.offset_m, *rings)
+            ]
+
         cand.append(_region_nodes(world, o.offset_m, o.corner_segments))
         user = np.asarray(o.extra_nodes, dtype=np.float64).reshape(-1, 2)
 
