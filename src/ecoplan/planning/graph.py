@@ -5,7 +5,12 @@
    optional extra rings at larger offsets and user nodes.  Vehicles that cannot turn on
    the spot (the Pioneer 3-AT) need room for their fillet arcs, so by default they get
    rings at ``r_min (sec(dpsi/2) - 1)`` for ``dpsi`` = 60°, 90° and 120° (the distance
-   from a corner to the middle of a fillet of radius ``r_min`` turning by ``dpsi``).
+   from a corner to the middle of a fillet of radius ``r_min`` turning by ``dpsi``),
+   each also as a sparse polygon (simplified convex hull, mitred offset) whose corners
+   are far enough apart for fillets: a rounded corner's many close vertices leave no
+   room for a wide arc between them.  Corners of terrain regions (just inside and just
+   outside) are nodes too, so paths can go around a costly patch or through a cheap one.
+
 2. **Visibility edges**: every pair of nodes whose straight segment lies in the world's
    free space (shapely, vectorised).
 3. **Search over (node, incoming heading)**: a directed graph whose nodes are the
