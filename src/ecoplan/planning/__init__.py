@@ -1,8 +1,8 @@
 """Planners: waypoint graph, dense lattice reference, speed choice (and OMPL in its module).
 
-Import the planners from their modules (``ecoplan.planning.graph``, ...); this package
-re-exports the shared result types and cost objects only, so that importing it stays
-cheap and does not load OMPL.
+This package re-exports the shared result types, the cost objects, the graph planner,
+the lattice reference and the speed choice.  The OMPL planner is imported from
+``ecoplan.planning.ompl`` explicitly, so that importing this package does not load OMPL.
 """
 
 from ecoplan.planning.base import (
@@ -14,13 +14,24 @@ from ecoplan.planning.base import (
     PlanResult,
     check_endpoints,
 )
+from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions, plan_graph
+from ecoplan.planning.reference import LatticeOptions, plan_reference
+from ecoplan.planning.speed import SpeedChoice, best_speed, energy_vs_speed
 
 __all__ = [
     "Deadline",
     "EnergyCost",
+    "GraphPlanner",
+    "GraphPlannerOptions",
+    "LatticeOptions",
     "LengthCost",
     "PathCostModel",
     "Plan",
     "PlanResult",
+    "SpeedChoice",
+    "best_speed",
     "check_endpoints",
+    "energy_vs_speed",
+    "plan_graph",
+    "plan_reference",
 ]
