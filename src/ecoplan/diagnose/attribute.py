@@ -74,13 +74,21 @@ SEPARATING_MANOEUVRES: dict[frozenset[str], str] = {
 _DEFAULT_MANOEUVRE = "a richer log: speed steps, turns of both directions, out-and-back runs"
 
 
-def split_masks(frame: Frame) -> tuple[BoolArray, BoolArray]:
-    """Training and held-out masks: by run if there are several, else alternating blocks."""
-    runs = np.unique(frame.run)
-    if runs.size >= 2:
-        test = (frame.run % 2) == 1
-    else:
-        test = (frame.block % 2) == 1
+def split_masks(frame: Frame, split_s: float | None = None) -> tuple[BoolArray, BoolArray]:
+    """Training and held-out masks: alternating time blocks within every run.
+
+    Blocks of ``split_s`` seconds (default: the total duration / 40, at least 5 s) alternate
+    between training and held-out, with the phase shifted from run to run, so both splits see
+    every manoeuvre of a session (holding out whole runs leaves manoeuvres — and the effects
+    they excite — in one split only).  A run shorter than a block goes to one side whole.
+    """
+    total = float(np.sum(frame.dt))
+    bs = split_s if split_s is not None else max(total / 40.0, 5.0)
+    test = np.zeros(frame.n, dtype=bool)
+    for r in np.unique(frame.run):
+        idx = np.flatnonzero(frame.run == r)
+        elapsed = np.cumsum(frame.dt[idx]) - frame.dt[idx]
+        test[idx] = ((elapsed // bs).astype(np.int64) + int(r)) % 2 == 1
     return ~test, test
 
 

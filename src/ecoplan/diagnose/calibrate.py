@@ -21,6 +21,7 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -39,12 +40,14 @@ __all__ = [
     "base_design",
     "calibrate",
     "fit_accel_limit",
+    "grid_then_bounded",
     "with_linear_params",
 ]
 
 _TRACKED_LINEAR = ("mu", "k_resistance_n", "p_powerup_w", "p_braking_w", "k_nonregen_n")
 _SIDE_LINEAR = ("a_inf", "a_alpha", "b_inf", "b_alpha")
-_CHI_BOUNDS = (0.3, 0.999)
+#: Range searched for χ (tracked eq. 12) [-].
+CHI_BOUNDS = (0.3, 0.999)
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,7 +83,7 @@ def _tracked_design(frame: Frame, params: TrackedParams) -> BaseDesign:
 def _wheeled_design(frame: Frame, params: WheeledParams, signs: FloatArray | None) -> BaseDesign:
     tw = tracks_to_twist(frame.vl, frame.vr, params.icr)
     v = np.abs(tw.vx)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
     moving = (np.abs(frame.vl) > params.case_tol_mps) | (np.abs(frame.vr) > params.case_tol_mps)
     if signs is None:
@@ -156,6 +159,20 @@ def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[Vehicl
     return p, float(np.mean((frame.p - pred) ** 2))
 
 
+def grid_then_bounded(
+    fun: Callable[[float], float], lo: float, hi: float, n_grid: int = 7, xatol: float = 5e-3
+) -> float:
+    """Minimise a scalar function: a grid over ``[lo, hi]``, then a bounded search around the
+    best grid point (``scipy.optimize.minimize_scalar``); guards against local minima."""
+    grid = np.linspace(lo, hi, n_grid)
+    vals = [fun(float(g)) for g in grid]
+    i = int(np.argmin(vals))
+    a, b = float(grid[max(i - 1, 0)]), float(grid[min(i + 1, n_grid - 1)])
+    res = minimize_scalar(lambda c: fun(float(c)), bounds=(a, b), method="bounded",
+                          options={"xatol": xatol})
+    return float(res.x) if float(res.fun) < vals[i] else float(grid[i])
+
+
 def fit_accel_limit(frame: Frame) -> float | None:
     """Side acceleration limit from commanded speeds [m/s²], or None without commands.
 
@@ -227,13 +244,8 @@ def calibrate(frame: Frame, params: VehicleParams) -> Calibration:
         Calibrated parameters and the training MAE before and after.
     """
     before = float(np.mean(np.abs(frame.p - params.power(frame.vl, frame.vr).total_w)))
-    res = minimize_scalar(
-        lambda c: _fit_at_chi(frame, params, float(c))[1],
-        bounds=_CHI_BOUNDS,
-        method="bounded",
-        options={"xatol": 5e-3},
-    )
-    best, _ = _fit_at_chi(frame, params, float(res.x))
+    chi = grid_then_bounded(lambda c: _fit_at_chi(frame, params, c)[1], *CHI_BOUNDS)
+    best, _ = _fit_at_chi(frame, params, chi)
     accel = fit_accel_limit(frame)
     if accel is not None and accel > 0.0:
         best = dataclasses.replace(best, accel_max_mps2=accel)

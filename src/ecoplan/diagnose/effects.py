@@ -39,7 +39,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ecoplan._typing import BoolArray, FloatArray
-from ecoplan.diagnose.calibrate import base_design
+from ecoplan.diagnose.calibrate import CHI_BOUNDS, base_design, grid_then_bounded
 from ecoplan.diagnose.replay import Frame, rate_limit
 from ecoplan.errors import InputError
 from ecoplan.models.tracked import GRAVITY_MPS2
@@ -129,6 +129,18 @@ class EffectData:
 
 def _per_run(frame: Frame) -> list[FloatArray]:
     return [np.flatnonzero(frame.run == r) for r in np.unique(frame.run)]
+
+
+def _segments(frame: Frame) -> list[FloatArray]:
+    """Contiguous pieces of a (possibly split) frame: a new piece at every run change and at
+    every time gap longer than 1.5 sample periods."""
+    if frame.n == 0:
+        return []
+    dt = np.diff(frame.t)
+    step = float(np.median(frame.dt))
+    brk = (np.diff(frame.run) != 0) | (dt > 1.5 * step) | (dt <= 0)
+    edges = np.concatenate([[0], np.flatnonzero(brk) + 1, [frame.n]])
+    return [np.arange(a, b) for a, b in zip(edges[:-1], edges[1:]) if b > a]
 
 
 def prepare(frame: Frame, params: VehicleParams, t_rel: FloatArray | None = None) -> EffectData:
@@ -267,13 +279,9 @@ class Effect:
         search = self._search if self.theta is None else (lambda _d: self.theta)
         theta = search(sub)
         chi0 = float(data.params.chi)
-        res = minimize_scalar(
-            lambda c: self._sse(sub.at_chi(float(c)), theta),
-            bounds=(max(0.3, chi0 - 0.25), min(0.999, chi0 + 0.25)),
-            method="bounded",
-            options={"xatol": 5e-3},
-        )
-        chi = float(res.x) if res.fun < self._sse(sub, theta) else chi0
+        chi = grid_then_bounded(lambda c: self._sse(sub.at_chi(c), theta), *CHI_BOUNDS)
+        if self._sse(sub.at_chi(chi), theta) >= self._sse(sub, theta):
+            chi = chi0
         if chi != chi0:
             theta = search(sub.at_chi(chi))
         full = data.at_chi(chi)
@@ -436,7 +444,7 @@ class SensorDelay(_ScalarSearch):
             return data.X
         out = np.empty_like(data.X)
         f = data.frame
-        for idx in _per_run(f):
+        for idx in _segments(f):
             t = f.t[idx]
             for j in range(data.X.shape[1]):
                 out[idx, j] = np.interp(t - d, t, data.X[idx, j])
@@ -455,11 +463,20 @@ class PowerSaturation(_ScalarSearch):
         return float(np.quantile(data.p, 0.5)), float(np.max(data.p)) * 1.05
 
     def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        """Minimise ``Σ (p - min(X c, P_max))²``: only samples the model puts below the cap
+        inform ``c``; start from the measured ones below it and iterate (a censored fit)."""
         cap = np.inf if theta is None else float(theta)
         below = data.p < cap
-        if np.count_nonzero(below) < data.X.shape[1] + 5:
-            below = np.ones(data.frame.n, dtype=bool)
-        return _lstsq(data.X[below], data.p[below])
+        coef = np.zeros(data.X.shape[1])
+        for _ in range(4):
+            if np.count_nonzero(below) < data.X.shape[1] + 5:
+                below = np.ones(data.frame.n, dtype=bool)
+            coef = _lstsq(data.X[below], data.p[below])
+            new = data.X @ coef < cap
+            if np.array_equal(new, below):
+                break
+            below = new
+        return coef
 
     def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
         cap = np.inf if theta is None else float(theta)
@@ -559,9 +576,10 @@ class ActuatorLag(_ScalarSearch):
         sl = np.empty(f.n)
         sr = np.empty(f.n)
         a = data.params.accel_max_mps2
-        for idx in _per_run(f):
-            sl[idx] = rate_limit(f.t[idx], f.vl_cmd[idx], a, tau)
-            sr[idx] = rate_limit(f.t[idx], f.vr_cmd[idx], a, tau)
+        for idx in _segments(f):
+            # a piece of a split log starts from the measured speeds
+            sl[idx] = rate_limit(f.t[idx], f.vl_cmd[idx], a, tau, float(f.vl[idx[0]]))
+            sr[idx] = rate_limit(f.t[idx], f.vr_cmd[idx], a, tau, float(f.vr[idx[0]]))
         return sl, sr
 
     def _sse(self, data: EffectData, theta: Any) -> float:

@@ -98,7 +98,7 @@ class Diagnosis:
     duration_s : float
         Total logged time [s].
     split : str
-        ``"runs"`` or ``"blocks"``.
+        How the held-out split was drawn (``"time blocks"``).
     """
 
     vehicle: str
@@ -225,7 +225,7 @@ def diagnose(
         dropped_rows=dropped,
         n_runs=len(log_list),
         duration_s=frame.duration_s,
-        split="runs" if len(log_list) > 1 else "blocks",
+        split="time blocks",
     )
 
 

@@ -89,16 +89,22 @@ def smooth_derivative(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> Fl
     return np.asarray(savgol_filter(y, win, 2, deriv=1, delta=dt), dtype=np.float64)
 
 
-def rate_limit(t: FloatArray, target: FloatArray, accel_max: float, tau_s: float = 0.0) -> FloatArray:
+def rate_limit(
+    t: FloatArray,
+    target: FloatArray,
+    accel_max: float,
+    tau_s: float = 0.0,
+    v0: float | None = None,
+) -> FloatArray:
     """Speeds a drive reaches following ``target`` with a rate limit and an optional lag [m/s].
 
     ``dv/dt = clip((target - v) / tau, -a_max, a_max)`` (``tau = 0``: pure rate limit), explicit
-    Euler on the log's time stamps, starting at ``target[0]``.
+    Euler on the log's time stamps, starting at ``v0`` (default ``target[0]``).
     """
     tl = target.tolist()
     dts = np.diff(t).tolist()
     out = [0.0] * len(tl)
-    v = out[0] = tl[0]
+    v = out[0] = tl[0] if v0 is None else float(v0)
     gain = 1.0
     for i in range(1, len(tl)):
         dt = dts[i - 1]
