@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from shapely.geometry import LineString
 
 from ecoplan.cost import EnergyCost, LengthCost
@@ -187,3 +189,42 @@ def test_time_budget_is_honoured() -> None:
     opts = GraphPlannerOptions(time_budget_s=1e-6)
     with pytest.raises(PlanningError, match="time budget"):
         plan_graph(w, (1, 1), (49, 29), EnergyCost(TRACKED, 0.5, world=w), options=opts)
+
+
+PROPERTY_WORLD = World(
+    rectangle(0, 0, 30, 20),
+    [rectangle(8, 4, 12, 9), circle(20, 12, 2.0, 8), rectangle(14, 15, 16, 20)],
+    inflation_m=0.3,
+)
+PROPERTY_PLANNERS = {
+    name: GraphPlanner(PROPERTY_WORLD, EnergyCost(spec, 0.5, world=PROPERTY_WORLD))
+    for name, spec in (("tracked", TRACKED), ("pioneer", PIONEER))
+}
+
+
+@settings(max_examples=12, deadline=None)
+@given(
+    sx=st.floats(0.5, 29.5),
+    sy=st.floats(0.5, 19.5),
+    gx=st.floats(0.5, 29.5),
+    gy=st.floats(0.5, 19.5),
+    which=st.sampled_from(["tracked", "pioneer"]),
+)
+def test_every_returned_plan_is_free_feasible_and_ends_right(
+    sx: float, sy: float, gx: float, gy: float, which: str
+) -> None:
+    w = PROPERTY_WORLD
+    if not (w.is_free(sx, sy) and w.is_free(gx, gy)) or math.hypot(gx - sx, gy - sy) < 0.1:
+        return
+    try:
+        res = PROPERTY_PLANNERS[which].plan((sx, sy), (gx, gy))
+    except PlanningError:
+        assert which == "pioneer"  # the tracked robot can always turn on the spot
+        return
+    for plan in res.alternatives:
+        assert np.allclose(plan.waypoints[0], (sx, sy))
+        assert np.allclose(plan.waypoints[-1], (gx, gy))
+        assert w.polyline_free(plan.waypoints)
+        assert plan.cost.feasible, [v.message() for v in plan.cost.violations]
+        # fillets cut corners but the executed curve still joins start and goal
+        assert plan.cost.length_m >= math.hypot(gx - sx, gy - sy) - 1e-9
