@@ -51,8 +51,7 @@ def run_case(args: tuple[int, str, str, str]) -> dict[str, Any]:
     # floor that the effect closes.
     red = float("nan")
     if top is not None and top.channel == "power_w":
-        runs = np.unique(d.test_frame.run)
-        p_true = np.concatenate([case.true_power[int(r)] for r in runs])
+        p_true = np.concatenate(case.true_power)[d.test_mask]
         pred_cal = d.test_frame.p - d.residual_calibrated_w
         before = float(np.mean(np.abs(p_true - pred_cal)))
         after = float(np.mean(np.abs(p_true - d.prediction_final_w)))

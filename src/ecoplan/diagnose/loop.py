@@ -319,24 +319,33 @@ def polyline_trajectory(
     icr = params.icr
     v = 0.5 * params.top_track_speed_mps if speed_mps is None else float(speed_mps)
     w = (params.top_track_speed_mps / icr.spread_m) if yaw_rate_radps is None else yaw_rate_radps
+    a = params.accel_max_mps2
+    lever = max(icr.y_left_m, -icr.y_right_m)
     cl: list[FloatArray] = []
     cr: list[FloatArray] = []
+
+    def pulse(left: float, right: float, duration: float) -> None:
+        # a command pulse then a stop as long as the ramp down: the rate-limited response
+        # covers exactly speed x duration when the pulse is longer than the ramp
+        n = max(int(round(duration / dt_s)), 1)
+        stop = int(np.ceil(max(abs(left), abs(right)) / a / dt_s)) + 1
+        cl.extend([np.full(n, left), np.zeros(stop)])
+        cr.extend([np.full(n, right), np.zeros(stop)])
+
     seg = np.diff(pts, axis=0)
     heading = math.atan2(seg[0, 1], seg[0, 0])
     for dx, dy in seg:
         target = math.atan2(dy, dx)
         turn = (target - heading + math.pi) % (2 * math.pi) - math.pi
         if abs(turn) > 1e-6:
-            n = max(int(round(abs(turn) / w / dt_s)), 1)
-            l_, r_ = setpoint_to_tracks(0.0, math.copysign(w, turn), icr)
-            cl.append(np.full(n, float(l_)))
-            cr.append(np.full(n, float(r_)))
+            wt = min(w, math.sqrt(abs(turn) * a / lever))  # the pulse outlasts the ramp
+            l_, r_ = setpoint_to_tracks(0.0, math.copysign(wt, turn), icr)
+            pulse(float(l_), float(r_), abs(turn) / wt)
         heading = target
-        n = max(int(round(math.hypot(dx, dy) / v / dt_s)), 1)
-        cl.append(np.full(n, v))
-        cr.append(np.full(n, v))
-    cl.append(np.zeros(int(2.0 * params.top_track_speed_mps / params.accel_max_mps2 / dt_s) + 1))
-    cr.append(np.zeros_like(cl[-1]))
+        d = math.hypot(dx, dy)
+        if d > 0.0:
+            vs = min(v, math.sqrt(d * a))
+            pulse(vs, vs, d / vs)
     cmd_l, cmd_r = np.concatenate(cl), np.concatenate(cr)
     t = np.arange(cmd_l.size) * dt_s
     return (t, rate_limit(t, cmd_l, params.accel_max_mps2), rate_limit(t, cmd_r, params.accel_max_mps2))

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ecoplan._typing import FloatArray, RngLike
+from ecoplan._typing import BoolArray, FloatArray, RngLike
 from ecoplan.diagnose.attribute import Attribution, attribute, block_bootstrap, split_masks
 from ecoplan.diagnose.calibrate import Calibration, calibrate
 from ecoplan.diagnose.effects import EffectData, prepare
@@ -91,6 +91,8 @@ class Diagnosis:
         Held-out residual of the calibrated model [W].
     prediction_final_w : ndarray
         Held-out power predicted by the final model [W].
+    test_mask : ndarray of bool
+        Held-out samples among all the logs' rows (concatenated in order).
     dropped_rows : int
         Rows the log reader dropped for a missing optional value (summed over logs).
     n_runs : int
@@ -117,6 +119,7 @@ class Diagnosis:
     test_frame: Frame = field(repr=False)
     residual_calibrated_w: FloatArray = field(repr=False)
     prediction_final_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
+    test_mask: BoolArray = field(repr=False, default_factory=lambda: np.zeros(0, dtype=bool))
     dropped_rows: int = 0
     n_runs: int = 1
     duration_s: float = 0.0
@@ -222,6 +225,7 @@ def diagnose(
         test_frame=test_f,
         residual_calibrated_w=r_cal,
         prediction_final_w=test.p - r_fin,
+        test_mask=test_m,
         dropped_rows=dropped,
         n_runs=len(log_list),
         duration_s=frame.duration_s,

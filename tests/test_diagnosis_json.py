@@ -1,0 +1,79 @@
+"""The diagnosis JSON has exactly the stable shape of issue 6 (plus documented extra keys)."""
+
+from __future__ import annotations
+
+import copy
+import json
+from functools import lru_cache
+from typing import Any
+
+import pytest
+
+from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.report import JSON_KEYS, to_json_dict, validate_json, write_json
+from ecoplan.diagnose.synth import generate_case
+
+EXTRA_KEYS = {"calibration", "how_far", "channels", "distinguishability", "tied", "log"}
+
+
+@lru_cache(maxsize=None)
+def _json(effect: str) -> str:
+    case = generate_case(7, effect, "large", n_waypoint_runs=1, rate_hz=20.0)
+    return json.dumps(to_json_dict(diagnose(list(case.logs), case.vehicle, case.terrain)))
+
+
+@pytest.mark.parametrize("effect", ["inertia", "none", "power_saturation"])
+def test_json_has_exactly_the_stable_shape(effect: str) -> None:
+    obj = json.loads(_json(effect))  # round-trips through text: only JSON types inside
+    validate_json(obj)
+    assert list(obj)[:4] == list(JSON_KEYS)
+    assert set(obj) - set(JSON_KEYS) <= EXTRA_KEYS
+    assert set(obj["gap"]) == {"metric", "before", "after"} and obj["gap"]["metric"] == "mae_w"
+    assert all(set(w) == {"regime", "error_share", "time_share"} for w in obj["where"])
+    assert all(set(e) == {"name", "before", "after", "params"} for e in obj["effects"])
+    assert set(obj["verdict"]) == {"effect", "confidence"}
+    # ranked best first: the verdict's effect (when one) leads the list
+    if obj["verdict"]["effect"] not in ("none", "unexplained", "ambiguous"):
+        assert obj["effects"][0]["name"] == obj["verdict"]["effect"]
+    for w in obj["where"]:
+        assert 0.0 <= w["error_share"] <= 1.0 and 0.0 <= w["time_share"] <= 1.0
+
+
+def test_saturation_cap_is_a_number_and_inf_would_be_null() -> None:
+    obj = json.loads(_json("power_saturation"))
+    sat = next(e for e in obj["effects"] if e["name"] == "power_saturation")
+    assert isinstance(sat["params"]["p_max_w"], float)
+
+
+def _broken(path: list[Any], value: Any) -> dict[str, Any]:
+    obj: dict[str, Any] = copy.deepcopy(json.loads(_json("inertia")))
+    node: Any = obj
+    for k in path[:-1]:
+        node = node[k]
+    if value is KeyError:
+        del node[path[-1]]
+    else:
+        node[path[-1]] = value
+    return obj
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "message"),
+    [
+        (["gap"], KeyError, "missing key 'gap'"),
+        (["gap", "metric"], "rmse_w", "metric"),
+        (["where", 0, "regime"], 3, "regime"),
+        (["effects", 0, "extra"], 1.0, "keys"),
+        (["verdict", "confidence"], 1.5, "confidence"),
+    ],
+)
+def test_validator_names_the_broken_field(path: list[Any], value: Any, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        validate_json(_broken(path, value))
+
+
+def test_write_json_writes_a_valid_file(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    case = generate_case(8, "none", "large", n_waypoint_runs=1, rate_hz=20.0)
+    d = diagnose(list(case.logs), case.vehicle, case.terrain)
+    p = write_json(d, tmp_path / "sub" / "d.json")
+    validate_json(json.loads(p.read_text()))
