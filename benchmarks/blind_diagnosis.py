@@ -1,7 +1,7 @@
 """Blind check of the diagnosis on withheld effects (issue 6, item 3).
 
-Runs seeded cases of :func:`ecoplan.diagnose.synth.generate_case` — every in-library effect, ``none``
-and out-of-library effects, at one magnitude — diagnoses each without its answer, and prints the
+Runs seeded cases of :func:`ecoplan.diagnose.synth.generate_case` — every in-library effect,
+``none`` and out-of-library effects, at one magnitude — diagnoses each blind, then prints the
 confusion matrix, the accuracy per group against the issue's targets and the median held-out
 gap reduction when the verdict is right::
 
@@ -35,8 +35,7 @@ CLASSES = ("none", *IN_LIBRARY, "out_of_library")
 
 def run_case(args: tuple[int, str, str, str]) -> dict[str, Any]:
     seed, effect, magnitude, vehicle = args
-    case = generate_case(seed, effect, magnitude, vehicle=vehicle,
-                         terrain="asphalt")
+    case = generate_case(seed, effect, magnitude, vehicle=vehicle, terrain="asphalt")
     t0 = time.perf_counter()
     d = diagnose(list(case.logs), case.vehicle, case.terrain, rng=seed)
     wall = time.perf_counter() - t0
@@ -83,10 +82,11 @@ def main() -> int:
     ap.add_argument("--magnitude", default="moderate")
     ap.add_argument("--vehicle", default="auriga-beta-narrow")
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--offset", type=int, default=0, help="seed offset (fresh cases)")
     ap.add_argument("--json", default=None, help="write per-case results here")
     args = ap.parse_args()
     tasks = [
-        (1000 * i + s, c, args.magnitude, args.vehicle)
+        (1000 * i + s + args.offset, c, args.magnitude, args.vehicle)
         for i, c in enumerate(CLASSES)
         for s in range(args.seeds)
     ]
@@ -102,8 +102,10 @@ def main() -> int:
     conf = Counter((r["label"], r["verdict"]) for r in rows)
     w = max(len(v) for v in verdicts + labels)
     short = {v: v[:6] for v in verdicts}
-    print(f"{len(rows)} cases ({args.seeds} seeds x {len(CLASSES)} classes, {args.magnitude}, "
-          f"{args.vehicle}) in {elapsed:.0f} s")
+    print(
+        f"{len(rows)} cases ({args.seeds} seeds x {len(CLASSES)} classes, {args.magnitude}, "
+        f"{args.vehicle}) in {elapsed:.0f} s"
+    )
     print("confusion matrix (rows: truth, columns: verdict)")
     print(" " * (w + 1) + " ".join(f"{short[v]:>6s}" for v in verdicts))
     for lab in labels:

@@ -17,8 +17,8 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("MKL_NUM_THREADS", "1")
 
-from ecoplan.diagnose.pipeline import diagnose  # noqa: E402
-from ecoplan.diagnose.synth import generate_case  # noqa: E402
+from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.synth import generate_case
 
 TARGET_S = 30.0
 
@@ -29,8 +29,9 @@ def main() -> int:
     ap.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz]")
     ap.add_argument("--seed", type=int, default=0)
     args = ap.parse_args()
-    case = generate_case(args.seed, "inertia", "moderate", n_waypoint_runs=args.runs,
-                         rate_hz=args.rate)
+    case = generate_case(
+        args.seed, "inertia", "moderate", n_waypoint_runs=args.runs, rate_hz=args.rate
+    )
     n = sum(len(lg) for lg in case.logs)
     dur_h = sum(lg.duration_s for lg in case.logs) / 3600.0
     t0 = time.process_time()
@@ -40,8 +41,10 @@ def main() -> int:
     wall = time.perf_counter() - w0
     per_hour = wall / dur_h
     print(f"log: {len(case.logs)} runs, {n} samples, {dur_h:.2f} h at {args.rate:g} Hz")
-    print(f"diagnosis: wall {wall:.1f} s, cpu {cpu:.1f} s -> {per_hour:.1f} s per hour of log "
-          f"(target < {TARGET_S:.0f} s)  verdict={d.verdict} (truth {case.truth.effect})")
+    print(
+        f"diagnosis: wall {wall:.1f} s, cpu {cpu:.1f} s -> {per_hour:.1f} s per hour of log "
+        f"(target < {TARGET_S:.0f} s)  verdict={d.verdict} (truth {case.truth.effect})"
+    )
     print(f"ratio to target: {per_hour / TARGET_S:.2f}")
     return 0 if per_hour < TARGET_S else 1
 

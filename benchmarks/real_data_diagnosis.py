@@ -30,16 +30,18 @@ from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import save_figures, write_json
 from ecoplan.presets import vehicle
 
-HUSKY = {"mass_kg": 70.0, "track_gauge_m": 0.555, "top_track_speed_mps": 1.0,
-         "p_side_max_w": None}
+HUSKY = {"mass_kg": 70.0, "track_gauge_m": 0.555, "top_track_speed_mps": 1.0, "p_side_max_w": None}
 
 
 def static_lsq_loro(logs: list) -> float:
     """Leave-one-run-out MAE of P = c0 + c1(|vL|+|vR|) + c2|ω| [W] (ω = (vR - vL)/0.555)."""
+
     def design(lg):  # type: ignore[no-untyped-def]
         vl, vr = np.asarray(lg.v_left), np.asarray(lg.v_right)
-        return np.column_stack([np.ones(vl.size), np.abs(vl) + np.abs(vr),
-                                np.abs(vr - vl) / HUSKY["track_gauge_m"]])
+        return np.column_stack(
+            [np.ones(vl.size), np.abs(vl) + np.abs(vr), np.abs(vr - vl) / HUSKY["track_gauge_m"]]
+        )
+
     errs = []
     for i, lg in enumerate(logs):
         X = np.vstack([design(o) for j, o in enumerate(logs) if j != i])
@@ -59,8 +61,10 @@ def main() -> int:
         mean_p = float(np.mean(np.concatenate([np.asarray(lg.p_total) for lg in logs])))
         ref = static_lsq_loro(logs)
         d = diagnose(logs, params, rng=0)
-        print(f"===== BorealTC {terrain}: {len(logs)} runs, mean power {mean_p:.0f} W "
-              f"(24 V assumed); static LSQ leave-one-run-out MAE {ref:.1f} W")
+        print(
+            f"===== BorealTC {terrain}: {len(logs)} runs, mean power {mean_p:.0f} W "
+            f"(24 V assumed); static LSQ leave-one-run-out MAE {ref:.1f} W"
+        )
         print(d.summary())
         if args.out:
             out = Path(args.out) / terrain.lower()

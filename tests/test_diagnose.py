@@ -9,7 +9,7 @@ benchmark (benchmarks/blind_diagnosis.py) checks the moderate magnitudes on many
 from __future__ import annotations
 
 import json
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pytest
@@ -28,7 +28,7 @@ from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
 
 
-@lru_cache(maxsize=None)
+@cache
 def _diagnosed(effect: str, seed: int = 0) -> tuple[str, Diagnosis]:
     case = generate_case(seed, effect, "large", n_waypoint_runs=1, rate_hz=20.0)
     return case.truth.expected_verdict, diagnose(list(case.logs), case.vehicle, case.terrain)
@@ -122,8 +122,9 @@ def test_cli_back_end_rejects_a_bad_log(tmp_path) -> None:  # type: ignore[no-un
 
 def test_corrected_model_round_trips_through_yaml_and_json(tmp_path) -> None:  # type: ignore[no-untyped-def]
     base = vehicle("auriga-beta-wide", "asphalt")
-    m = CorrectedModel("auriga-beta-wide", "asphalt", base, "speed_dependent_resistance",
-                       {"c_n_s_per_m": 200.0})
+    m = CorrectedModel(
+        "auriga-beta-wide", "asphalt", base, "speed_dependent_resistance", {"c_n_s_per_m": 200.0}
+    )
     for suffix in (".json", ".yaml"):
         back = load_corrected_model(save_corrected_model(m, tmp_path / f"m{suffix}"))
         assert back.effect == m.effect and back.params == base
@@ -153,8 +154,9 @@ def test_speed_dependent_resistance_reverses_a_fast_short_vs_slow_long_ranking()
         return t, np.full(t.size, v), np.full(t.size, v)
 
     routes = {"A": straight(10.0, 0.8), "B": straight(12.0, 0.3)}
-    m = CorrectedModel("auriga-beta-wide", "asphalt", base, "speed_dependent_resistance",
-                       {"c_n_s_per_m": 2000.0})
+    m = CorrectedModel(
+        "auriga-beta-wide", "asphalt", base, "speed_dependent_resistance", {"c_n_s_per_m": 2000.0}
+    )
     rc = ranking_change(routes, m)
     assert rc.rank_base == ["A", "B"]
     assert rc.rank_corrected == ["B", "A"]

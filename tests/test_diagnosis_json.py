@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import copy
 import json
-from functools import lru_cache
+from functools import cache
 from typing import Any
 
 import pytest
@@ -16,7 +16,7 @@ from ecoplan.diagnose.synth import generate_case
 EXTRA_KEYS = {"calibration", "how_far", "channels", "distinguishability", "tied", "log"}
 
 
-@lru_cache(maxsize=None)
+@cache
 def _json(effect: str) -> str:
     case = generate_case(7, effect, "large", n_waypoint_runs=1, rate_hz=20.0)
     return json.dumps(to_json_dict(diagnose(list(case.logs), case.vehicle, case.terrain)))

@@ -67,8 +67,16 @@ def _log(extra: str = "", value: float = 0.0, seed: int = 0, dur: float = 200.0,
         p += PARAMS.mass_kg * 9.81 * value * vx * np.cos(yaw)
     p = p + rng.normal(0.0, 3.0, n)
     return SimpleNamespace(
-        t=t, v_left=vl, v_right=vr, p_total=p, v_left_cmd=cl, v_right_cmd=cr,
-        x=np.cumsum(vx * np.cos(yaw)) / hz, y=np.cumsum(vx * np.sin(yaw)) / hz, yaw=yaw, wz=None,
+        t=t,
+        v_left=vl,
+        v_right=vr,
+        p_total=p,
+        v_left_cmd=cl,
+        v_right_cmd=cr,
+        x=np.cumsum(vx * np.cos(yaw)) / hz,
+        y=np.cumsum(vx * np.sin(yaw)) / hz,
+        yaw=yaw,
+        wz=None,
     )
 
 
@@ -141,7 +149,9 @@ def test_slope_recovers_grade_and_uphill_heading() -> None:
 
 def test_calibration_recovers_mu_and_k_of_a_perturbed_robot() -> None:
     # The true robot has µ and K 15 % off the preset; calibration on its log finds them.
-    true = dataclasses.replace(PARAMS, mu=PARAMS.mu * 1.15, k_resistance_n=PARAMS.k_resistance_n * 0.85)
+    true = dataclasses.replace(
+        PARAMS, mu=PARAMS.mu * 1.15, k_resistance_n=PARAMS.k_resistance_n * 0.85
+    )
     log = _log()
     log.p_total = true.power(log.v_left, log.v_right).total_w + np.random.default_rng(1).normal(
         0, 3.0, log.t.size

@@ -23,6 +23,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy.optimize import lsq_linear, minimize_scalar
@@ -74,7 +75,8 @@ def _tracked_design(frame: Frame, params: TrackedParams) -> BaseDesign:
     zero = {k: 0.0 for k in _TRACKED_LINEAR}
     cols = []
     for name in _TRACKED_LINEAR:
-        unit = dataclasses.replace(params, **{**zero, name: 1.0})
+        kw: dict[str, Any] = {**zero, name: 1.0}
+        unit = dataclasses.replace(params, **kw)
         cols.append(unit.power(frame.vl, frame.vr).total_w)
     k = len(cols)
     return BaseDesign(np.column_stack(cols), _TRACKED_LINEAR, np.zeros(k), np.full(k, np.inf))
@@ -110,9 +112,7 @@ def _wheeled_design(frame: Frame, params: WheeledParams, signs: FloatArray | Non
     return BaseDesign(np.column_stack(cols), tuple(names), lower, np.full(k, np.inf))
 
 
-def base_design(
-    frame: Frame, params: VehicleParams, signs: FloatArray | None = None
-) -> BaseDesign:
+def base_design(frame: Frame, params: VehicleParams, signs: FloatArray | None = None) -> BaseDesign:
     """Linear design of the base model at the parameters' χ (see the module docstring)."""
     if isinstance(params, TrackedParams):
         return _tracked_design(frame, params)
@@ -127,9 +127,10 @@ def with_linear_params(
     Tracked coefficients are clipped at zero (µ, K and the driver terms are non-negative).
     """
     if isinstance(params, TrackedParams):
-        return dataclasses.replace(params, **{n: float(max(v, 0.0)) for n, v in zip(names, theta)})
-    inner = dict(zip(_SIDE_LINEAR, theta[0:4]))
-    outer = dict(zip(_SIDE_LINEAR, theta[4:8]))
+        kw: dict[str, Any] = {n: float(max(v, 0.0)) for n, v in zip(names, theta, strict=True)}
+        return dataclasses.replace(params, **kw)
+    inner = dict(zip(_SIDE_LINEAR, theta[0:4], strict=True))
+    outer = dict(zip(_SIDE_LINEAR, theta[4:8], strict=True))
     return dataclasses.replace(
         params,
         inner=dataclasses.replace(params.inner, **{k: float(v) for k, v in inner.items()}),
@@ -162,14 +163,18 @@ def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[Vehicl
 def grid_then_bounded(
     fun: Callable[[float], float], lo: float, hi: float, n_grid: int = 7, xatol: float = 5e-3
 ) -> float:
-    """Minimise a scalar function: a grid over ``[lo, hi]``, then a bounded search around the
-    best grid point (``scipy.optimize.minimize_scalar``); guards against local minima."""
+    """Minimise a scalar function by a grid, then a bounded search around the best point.
+
+    The grid over ``[lo, hi]`` guards against local minima; the refinement is
+    ``scipy.optimize.minimize_scalar`` between the best grid point's neighbours.
+    """
     grid = np.linspace(lo, hi, n_grid)
     vals = [fun(float(g)) for g in grid]
     i = int(np.argmin(vals))
     a, b = float(grid[max(i - 1, 0)]), float(grid[min(i + 1, n_grid - 1)])
-    res = minimize_scalar(lambda c: fun(float(c)), bounds=(a, b), method="bounded",
-                          options={"xatol": xatol})
+    res = minimize_scalar(
+        lambda c: fun(float(c)), bounds=(a, b), method="bounded", options={"xatol": xatol}
+    )
     return float(res.x) if float(res.fun) < vals[i] else float(grid[i])
 
 

@@ -32,13 +32,14 @@ Effects that need a signal the log lacks (commands, pose) report it through
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from ecoplan._typing import BoolArray, FloatArray
+from ecoplan._typing import BoolArray, FloatArray, IntArray
 from ecoplan.diagnose.calibrate import CHI_BOUNDS, base_design, grid_then_bounded
 from ecoplan.diagnose.replay import Frame, rate_limit
 from ecoplan.errors import InputError
@@ -51,8 +52,8 @@ __all__ = [
     "Effect",
     "EffectData",
     "EfficiencyDrift",
-    "Inertia",
     "IcrAsymmetry",
+    "Inertia",
     "NoEffect",
     "PowerSaturation",
     "Regeneration",
@@ -127,20 +128,22 @@ class EffectData:
         )
 
 
-def _per_run(frame: Frame) -> list[FloatArray]:
+def _per_run(frame: Frame) -> list[IntArray]:
     return [np.flatnonzero(frame.run == r) for r in np.unique(frame.run)]
 
 
-def _segments(frame: Frame) -> list[FloatArray]:
-    """Contiguous pieces of a (possibly split) frame: a new piece at every run change and at
-    every time gap longer than 1.5 sample periods."""
+def _segments(frame: Frame) -> list[IntArray]:
+    """Contiguous pieces of a (possibly split) frame.
+
+    A new piece starts at every run change and at every time gap longer than 1.5 sample periods.
+    """
     if frame.n == 0:
         return []
     dt = np.diff(frame.t)
     step = float(np.median(frame.dt))
     brk = (np.diff(frame.run) != 0) | (dt > 1.5 * step) | (dt <= 0)
     edges = np.concatenate([[0], np.flatnonzero(brk) + 1, [frame.n]])
-    return [np.arange(a, b) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+    return [np.arange(a, b) for a, b in itertools.pairwise(edges) if b > a]
 
 
 def prepare(frame: Frame, params: VehicleParams, t_rel: FloatArray | None = None) -> EffectData:
@@ -463,8 +466,11 @@ class PowerSaturation(_ScalarSearch):
         return float(np.quantile(data.p, 0.5)), float(np.max(data.p)) * 1.05
 
     def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
-        """Minimise ``Σ (p - min(X c, P_max))²``: only samples the model puts below the cap
-        inform ``c``; start from the measured ones below it and iterate (a censored fit)."""
+        """Minimise ``Σ (p - min(X c, P_max))²`` (a censored fit).
+
+        Only samples the model puts below the cap inform ``c``: start from the measured ones
+        below it and iterate.
+        """
         cap = np.inf if theta is None else float(theta)
         below = data.p < cap
         coef = np.zeros(data.X.shape[1])
@@ -506,17 +512,21 @@ class TerrainPatch(Effect):
         return np.column_stack([ins * data.friction_w, ins * data.resistance_w])
 
     def _search(self, data: EffectData) -> Any:
-        """Discs centred on a grid over the visited box and on visited points, with radii at
-        quantiles of the distance to the samples; then one local refinement of the best."""
+        """Search the disc: centres and radii on a grid, then a local refinement.
+
+        Centres lie on a grid over the visited box and on visited points, radii at quantiles
+        of the distance to the samples.
+        """
         f = data.frame
         assert f.x is not None and f.y is not None
         x0, x1 = np.quantile(f.x, [0.02, 0.98])
         y0, y1 = np.quantile(f.y, [0.02, 0.98])
         span = max(x1 - x0, y1 - y0, 1e-3)
         step_i = max(f.n // 48, 1)
-        centres = [(float(cx), float(cy)) for cx in np.linspace(x0, x1, 7)
-                   for cy in np.linspace(y0, y1, 7)]
-        centres += list(zip(f.x[::step_i].tolist(), f.y[::step_i].tolist()))
+        centres = [
+            (float(cx), float(cy)) for cx in np.linspace(x0, x1, 7) for cy in np.linspace(y0, y1, 7)
+        ]
+        centres += list(zip(f.x[::step_i].tolist(), f.y[::step_i].tolist(), strict=True))
         best: tuple[float, Any] = (self._sse(data, None), None)
 
         def trial(disc: tuple[float, float, float]) -> None:

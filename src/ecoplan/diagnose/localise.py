@@ -27,8 +27,15 @@ from ecoplan.models.kinematics import max_yaw_rate
 from ecoplan.models.power import MotionCase, motion_case
 from ecoplan.presets import VehicleParams
 
-__all__ = ["RegimeShare", "SpaceMap", "TimeProfile", "by_regime", "over_space", "over_time",
-           "regime_labels"]
+__all__ = [
+    "RegimeShare",
+    "SpaceMap",
+    "TimeProfile",
+    "by_regime",
+    "over_space",
+    "over_time",
+    "regime_labels",
+]
 
 _CASE_NAMES = {int(c): c.name.lower() for c in MotionCase}
 
@@ -73,8 +80,9 @@ def regime_labels(frame: Frame, params: VehicleParams) -> dict[str, IntArray | l
     acc = np.where(
         (frame.ax * np.sign(frame.vx) > thr) | (frame.alpha * np.sign(frame.wz) > wthr),
         0,
-        np.where((frame.ax * np.sign(frame.vx) < -thr) | (frame.alpha * np.sign(frame.wz) < -wthr),
-                 2, 1),
+        np.where(
+            (frame.ax * np.sign(frame.vx) < -thr) | (frame.alpha * np.sign(frame.wz) < -wthr), 2, 1
+        ),
     )
     out["accel"], out["accel#"] = ["accelerating", "steady", "decelerating"], acc.astype(np.int64)
     vmax = params.top_track_speed_mps

@@ -271,7 +271,7 @@ def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
             obj = yaml.safe_load(text)
         else:
             obj = json.loads(text)
-    except Exception as exc:  # noqa: BLE001 - any parse error is a bad file
+    except Exception as exc:
         raise InputError(f"{p}: not a valid corrected-model file: {exc}") from None
     if not isinstance(obj, dict) or obj.get("format") != FORMAT:
         raise InputError(f"{p}: 'format' must be {FORMAT!r}")
@@ -281,7 +281,9 @@ def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
     params = vehicle(obj["vehicle"], obj.get("terrain"), obj["params"])
     eff = obj["effect"] or {}
     name = str(eff.get("name", "none"))
-    eparams = {k: (math.inf if v is None else float(v)) for k, v in (eff.get("params") or {}).items()}
+    eparams = {
+        k: (math.inf if v is None else float(v)) for k, v in (eff.get("params") or {}).items()
+    }
     return CorrectedModel(obj["vehicle"], obj.get("terrain"), params, name, eparams)
 
 
@@ -327,7 +329,7 @@ def polyline_trajectory(
     def pulse(left: float, right: float, duration: float) -> None:
         # a command pulse then a stop as long as the ramp down: the rate-limited response
         # covers exactly speed x duration when the pulse is longer than the ramp
-        n = max(int(round(duration / dt_s)), 1)
+        n = max(round(duration / dt_s), 1)
         stop = int(np.ceil(max(abs(left), abs(right)) / a / dt_s)) + 1
         cl.extend([np.full(n, left), np.zeros(stop)])
         cr.extend([np.full(n, right), np.zeros(stop)])
@@ -347,8 +349,12 @@ def polyline_trajectory(
             vs = min(v, math.sqrt(d * a))
             pulse(vs, vs, d / vs)
     cmd_l, cmd_r = np.concatenate(cl), np.concatenate(cr)
-    t = np.arange(cmd_l.size) * dt_s
-    return (t, rate_limit(t, cmd_l, params.accel_max_mps2), rate_limit(t, cmd_r, params.accel_max_mps2))
+    t = np.arange(cmd_l.size, dtype=np.float64) * dt_s
+    return (
+        t,
+        rate_limit(t, cmd_l, params.accel_max_mps2),
+        rate_limit(t, cmd_r, params.accel_max_mps2),
+    )
 
 
 @dataclass(frozen=True, slots=True)
@@ -381,7 +387,9 @@ class RankingChange:
         """One line per route and the conclusion."""
         lines = [
             f"{n:16s} preset {eb / 1e3:8.2f} kJ   corrected {ec / 1e3:8.2f} kJ"
-            for n, eb, ec in zip(self.names, self.energy_base_j, self.energy_corrected_j)
+            for n, eb, ec in zip(
+                self.names, self.energy_base_j, self.energy_corrected_j, strict=True
+            )
         ]
         lines.append(
             f"ranking preset: {' < '.join(self.rank_base)}; corrected: "
@@ -424,9 +432,12 @@ def ranking_change(
     eb, ec = [], []
     for name in names:
         r = routes[name]
-        arr = [np.asarray(a, dtype=np.float64) for a in r]  # type: ignore[union-attr]
-        if len(arr) == 3 and arr[0].ndim == 1 and arr[0].size > 2 and all(
-            a.shape == arr[0].shape for a in arr
+        arr = [np.asarray(a, dtype=np.float64) for a in r]
+        if (
+            len(arr) == 3
+            and arr[0].ndim == 1
+            and arr[0].size > 2
+            and all(a.shape == arr[0].shape for a in arr)
         ):
             t, vl, vr = arr
         else:
@@ -438,4 +449,3 @@ def ranking_change(
     rb = [names[i] for i in np.argsort(ebase, kind="stable")]
     rc = [names[i] for i in np.argsort(ecorr, kind="stable")]
     return RankingChange(names, ebase, ecorr, rb, rc, rb != rc, rb[0] != rc[0])
-

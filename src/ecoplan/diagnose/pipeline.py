@@ -185,7 +185,7 @@ def diagnose(
         name = vehicle_name
     else:
         params, name = vehicle_name, vehicle_name.name
-    log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item,arg-type]
+    log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item]
     tol = case_tolerance(log_list)
     if tol > params.case_tol_mps:
         params = dataclasses.replace(params, case_tol_mps=tol)
@@ -193,7 +193,9 @@ def diagnose(
     train_m, test_m = split_masks(frame)
     if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
         raise InputError("log too short to diagnose: need at least 40 samples after the split")
-    replay = replay_residuals(frame, params.power(frame.vl, frame.vr).total_w, params.accel_max_mps2)
+    replay = replay_residuals(
+        frame, params.power(frame.vl, frame.vr).total_w, params.accel_max_mps2
+    )
     train_f, test_f = frame.subset(train_m), frame.subset(test_m)
     cal = calibrate(train_f, params)
     train = prepare(train_f, cal.params)

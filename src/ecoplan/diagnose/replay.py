@@ -36,10 +36,10 @@ __all__ = [
     "build_frame",
     "case_tolerance",
     "rate_limit",
-    "smooth",
-    "snap_speeds",
     "replay_residuals",
+    "smooth",
     "smooth_derivative",
+    "snap_speeds",
 ]
 
 
@@ -82,7 +82,7 @@ def smooth_derivative(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> Fl
     if n < 3:
         return np.zeros(n)
     dt = float(np.median(np.diff(t)))
-    win = int(round(window_s / dt)) | 1
+    win = round(window_s / dt) | 1
     win = max(win, 5)
     if win >= n:
         return np.gradient(y, t)
@@ -203,7 +203,7 @@ def smooth(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> FloatArray:
     """Zero-phase Savitzky-Golay smoothing (quadratic, ``window_s``); unchanged if too short."""
     n = y.size
     dt = float(np.median(np.diff(t))) if n > 1 else 1.0
-    win = max(int(round(window_s / dt)) | 1, 3)
+    win = max(round(window_s / dt) | 1, 3)
     if window_s <= 0.0 or win >= n or win <= 3:
         return y
     return np.asarray(savgol_filter(y, win, 2), dtype=np.float64)
@@ -211,7 +211,7 @@ def smooth(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> FloatArray:
 
 def _window(t: FloatArray, window_s: float) -> int:
     dt = float(np.median(np.diff(t))) if t.size > 1 else 1.0
-    return max(int(round(window_s / dt)) | 1, 3)
+    return max(round(window_s / dt) | 1, 3)
 
 
 def snap_speeds(
@@ -230,8 +230,8 @@ def snap_speeds(
     """
     eq = np.abs(vl - vr) <= tol_mps
     mean = 0.5 * (vl + vr)
-    half = np.zeros_like(vl) if ref_left is None or ref_right is None else 0.5 * (
-        ref_right - ref_left
+    half = (
+        np.zeros_like(vl) if ref_left is None or ref_right is None else 0.5 * (ref_right - ref_left)
     )
     half = np.clip(half, -0.5 * tol_mps, 0.5 * tol_mps)
     vl = np.where(eq, mean - half, vl)

@@ -65,7 +65,11 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
     return {
         "gap": {"metric": "mae_w", "before": _num(d.gap_preset_w), "after": _num(d.gap_final_w)},
         "where": [
-            {"regime": w.regime, "error_share": _num(w.error_share), "time_share": _num(w.time_share)}
+            {
+                "regime": w.regime,
+                "error_share": _num(w.error_share),
+                "time_share": _num(w.time_share),
+            }
             for w in d.where
         ],
         "effects": effects,
@@ -196,8 +200,11 @@ def summary(d: Diagnosis) -> str:
     lines.append(
         f"how far: {d.gap_calibrated_w:.1f} -> {d.gap_final_w:.1f} W ({pct:.1f} %, 95 % CI of "
         f"the reduction {d.final_ci_w[0]:.1f} .. {d.final_ci_w[1]:.1f} W)"
-        + (f"; best pair {'+'.join(att.pair)}: {att.pair_after_w:.1f} W"
-           if att.pair and att.pair_after_w is not None else "")
+        + (
+            f"; best pair {'+'.join(att.pair)}: {att.pair_after_w:.1f} W"
+            if att.pair and att.pair_after_w is not None
+            else ""
+        )
     )
     lines.append(f"residual whiteness after the verdict (Ljung-Box): p = {att.ljung_box_p:.2g}")
     for a, b, c, m in att.indistinguishable:
@@ -232,8 +239,14 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
     for c in MotionCase:
         m = case == int(c)
         if np.any(m):
-            ax.plot(clock[m], r[m], ".", ms=1.5, color=_CASE_COLOURS[int(c)],
-                    label=f"case {int(c)} {c.name.lower()}")
+            ax.plot(
+                clock[m],
+                r[m],
+                ".",
+                ms=1.5,
+                color=_CASE_COLOURS[int(c)],
+                label=f"case {int(c)} {c.name.lower()}",
+            )
     tp = d.time_profile
     ax.plot(tp.t_s, tp.mean_w, "k-", lw=1.0, label="block mean")
     ax.axhline(0.0, color="k", lw=0.5)
@@ -250,20 +263,36 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
     fig, ax = plt.subplots(figsize=(8, 4))
     names = [s.name for s in att.scores]
     vals = [s.reduction_pct for s in att.scores]
-    err = np.array([
-        [s.reduction_pct - 100 * s.ci_low / s.before if s.before else 0.0,
-         100 * s.ci_high / s.before - s.reduction_pct if s.before else 0.0]
+    err = (
+        np.array(
+            [
+                [
+                    s.reduction_pct - 100 * s.ci_low / s.before if s.before else 0.0,
+                    100 * s.ci_high / s.before - s.reduction_pct if s.before else 0.0,
+                ]
+                for s in att.scores
+            ]
+        ).T
+        if att.scores
+        else np.zeros((2, 0))
+    )
+    colours = [
+        "#2ca02c" if s.name == att.verdict else ("#1f77b4" if s.significant else "#bbbbbb")
         for s in att.scores
-    ]).T if att.scores else np.zeros((2, 0))
-    colours = ["#2ca02c" if s.name == att.verdict else
-               ("#1f77b4" if s.significant else "#bbbbbb") for s in att.scores]
+    ]
     y = np.arange(len(names))
     ax.barh(y, vals, xerr=np.abs(err), color=colours, capsize=3)
-    ax.set_yticks(y, [f"{n} [{s.channel}]" for n, s in zip(names, att.scores)], fontsize=8)
+    ax.set_yticks(
+        y, [f"{n} [{s.channel}]" for n, s in zip(names, att.scores, strict=True)], fontsize=8
+    )
     ax.invert_yaxis()
     ax.axvline(0.0, color="k", lw=0.5)
     ax.set_xlabel("held-out reduction of the residual [%] (95 % block-bootstrap CI)")
-    ax.set_title(f"Candidate effects — verdict: {att.verdict}\n(green: verdict, blue: significant, grey: not)", fontsize=10)
+    ax.set_title(
+        f"Candidate effects — verdict: {att.verdict}\n"
+        "(green: verdict, blue: significant, grey: not)",
+        fontsize=10,
+    )
     fig.tight_layout()
     paths.append(out / "candidates.png")
     fig.savefig(paths[-1], dpi=120)
@@ -288,8 +317,9 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
         sm = d.space_map
         fig, ax = plt.subplots(figsize=(6, 5))
         lim = float(np.nanmax(np.abs(sm.mean_w))) if np.any(np.isfinite(sm.mean_w)) else 1.0
-        mesh = ax.pcolormesh(sm.x_edges, sm.y_edges, sm.mean_w.T, cmap="RdBu_r",
-                             vmin=-lim, vmax=lim, shading="flat")
+        mesh = ax.pcolormesh(
+            sm.x_edges, sm.y_edges, sm.mean_w.T, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="flat"
+        )
         fig.colorbar(mesh, ax=ax, label="mean residual [W]")
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
