@@ -213,3 +213,23 @@ def test_snapped_speeds_are_equal_or_apart_by_more_than_the_tolerance(
     d = np.abs(vl - vr)
     assert np.all((d == 0.0) | (d > tol) | (vl == 0.0) | (vr == 0.0))
     assert np.all((vl == 0.0) | (np.abs(vl) > tol))
+
+
+def test_one_way_straight_runs_cannot_identify_a_slope() -> None:
+    # Straight out-bound runs only: vx cos(yaw) is the speed itself, i.e. the resistance
+    # column K(|vl|+|vr|) of eq. (18): a grade is indistinguishable from K.  The check runs
+    # before any fit and names the candidate as not excited.
+    from ecoplan.diagnose.attribute import distinguishability
+
+    t = np.arange(0, 120, 0.05)
+    v = 0.3 + 0.2 * (np.sin(t / 7.0) > 0)
+    cmd = v.copy()
+    log = SimpleNamespace(
+        t=t, v_left=v, v_right=v, p_total=PARAMS.power(v, v).total_w, v_left_cmd=cmd,
+        v_right_cmd=cmd, x=np.cumsum(v) * 0.05, y=np.zeros(t.size), yaw=np.zeros(t.size),
+        wz=None,
+    )
+    d = _data(log)
+    _pairs, not_excited = distinguishability(d, ["slope", "inertia", "sensor_delay"])
+    assert "slope" in not_excited
+    assert "inertia" not in not_excited

@@ -174,6 +174,18 @@ def summary(d: Diagnosis) -> str:
         f"{d.gap_calibrated_w:.1f} W -> final {d.gap_final_w:.1f} W "
         f"(noise floor ~{att.noise_floor_w:.1f} W)",
     ]
+    rp = d.replay
+    parts = [
+        f"energy error per run {100 * float(np.mean(np.abs(rp.run_energy_error))):.1f} % "
+        "(mean |E_meas - E_model| / E_meas)"
+    ]
+    if rp.yaw_rate_radps is not None:
+        parts.append(f"yaw rate MAE {float(np.mean(np.abs(rp.yaw_rate_radps))):.3f} rad/s")
+    if rp.speed_mps is not None:
+        parts.append(f"command tracking MAE {float(np.mean(np.abs(rp.speed_mps))):.3f} m/s")
+    if rp.pose_m is not None:
+        parts.append(f"dead-reckoned pose off by up to {float(np.max(rp.pose_m)):.2f} m")
+    lines.append("replay of the preset: " + "; ".join(parts))
     if d.calibration.changed:
         ch = ", ".join(f"{k} {a:.3g}->{b:.3g}" for k, (a, b) in d.calibration.changed.items())
         lines.append(f"calibration closes {d.gap_preset_w - d.gap_calibrated_w:.1f} W: {ch}")
