@@ -49,6 +49,9 @@ _TRACKED_LINEAR = ("mu", "k_resistance_n", "p_powerup_w", "p_braking_w", "k_nonr
 _SIDE_LINEAR = ("a_inf", "a_alpha", "b_inf", "b_alpha")
 #: Range searched for χ (tracked eq. 12) [-].
 CHI_BOUNDS = (0.3, 0.999)
+_SIDE_COEF_MAX = 1e5
+#: The χ search of the calibration runs on at most this many samples (strided).
+CAL_SEARCH_SAMPLES = 40_000
 
 
 @dataclass(frozen=True, slots=True)
@@ -107,9 +110,9 @@ def _wheeled_design(frame: Frame, params: WheeledParams, signs: FloatArray | Non
     cols.append(np.ones(frame.n))
     names.append("p_powerup_w")
     k = len(cols)
-    lower = np.full(k, -np.inf)
+    lower = np.full(k, -_SIDE_COEF_MAX)
     lower[-1] = 0.0
-    return BaseDesign(np.column_stack(cols), tuple(names), lower, np.full(k, np.inf))
+    return BaseDesign(np.column_stack(cols), tuple(names), lower, np.full(k, _SIDE_COEF_MAX))
 
 
 def base_design(frame: Frame, params: VehicleParams, signs: FloatArray | None = None) -> BaseDesign:
@@ -124,11 +127,13 @@ def with_linear_params(
 ) -> VehicleParams:
     """Parameters with the linear coefficients of :func:`base_design` set to ``theta``.
 
-    Tracked coefficients are clipped at zero (µ, K and the driver terms are non-negative).
+    Tracked coefficients are clipped at zero (µ, K and the driver terms are non-negative),
+    wheeled ones to ±1e5 (far beyond any real vehicle; the presets' validation range is ±1e6).
     """
     if isinstance(params, TrackedParams):
         kw: dict[str, Any] = {n: float(max(v, 0.0)) for n, v in zip(names, theta, strict=True)}
         return dataclasses.replace(params, **kw)
+    theta = np.clip(theta, -_SIDE_COEF_MAX, _SIDE_COEF_MAX)
     inner = dict(zip(_SIDE_LINEAR, theta[0:4], strict=True))
     outer = dict(zip(_SIDE_LINEAR, theta[4:8], strict=True))
     return dataclasses.replace(
@@ -249,7 +254,12 @@ def calibrate(frame: Frame, params: VehicleParams) -> Calibration:
         Calibrated parameters and the training MAE before and after.
     """
     before = float(np.mean(np.abs(frame.p - params.power(frame.vl, frame.vr).total_w)))
-    chi = grid_then_bounded(lambda c: _fit_at_chi(frame, params, c)[1], *CHI_BOUNDS)
+    sub = frame
+    if frame.n > CAL_SEARCH_SAMPLES:
+        mask = np.zeros(frame.n, dtype=bool)
+        mask[:: int(np.ceil(frame.n / CAL_SEARCH_SAMPLES))] = True
+        sub = frame.subset(mask)
+    chi = grid_then_bounded(lambda c: _fit_at_chi(sub, params, c)[1], *CHI_BOUNDS)
     best, _ = _fit_at_chi(frame, params, chi)
     accel = fit_accel_limit(frame)
     if accel is not None and accel > 0.0:

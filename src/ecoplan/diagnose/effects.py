@@ -140,7 +140,8 @@ def _segments(frame: Frame) -> list[IntArray]:
     if frame.n == 0:
         return []
     dt = np.diff(frame.t)
-    step = float(np.median(frame.dt))
+    same = np.diff(frame.run) == 0
+    step = float(np.median(dt[same & (dt > 0)])) if np.any(same & (dt > 0)) else 1.0
     brk = (np.diff(frame.run) != 0) | (dt > 1.5 * step) | (dt <= 0)
     edges = np.concatenate([[0], np.flatnonzero(brk) + 1, [frame.n]])
     return [np.arange(a, b) for a, b in itertools.pairwise(edges) if b > a]
