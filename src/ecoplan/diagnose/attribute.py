@@ -611,16 +611,20 @@ def _power_verdict(
 ]:
     """Verdict from the power channel alone (see the module docstring)."""
     dec = _decimation(test.frame)
-    best = scores[0] if scores else None
+    # the best significant candidate (a larger but insignificant reduction is not evidence)
+    best = next((sc for sc in scores if sc.significant), scores[0] if scores else None)
     pair_names: tuple[str, str] | None = None
     pair_after: float | None = None
-    if len(scores) >= 2 and scores[0].significant:
-        a, b = scores[0].name, scores[1].name
+    if len(scores) >= 2 and best is not None and best.significant:
+        a = best.name
+        b = next(sc.name for sc in scores if sc is not best)
         pe = PairEffect(make_effect(a), make_effect(b)).fit(train)
         pair_names, pair_after = (a, b), pe.score(test)
     if best is None or not best.significant:
         _, lb_p = ljung_box(r0, decimate=dec)
-        gap_sig = (before - floor) > 0.25 * floor and lb_p < 0.01
+        # a gap: clearly above the noise floor and coloured, or very strongly coloured (the
+        # noise floor from first differences is inflated by fast real dynamics)
+        gap_sig = ((before - floor) > 0.25 * floor and lb_p < 0.01) or lb_p < 1e-6
         if gap_sig:
             return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0, pair_names, pair_after
         conf = 1.0
@@ -633,7 +637,7 @@ def _power_verdict(
     if explained < explain_min:
         return ("unexplained", 1.0 - explained, (), lb_p, explained, r_best, pair_names, pair_after)
     conf = float(1.0 - min(best.p_value * n_cand, 1.0))
-    second = scores[1] if len(scores) > 1 else None
+    second = next((sc for sc in scores if sc.significant and sc is not best), None)
     if second is not None and second.significant:
         flagged = any({best.name, second.name} == {a, b} for a, b, _, _ in pairs)
         if flagged and second.reduction >= 0.9 * best.reduction:
