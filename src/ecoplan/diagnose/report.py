@@ -262,6 +262,10 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
     tp = d.time_profile
     ax.plot(tp.t_s, tp.mean_w, "k-", lw=1.0, label="block mean")
     ax.axhline(0.0, color="k", lw=0.5)
+    if r.size:
+        lo, hi = np.quantile(r, [0.002, 0.998])
+        pad = 0.25 * max(hi - lo, 1e-6)
+        ax.set_ylim(lo - pad, hi + pad)  # a few outliers would flatten the rest
     ax.set_xlabel("held-out time (runs concatenated) [s]")
     ax.set_ylabel("measured - calibrated model [W]")
     ax.set_title("Power residual over time, coloured by motion case (Fig. 3)")
