@@ -225,8 +225,15 @@ def test_one_way_straight_runs_cannot_identify_a_slope() -> None:
     v = 0.3 + 0.2 * (np.sin(t / 7.0) > 0)
     cmd = v.copy()
     log = SimpleNamespace(
-        t=t, v_left=v, v_right=v, p_total=PARAMS.power(v, v).total_w, v_left_cmd=cmd,
-        v_right_cmd=cmd, x=np.cumsum(v) * 0.05, y=np.zeros(t.size), yaw=np.zeros(t.size),
+        t=t,
+        v_left=v,
+        v_right=v,
+        p_total=PARAMS.power(v, v).total_w,
+        v_left_cmd=cmd,
+        v_right_cmd=cmd,
+        x=np.cumsum(v) * 0.05,
+        y=np.zeros(t.size),
+        yaw=np.zeros(t.size),
         wz=None,
     )
     d = _data(log)
