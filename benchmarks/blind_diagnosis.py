@@ -5,7 +5,7 @@ Runs seeded cases of :func:`ecoplan.diagnose.synth.generate_case` — every in-l
 confusion matrix, the accuracy per group against the issue's targets and the median held-out
 gap reduction when the verdict is right::
 
-    .venv/bin/python benchmarks/blind_diagnosis.py                 # 8 seeds x 12 classes = 96+
+    .venv/bin/python benchmarks/blind_diagnosis.py --jobs 2     # 9 seeds x 12 classes = 108
     .venv/bin/python benchmarks/blind_diagnosis.py --seeds 10 --jobs 2
 
 Targets: >= 90 % right on in-library effects at moderate magnitude; <= 10 % effects claimed on
@@ -78,7 +78,7 @@ def run_case(args: tuple[int, str, str, str]) -> dict[str, Any]:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description="blind diagnosis benchmark")
-    ap.add_argument("--seeds", type=int, default=8, help="seeds per class")
+    ap.add_argument("--seeds", type=int, default=9, help="seeds per class (9 x 12 = 108 cases)")
     ap.add_argument("--magnitude", default="moderate")
     ap.add_argument("--vehicle", default="auriga-beta-narrow")
     ap.add_argument("--jobs", type=int, default=1)

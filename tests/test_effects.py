@@ -240,3 +240,40 @@ def test_one_way_straight_runs_cannot_identify_a_slope() -> None:
     _pairs, not_excited = distinguishability(d, ["slope", "inertia", "sensor_delay"])
     assert "slope" in not_excited
     assert "inertia" not in not_excited
+
+
+def test_wheeled_calibration_keeps_turns_it_never_saw_near_the_preset() -> None:
+    # A Pioneer 3-AT whose driver draws 3 W more than the preset, logged on straight runs and
+    # wide arcs only (r >= ~4 m).  Calibration must close the gap on the log, and its model of a
+    # sharp turn (r = 0.5 m, never driven) must stay close to the true robot's: nine nearly
+    # collinear coefficients (wheeled eqs. 14-15) must not wander to huge cancelling values.
+    pioneer = vehicle("pioneer-3at", "asphalt")
+    true = dataclasses.replace(pioneer, p_powerup_w=3.0)
+    t = np.arange(0.0, 120.0, 0.05)
+    v = 0.2 + 0.2 * (np.floor(t / 20.0) % 3)
+    k = np.where((t // 10.0) % 2 == 0, 0.0, 0.05)
+    vl, vr = v * (1 - k), v * (1 + k)
+    log = SimpleNamespace(
+        t=t,
+        v_left=vl,
+        v_right=vr,
+        p_total=true.power(vl, vr).total_w + np.random.default_rng(0).normal(0, 0.3, t.size),
+        v_left_cmd=None,
+        v_right_cmd=None,
+        x=None,
+        y=None,
+        yaw=None,
+        wz=None,
+        p_left=None,
+        p_right=None,
+        terrain=None,
+    )
+    cal = calibrate(build_frame([log], pioneer, snap_mps=2e-3), pioneer)
+    assert cal.mae_after_w < 0.2 * cal.mae_before_w
+    # independent reference: side speeds of a 0.5 m turn at 0.2 m/s from the ICR lever arms
+    # (tracked eq. 4 with the preset's symmetric ICRs: v -/+ w y_icr)
+    w = 0.2 / 0.5
+    y_icr = pioneer.icr.y_left_m
+    sharp_l, sharp_r = 0.2 - w * y_icr, 0.2 + w * y_icr
+    p_true = float(true.power(sharp_l, sharp_r).total_w)
+    assert float(cal.params.power(sharp_l, sharp_r).total_w) == pytest.approx(p_true, rel=0.15)

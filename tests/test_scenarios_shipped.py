@@ -241,3 +241,34 @@ def test_a_simulated_run_goes_through_ecoplan_diagnose(
     result = json.loads(target.read_text())
     assert {"gap", "where", "effects", "verdict"} <= set(result)
     assert isinstance(result["verdict"]["effect"], str)
+
+
+def test_diagnose_ranks_a_scenarios_routes_under_the_corrected_model(
+    runs: Callable[[str], tuple[Path, dict[str, Any]]],
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    # closing the loop (issue 6): --scenario ranks the scenario's candidate routes under the
+    # preset and under the corrected model, in the JSON's extra key ``ranking``
+    pytest.importorskip("ecoplan.diagnose.pipeline")
+    out_dir, _ = runs("ab_obstacle")
+    saved = json.loads((out_dir / "summary.json").read_text())["cases"]
+    log = out_dir / saved[0]["log_file"]
+    target = tmp_path / "diagnosis.json"
+    scenario = SCENARIOS / "ab_obstacle.yaml"
+    args = ["diagnose", str(log), "--vehicle", "auriga-beta-wide", "--terrain", "asphalt"]
+    assert main([*args, "--scenario", str(scenario), "--json", str(target)]) == 0
+    printed = capsys.readouterr().out
+    assert "route ranking under the preset and the corrected model" in printed
+    ranking = json.loads(target.read_text())["ranking"]
+    energy = {r["name"]: r["energy_preset_j"] for r in ranking["routes"]}
+    assert set(energy) == {c.name for c in load_scenario(scenario).cases()}
+    assert sorted(energy, key=lambda n: energy[n]) == ranking["rank_preset"]
+    # the tracked paper's findings (§IV-A) hold for the preset's energies of these routes:
+    # more turning (4 waypoints) and the slower set point (0.3 m/s) both cost more
+    assert energy["4 waypoints"] > energy["3 waypoints"]
+    assert energy["3 waypoints, 0.3 m/s"] > energy["3 waypoints"]
+    # a scenario of another vehicle is refused before the diagnosis runs
+    other = SCENARIOS / "pioneer_power_limit.yaml"
+    assert main([*args, "--scenario", str(other)]) == 2
+    assert "--vehicle" in capsys.readouterr().err

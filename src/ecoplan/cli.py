@@ -341,6 +341,40 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     return 0
 
 
+def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
+    """Candidate routes of ``--scenario`` as ``(t, v_left, v_right)`` of the diagnosed vehicle.
+
+    Each case of the scenario (its ``compare`` variants, or the scenario itself) is planned
+    (or takes its fixed waypoints), with the planner's alternatives when it returns several;
+    every route is driven turn-on-the-spot then straight at the case's speed
+    (:func:`ecoplan.diagnose.loop.polyline_trajectory`).  The scenario is checked before the
+    diagnosis starts, so a bad file costs no waiting.
+    """
+    from ecoplan.diagnose.loop import polyline_trajectory
+    from ecoplan.presets import vehicle
+    from ecoplan.scenario import load_scenario, plan_case
+
+    sc = load_scenario(args.scenario)
+    if sc.vehicle.name != args.vehicle:
+        raise InputError(
+            f"--scenario {args.scenario}: its vehicle is {sc.vehicle.name!r} but the logs are "
+            f"diagnosed against --vehicle {args.vehicle!r}; rank routes of the same vehicle"
+        )
+    params = vehicle(args.vehicle, args.terrain)
+    routes: dict[str, Any] = {}
+    for case in sc.cases():
+        plan = plan_case(case)
+        for i, wps in enumerate((plan.waypoints, *plan.alternatives)):
+            name = case.name if i == 0 else f"{case.name} (alt {i})"
+            routes[name] = polyline_trajectory(wps.tolist(), params, speed_mps=plan.speed_mps)
+    if len(routes) < 2:
+        raise InputError(
+            f"--scenario {args.scenario}: it gives one route; a ranking needs at least two "
+            "(add `compare:` variants or planner.k > 1)"
+        )
+    return routes
+
+
 def _cmd_diagnose(args: argparse.Namespace) -> int:
     try:
         from ecoplan.diagnose.pipeline import run_diagnose_cli
@@ -349,6 +383,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
             "diagnosis is not available in this build (ecoplan.diagnose.pipeline)"
         ) from None
     folder = _prepare(args)
+    routes = None if args.scenario is None else _scenario_routes(args)
     started = time.time()
     code = run_diagnose_cli(
         [str(p) for p in args.logs],
@@ -356,6 +391,9 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
         args.terrain,
         args.json,
         None if folder is None else str(folder.path),
+        topics_path=None if args.topics is None else str(args.topics),
+        bus_voltage_v=args.bus_voltage,
+        routes=routes,
     )
     if folder is not None:
         from ecoplan.report import MANIFEST
@@ -627,14 +665,36 @@ def build_parser() -> argparse.ArgumentParser:
         "diagnose",
         help="locate and explain the sim-to-real gap of logs",
         formatter_class=fmt,
-        epilog="example:\n  ecoplan diagnose run1.csv --vehicle pioneer-3at "
-        "--json gap.json --out rep/",
+        epilog="examples:\n  ecoplan diagnose run1.csv --vehicle pioneer-3at "
+        "--json gap.json --out rep/\n"
+        "  ecoplan diagnose borealtc:FLOORING --vehicle pioneer-3at --bus-voltage 24\n"
+        "  ecoplan diagnose bag/ --topics husky.topics.yaml --vehicle pioneer-3at\n"
+        "  ecoplan diagnose run*.csv --vehicle auriga-beta-wide "
+        "--scenario scenarios/ab_obstacle.yaml\n\n"
+        "LOG is a CSV in the ecoplan log format (README), borealtc:TERRAIN[/RUN], or a ROS 2\n"
+        "bag (with --topics, or <bag>.topics.yaml beside it).",
     )
     diag.add_argument("logs", nargs="+", type=Path, metavar="LOG")
     diag.add_argument("--vehicle", required=True, help="vehicle preset (e.g. auriga-beta-wide)")
     diag.add_argument("--terrain", help="terrain preset")
     diag.add_argument("--json", metavar="FILE", help="write the diagnosis JSON here")
     diag.add_argument("--out", metavar="DIR", help="write plots and the summary here")
+    diag.add_argument(
+        "--scenario",
+        type=Path,
+        metavar="FILE",
+        help="rank this scenario's candidate routes under the preset and the corrected model",
+    )
+    diag.add_argument(
+        "--topics", type=Path, metavar="FILE", help="topic map (YAML) for ROS 2 bag logs"
+    )
+    diag.add_argument(
+        "--bus-voltage",
+        type=float,
+        default=24.0,
+        metavar="V",
+        help="bus voltage assumed for borealtc:TERRAIN[/RUN] logs (default 24 V)",
+    )
     diag.add_argument("--force", action="store_true")
     diag.set_defaults(func=_cmd_diagnose)
 

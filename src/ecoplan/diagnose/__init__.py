@@ -1,5 +1,16 @@
-"""Sim-to-real gap diagnosis: log input/output, blind-check generator, effects and verdicts.
+"""Sim-to-real gap diagnosis: where a model departs from logs, which effect is missing, how far.
 
-Modules: :mod:`ecoplan.diagnose.logio` (the log format, CSV/BorealTC/ROS 2 bag loaders),
-:mod:`ecoplan.diagnose.synth` (synthetic logs with withheld effects for the blind check).
+Modules, in the order of the pipeline:
+
+* :mod:`ecoplan.diagnose.logio` -- the log format, CSV / BorealTC / ROS 2 bag loaders;
+* :mod:`ecoplan.diagnose.replay` -- the model replayed on the logged inputs, residuals;
+* :mod:`ecoplan.diagnose.calibrate` -- the preset's own parameters re-identified first;
+* :mod:`ecoplan.diagnose.localise` -- where the gap lies (regimes, time, space);
+* :mod:`ecoplan.diagnose.effects` -- the library of candidate unmodelled effects;
+* :mod:`ecoplan.diagnose.attribute` -- held-out ranking, significance, verdict;
+* :mod:`ecoplan.diagnose.pipeline` -- :func:`~ecoplan.diagnose.pipeline.diagnose` and the CLI
+  back end;
+* :mod:`ecoplan.diagnose.loop` -- the corrected model as a file, route ranking under it;
+* :mod:`ecoplan.diagnose.report` -- text summary, figures, JSON;
+* :mod:`ecoplan.diagnose.synth` -- realistic logs with withheld effects for the blind check.
 """

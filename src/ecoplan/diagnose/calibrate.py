@@ -13,7 +13,9 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
   non-negative linear least squares (``scipy.optimize.lsq_linear``).
 * **Wheeled** (Chuy et al. 2009, eqs. 12-15): per side ``P = a(r) v + b(r)`` is linear in
   ``a_inf, a_alpha, b_inf, b_alpha`` for fixed decay exponents; the battery draw ``|P|`` is
-  handled by fixing each side's sign from the current fit and iterating.  χ as above.
+  handled by fixing each side's sign from the current fit and iterating.  χ as above.  The
+  coefficients are weakly pulled towards the preset's (ridge, :data:`WHEELED_RIDGE`), since a
+  log rarely sweeps enough turn radii to separate all nine.
 * **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
   accelerations while a side is far from its command (saturated).
 """
@@ -52,6 +54,12 @@ CHI_BOUNDS = (0.3, 0.999)
 _SIDE_COEF_MAX = 1e5
 #: The χ search of the calibration runs on at most this many samples (strided).
 CAL_SEARCH_SAMPLES = 40_000
+#: Weight of the pull of the wheeled coefficients towards the preset (see ``_solve``): the nine
+#: coefficients of eqs. 14-15 are nearly collinear unless a log sweeps many turn radii.  An
+#: unregularised fit on the BorealTC FLOORING runs drove them to ±10^3 and left 725 W errors at
+#: speeds the training split barely visited; on a log of straight runs and wide arcs it put a
+#: sharp turn (r = 0.5 m) at 6.6 kW instead of 79 W (``tests/test_effects.py``).
+WHEELED_RIDGE = 0.1
 
 
 @dataclass(frozen=True, slots=True)
@@ -86,13 +94,19 @@ def _tracked_design(frame: Frame, params: TrackedParams) -> BaseDesign:
 
 
 def _wheeled_design(frame: Frame, params: WheeledParams, signs: FloatArray | None) -> BaseDesign:
-    tw = tracks_to_twist(frame.vl, frame.vr, params.icr)
+    return _wheeled_columns(frame.vl, frame.vr, params, signs)
+
+
+def _wheeled_columns(
+    vl: FloatArray, vr: FloatArray, params: WheeledParams, signs: FloatArray | None
+) -> BaseDesign:
+    tw = tracks_to_twist(vl, vr, params.icr)
     v = np.abs(tw.vx)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
-    moving = (np.abs(frame.vl) > params.case_tol_mps) | (np.abs(frame.vr) > params.case_tol_mps)
+    moving = (np.abs(vl) > params.case_tol_mps) | (np.abs(vr) > params.case_tol_mps)
     if signs is None:
-        pb = params.power(frame.vl, frame.vr)
+        pb = params.power(vl, vr)
         left_inner = tw.wz > 0.0
         p_in = np.where(left_inner, pb.left_w, pb.right_w)
         p_out = np.where(left_inner, pb.right_w, pb.left_w)
@@ -107,7 +121,7 @@ def _wheeled_design(frame: Frame, params: WheeledParams, signs: FloatArray | Non
             col = side_power(r, v, SideCoefficients(*unit))
             cols.append(np.where(moving, signs[s_idx] * col, 0.0))
             names.append(f"{side_name}.{coef}")
-    cols.append(np.ones(frame.n))
+    cols.append(np.ones(vl.size))
     names.append("p_powerup_w")
     k = len(cols)
     lower = np.full(k, -_SIDE_COEF_MAX)
@@ -144,12 +158,42 @@ def with_linear_params(
     )
 
 
-def _solve(design: BaseDesign, y: FloatArray) -> FloatArray:
+def _solve(
+    design: BaseDesign,
+    y: FloatArray,
+    prior: FloatArray | None = None,
+    envelope: FloatArray | None = None,
+    ridge: float = 0.0,
+) -> FloatArray:
+    """Bounded least squares on RMS-scaled columns, optionally pulled towards ``prior``.
+
+    With ``envelope`` (the design evaluated over the vehicle's whole operating envelope, see
+    :func:`_envelope_design`) the squared error gets ``ridge * n * mean((E (theta - prior))^2)``
+    added: the change of the model's power over the envelope, in W, weighted against the data.
+    Directions the log excites are barely moved; directions it does not excite (turn radii it
+    never drove) stay at the prior instead of wandering to huge cancelling values.
+    """
     scale = np.maximum(np.sqrt(np.mean(design.X**2, axis=0)), 1e-12)
-    res = lsq_linear(
-        design.X / scale, y, bounds=(design.lower * scale, design.upper * scale), method="bvls"
-    )
+    a, b = design.X / scale, y
+    if prior is not None and envelope is not None and ridge > 0.0:
+        e = envelope * np.sqrt(ridge * design.X.shape[0] / envelope.shape[0])
+        a = np.vstack([a, e / scale])
+        b = np.concatenate([y, e @ prior])
+    res = lsq_linear(a, b, bounds=(design.lower * scale, design.upper * scale), method="bvls")
     return np.asarray(res.x / scale, dtype=np.float64)
+
+
+def _envelope_design(params: WheeledParams) -> FloatArray:
+    """Wheeled design over a grid of side-speed pairs covering the top speed (9 x 9)."""
+    g = np.linspace(-params.top_track_speed_mps, params.top_track_speed_mps, 9)
+    vl, vr = (a.ravel() for a in np.meshgrid(g, g))
+    return _wheeled_columns(vl, vr, params, None).X
+
+
+def _wheeled_theta(params: WheeledParams) -> FloatArray:
+    """The linear coefficients of :func:`_wheeled_design` at ``params`` (its column order)."""
+    vals = [getattr(side, c) for side in (params.inner, params.outer) for c in _SIDE_LINEAR]
+    return np.array([*vals, params.p_powerup_w], dtype=np.float64)
 
 
 def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[VehicleParams, float]:
@@ -158,9 +202,10 @@ def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[Vehicl
         d = base_design(frame, p)
         p = with_linear_params(p, d.names, _solve(d, frame.p))
     else:
+        prior, envelope = _wheeled_theta(p), _envelope_design(p)
         for _ in range(3):
             d = base_design(frame, p)
-            p = with_linear_params(p, d.names, _solve(d, frame.p))
+            p = with_linear_params(p, d.names, _solve(d, frame.p, prior, envelope, WHEELED_RIDGE))
     pred = p.power(frame.vl, frame.vr).total_w
     return p, float(np.mean((frame.p - pred) ** 2))
 

@@ -20,10 +20,12 @@ Steps, each in its module:
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Sequence
+import json
+import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -49,6 +51,9 @@ from ecoplan.diagnose.replay import (
 )
 from ecoplan.errors import InputError
 from ecoplan.presets import VehicleParams, vehicle
+
+if TYPE_CHECKING:
+    from ecoplan.diagnose.loop import Route
 
 __all__ = ["Diagnosis", "diagnose", "run_diagnose_cli"]
 
@@ -245,6 +250,10 @@ def run_diagnose_cli(
     terrain: str | None,
     json_path: str | None,
     out_dir: str | None,
+    *,
+    topics_path: str | None = None,
+    bus_voltage_v: float = 24.0,
+    routes: Mapping[str, Route] | None = None,
 ) -> int:
     """Back end of ``ecoplan diagnose LOG [LOG ...] --vehicle PRESET [--terrain PRESET]``.
 
@@ -252,26 +261,52 @@ def run_diagnose_cli(
     corrected model (``--out``).  Bad input raises :class:`~ecoplan.errors.InputError`
     subclasses (exit code 2 in the CLI).
 
+    ``topics_path`` is the topic map of ROS 2 bags (``--topics``), ``bus_voltage_v`` the bus
+    voltage assumed for BorealTC runs (``--bus-voltage``).  With ``routes`` (candidate routes of
+    a scenario, ``--scenario``) the energy ranking of the routes under the preset and under the
+    corrected model is printed (:func:`ecoplan.diagnose.loop.ranking_change`), added to the JSON
+    as the extra key ``ranking`` and written to ``ranking.json`` in ``out_dir``.
+
     Returns
     -------
     int
         Exit code (0).
     """
-    from ecoplan.diagnose.logio import read_logs
-    from ecoplan.diagnose.loop import save_corrected_model
+    from ecoplan.diagnose.logio import load_topic_map, read_logs
+    from ecoplan.diagnose.loop import corrected_model, ranking_change, save_corrected_model
     from ecoplan.diagnose.report import save_figures, write_json
 
     if not log_paths:
         raise InputError("no log file given")
-    logs = read_logs(log_paths)
+    if not (math.isfinite(bus_voltage_v) and bus_voltage_v > 0.0):
+        raise InputError(f"--bus-voltage must be a positive number of volts, got {bus_voltage_v}")
+    topic_map = load_topic_map(topics_path) if topics_path is not None else None
+    logs = read_logs(log_paths, topic_map=topic_map, bus_voltage_v=bus_voltage_v)
     d = diagnose(logs, vehicle, terrain)
     print(d.summary())
+    extra: dict[str, Any] = {}
+    if routes is not None:
+        rc = ranking_change(routes, corrected_model(d))
+        print("route ranking under the preset and the corrected model:")
+        print(rc.summary())
+        extra["ranking"] = {
+            "routes": [
+                {"name": n, "energy_preset_j": float(eb), "energy_corrected_j": float(ec)}
+                for n, eb, ec in zip(rc.names, rc.energy_base_j, rc.energy_corrected_j, strict=True)
+            ],
+            "rank_preset": rc.rank_base,
+            "rank_corrected": rc.rank_corrected,
+            "changed": rc.changed,
+            "best_changed": rc.best_changed,
+        }
     if json_path is not None:
-        write_json(d, json_path)
+        write_json(d, json_path, extra)
     if out_dir is not None:
         out = Path(out_dir)
         out.mkdir(parents=True, exist_ok=True)
-        write_json(d, out / "diagnosis.json")
+        write_json(d, out / "diagnosis.json", extra)
+        if "ranking" in extra:
+            (out / "ranking.json").write_text(json.dumps(extra["ranking"], indent=2))
         for p in save_figures(d, out):
             print(f"figure: {p}")
         path = save_corrected_model(d, out / "corrected_model.json")

@@ -22,7 +22,9 @@ and after re-identifying the base parameters, and the changed parameters), ``how
 winner's held-out reduction in W and %, its 95 % bootstrap interval, the best pair), ``channels``
 (each effect's deciding channel, its reduction and p-value), ``distinguishability`` (pairs the
 log cannot tell apart with the separating manoeuvre, candidates not excited or unavailable),
-``tied`` (names of an ambiguous verdict) and ``log`` (runs, duration, dropped rows, split).
+``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows, split) and,
+with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
+corrected model, both rankings, whether the order or the best route changes).
 """
 
 from __future__ import annotations
@@ -154,9 +156,16 @@ def validate_json(obj: Any) -> None:
     need(is_num(v["confidence"]) and 0.0 <= v["confidence"] <= 1.0, "verdict.confidence in [0,1]")
 
 
-def write_json(d: Diagnosis, path: str | os.PathLike[str]) -> Path:
-    """Write :func:`to_json_dict` to ``path`` (validated first) and return the path."""
+def write_json(
+    d: Diagnosis, path: str | os.PathLike[str], extra: dict[str, Any] | None = None
+) -> Path:
+    """Write :func:`to_json_dict` (plus ``extra`` top-level keys) to ``path``, validated first."""
     obj = to_json_dict(d)
+    if extra:
+        clash = set(extra) & set(obj)
+        if clash:
+            raise ValueError(f"diagnosis JSON: extra keys {sorted(clash)} clash with report keys")
+        obj.update(extra)
     validate_json(obj)
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
