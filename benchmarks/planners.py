@@ -288,6 +288,20 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{'vehicle':20s} {'planner':28s} {'ratio':>7s} {'time s':>8s} {'saved %':>8s} solved")
     for vehicle, name, ratio, tm, saved, n_ok, n in summary(rows):
         print(f"{vehicle:20s} {name:28s} {ratio:7.3f} {tm:8.3f} {saved:8.2f} {n_ok}/{n}")
+    for vehicle in VEHICLES:
+        saved = [
+            r["saved_pct"]
+            for r in rows
+            if r["vehicle"] == vehicle and r["planner"] == "graph" and r["solved"]
+            and math.isfinite(r["saved_pct"])
+        ]  # fmt: skip
+        if saved:
+            wins = [x for x in saved if x > 0.05]
+            print(
+                f"{vehicle}: graph (energy) saves > 0.05 % against the shortest path on "
+                f"{len(wins)}/{len(saved)} maps (mean {np.mean(saved):.2f} %, max "
+                f"{max(saved):.2f} %); on the others the shortest path is also the cheapest"
+            )
     print(f"wrote {a.out / 'planners.csv'}, {a.out / 'planners.png'}, "
           + ", ".join(str(p) for p in logs))  # fmt: skip
     return 0
