@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 import types
@@ -96,7 +97,7 @@ def test_help_lists_commands_and_examples(capsys: pytest.CaptureFixture[str]) ->
     assert "examples:" in text and "exit codes" in text
     for sub in ("run", "plan", "simulate", "compare", "diagnose", "bench"):
         assert main([sub, "--help"]) == 0
-        assert "example:\n  ecoplan " + sub in capsys.readouterr().out
+        assert re.search(r"examples?:\n  ecoplan " + sub, capsys.readouterr().out)
     assert build_parser().prog == "ecoplan"
 
 
@@ -205,9 +206,14 @@ def test_diagnose_delegates_to_the_pipeline(
     calls: list[tuple[object, ...]] = []
 
     def fake(
-        logs: list[str], vehicle: str, terrain: str | None, js: str | None, out: str | None
+        logs: list[str],
+        vehicle: str,
+        terrain: str | None,
+        js: str | None,
+        out: str | None,
+        **options: object,
     ) -> int:
-        calls.append((logs, vehicle, terrain, js, out))
+        calls.append((logs, vehicle, terrain, js, out, options))
         return 0
 
     mod = types.ModuleType("ecoplan.diagnose.pipeline")
@@ -227,7 +233,8 @@ def test_diagnose_delegates_to_the_pipeline(
         ]
     )
     assert code == 0
-    assert calls == [([str(log)], "pioneer-3at", None, "g.json", str(tmp_path / "d"))]
+    defaults = {"topics_path": None, "bus_voltage_v": 24.0, "routes": None}
+    assert calls == [([str(log)], "pioneer-3at", None, "g.json", str(tmp_path / "d"), defaults)]
 
 
 def test_demo_writes_the_replay_report(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -276,3 +283,20 @@ def test_plan_writes_the_route_map(tmp_path: Path, capsys: pytest.CaptureFixture
     assert len(payload["alternatives"]) == 1
     assert (out_dir / "map.png").stat().st_size > 0
     assert not (out_dir / "power.png").exists()  # nothing simulated
+
+
+def test_diagnose_source_options_fail_fast_with_one_line(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    pytest.importorskip("ecoplan.diagnose.pipeline")
+    log = tmp_path / "a.csv"
+    log.write_text("t,v_left,v_right,p_total\n0,0,0,10\n0.1,0.1,0.1,20\n0.2,0.1,0.1,20\n")
+    base = ["diagnose", str(log), "--vehicle", "pioneer-3at"]
+    assert main([*base, "--bus-voltage", "-5"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--bus-voltage" in err and "\n" not in err
+    assert main([*base, "--topics", str(tmp_path / "missing.yaml")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "missing.yaml" in err and "\n" not in err
+    assert main([*base, "--scenario", str(tmp_path / "missing.yaml")]) == 2
+    assert "missing.yaml" in capsys.readouterr().err
