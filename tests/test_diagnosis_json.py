@@ -76,4 +76,6 @@ def test_write_json_writes_a_valid_file(tmp_path) -> None:  # type: ignore[no-un
     case = generate_case(8, "none", "large", n_waypoint_runs=1, rate_hz=20.0)
     d = diagnose(list(case.logs), case.vehicle, case.terrain)
     p = write_json(d, tmp_path / "sub" / "d.json")
-    validate_json(json.loads(p.read_text()))
+    obj = json.loads(p.read_text())
+    validate_json(obj)
+    assert list(obj)[:4] == ["gap", "where", "effects", "verdict"]  # the contract keys first
