@@ -695,7 +695,9 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="V",
         help="bus voltage assumed for borealtc:TERRAIN[/RUN] logs (default 24 V)",
     )
-    diag.add_argument("--force", action="store_true")
+    diag.add_argument(
+        "--force", action="store_true", help="write into a non-empty folder ecoplan did not create"
+    )
     diag.set_defaults(func=_cmd_diagnose)
 
     bench = sub.add_parser(
@@ -715,7 +717,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     demo = sub.add_parser("demo", help="replay the A->B experiment and write its report")
     demo.add_argument("--out", default="reports/demo", metavar="DIR")
-    demo.add_argument("--force", action="store_true")
+    demo.add_argument(
+        "--force", action="store_true", help="write into a non-empty folder ecoplan did not create"
+    )
     demo.add_argument("--json", nargs="?", const="-", metavar="FILE")
     demo.add_argument("-q", "--quiet", action="store_true")
     demo.set_defaults(func=_cmd_demo)
