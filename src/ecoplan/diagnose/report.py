@@ -228,8 +228,14 @@ def summary(d: Diagnosis) -> str:
         )
     )
     lines.append(f"residual whiteness after the verdict (Ljung-Box): p = {att.ljung_box_p:.2g}")
+    held = {sc.name: sc.reduction_pct for sc in att.scores}
     for a, b, c, m in att.indistinguishable:
-        lines.append(f"cannot tell apart: {a} / {b} (canonical corr {c:.2f}); try: {m}")
+        line = f"look alike on this log: {a} / {b} (canonical corr {c:.2f}); to separate: {m}"
+        if att.verdict in (a, b) and a in held and b in held:
+            # the shapes correlate, but the fits with physical bounds (m >= 0, delay >= 0, ...)
+            # did separate them held-out: say so rather than contradict the verdict
+            line += f" -- held out: {a} {held[a]:.1f} %, {b} {held[b]:.1f} %"
+        lines.append(line)
     if att.not_excited:
         lines.append(f"not excited by this log: {', '.join(att.not_excited)}")
     if att.unavailable:
