@@ -235,7 +235,8 @@ def test_time_budget_is_honoured_without_an_iteration_cap(world: World) -> None:
     res = OmplPlanner(world, cost, OmplOptions("RRTstar", time_budget_s=0.3)).plan(START, GOAL)
     wall = time.perf_counter() - t0
     assert res.stats["stopped_by_time"] == 1.0
-    assert res.planning_time_s <= wall and wall < 0.3 + 0.2
+    # no hang: the budget plus set-up, with room for a loaded CI machine
+    assert res.planning_time_s <= wall and wall < 0.3 + 1.0
 
 
 def test_terminal_stays_clean() -> None:
