@@ -226,7 +226,7 @@ def test_unreachable_goal_fails_within_the_budget() -> None:
         t0 = time.perf_counter()
         with pytest.raises(PlanningError, match="no path"):
             OmplPlanner(world, cost, OmplOptions(planner, time_budget_s=0.3)).plan((2, 5), (8, 5))
-        assert time.perf_counter() - t0 < 0.3 + 0.2
+        assert time.perf_counter() - t0 < 0.3 + 1.0  # no hang (room for a loaded machine)
 
 
 def test_time_budget_is_honoured_without_an_iteration_cap(world: World) -> None:
