@@ -300,3 +300,16 @@ def test_diagnose_source_options_fail_fast_with_one_line(
     assert "missing.yaml" in err and "\n" not in err
     assert main([*base, "--scenario", str(tmp_path / "missing.yaml")]) == 2
     assert "missing.yaml" in capsys.readouterr().err
+
+
+def test_diagnose_json_never_overwrites_a_log(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    pytest.importorskip("ecoplan.diagnose.pipeline")
+    log = tmp_path / "a.csv"
+    text = "t,v_left,v_right,p_total\n0,0,0,10\n0.1,0.1,0.1,20\n0.2,0.1,0.1,20\n"
+    log.write_text(text)
+    # `--json` swallowed the first log name: refused, the log untouched
+    assert main(["diagnose", "--json", str(log), str(log), "--vehicle", "pioneer-3at"]) == 2
+    assert "--json" in capsys.readouterr().err
+    assert log.read_text() == text

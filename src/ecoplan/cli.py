@@ -382,6 +382,15 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
         raise EcoplanError(
             "diagnosis is not available in this build (ecoplan.diagnose.pipeline)"
         ) from None
+    if args.json is not None:
+        target = Path(args.json)
+        if target.suffix.lower() != ".json" or any(
+            target.resolve() == Path(str(log)).resolve() for log in args.logs
+        ):
+            raise InputError(
+                f"--json {target}: expected a new .json file name (it would overwrite a log or "
+                "another file); put --json FILE after the logs"
+            )
     folder = _prepare(args)
     routes = None if args.scenario is None else _scenario_routes(args)
     started = time.time()
