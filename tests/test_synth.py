@@ -498,3 +498,55 @@ def test_encoders_read_zero_at_rest() -> None:
         assert rest.any() and np.all(lg.v_left[rest] == 0.0)
         moving = ~rest
         assert np.std(lg.v_left[moving] - tr.v_left[moving]) == pytest.approx(0.005, rel=0.2)
+
+
+def _chuy_side_powers(vl: np.ndarray, vr: np.ndarray) -> np.ndarray:
+    """|P| of both sides by wheeled eqs. 12, 14-15 with Table I (asphalt), written out here."""
+    spread = 0.40 / 0.65  # track gauge / chi of the pioneer-3at preset
+    v = np.abs(0.5 * (vl + vr))
+    wz = np.abs(vr - vl) / spread
+    with np.errstate(divide="ignore"):
+        r = np.where(wz > 1e-9, v / np.maximum(wz, 1e-300), np.inf)
+    decay = lambda beta: np.where(np.isinf(r), 0.0, (r + 1.0) ** -beta)  # noqa: E731
+    p_in = (7.5313 - 170.0 * decay(2.5507)) * v + 0.006 + 500.0 * decay(7.7136)
+    p_out = (10.2208 + 250.0 * decay(2.2187)) * v + 0.03397 + 300.0 * decay(4.818)
+    straight = np.isinf(r)
+    p_in, p_out = (
+        np.where(straight, 0.5 * (p_in + p_out), p_in),
+        np.where(straight, 0.5 * (p_in + p_out), p_out),
+    )
+    return np.maximum(np.abs(p_in), np.abs(p_out))
+
+
+def test_wheeled_sessions_hold_no_command_beyond_the_side_power_limit() -> None:
+    # wheeled paper §III: cmd(0.4, 2.0) already breaks the Pioneer's side limit (Fig. 10)
+    # and a zero radius immobilises it, so its logs hold no such steady command
+    case = generate_case(4, "none", vehicle="pioneer-3at", terrain="asphalt", **FAST)
+    kinds = set()
+    for tr in case.trajectories:
+        kinds.add(tr.manoeuvre)
+        assert float(np.max(_chuy_side_powers(tr.cmd_left, tr.cmd_right))) <= 12.0 + 1e-6
+        assert float(np.max(np.abs(tr.wz))) > 0.05  # every run still turns
+    assert kinds == {"grid", "spiral", "waypoints"}
+    assert 2.0 < case.truth.base_mean_w < 24.0  # two sides of at most 12 W each
+    # the controller's way points are still reached (within the widened switching radius)
+    assert all(len(tr) < 300 * 25 for tr in case.trajectories)
+
+
+def test_wheeled_grid_runs_are_the_papers_cmd_v_r_experiments() -> None:
+    wheeled = vehicle("pioneer-3at", "asphalt")
+    _, cl, cr = stationary_grid_commands(wheeled, 3, n_pairs=6)
+    held = np.flatnonzero((np.abs(cl) + np.abs(cr) > 0) & (np.diff(cl, prepend=0.0) == 0.0))
+    v = 0.5 * (cl[held] + cr[held])
+    assert set(np.round(v, 6)) <= {0.1, 0.2, 0.3, 0.4, 0.6}  # wheeled §III speeds
+    assert np.all(v > 0.0)  # forward only, as in the paper
+
+
+def test_wheeled_noise_floor_is_scaled_to_the_robot() -> None:
+    assert SensorNoise.for_vehicle(AURIGA) == SensorNoise()
+    wheeled = SensorNoise.for_vehicle(vehicle("pioneer-3at", "asphalt"))
+    assert wheeled.power_abs_w == pytest.approx(0.5) and wheeled.power_rel == 0.02
+    case = generate_case(6, "none", vehicle="pioneer-3at", terrain="asphalt", **FAST)
+    res = np.concatenate([lg.p_total - p for lg, p in zip(case.logs, case.true_power, strict=True)])
+    sd = np.concatenate([0.02 * np.abs(p) + 0.5 for p in case.true_power])
+    assert float(np.std(res / sd)) == pytest.approx(1.0, abs=0.05)

@@ -425,8 +425,16 @@ class IcrAsymmetry(_ScalarSearch):
         half = data.params.track_gauge_m / (2.0 * data.params.chi)
         return -0.6 * half, 0.6 * half
 
-    def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
-        p = dataclasses.replace(data.params, icr_offset_m=float(theta or 0.0))
+    def design(self, data: EffectData, theta: Any) -> FloatArray:
+        """Base design with the ICRs shifted by ``theta``.
+
+        The shift is clipped to 95 % of the half ICR spread at the data's χ: a χ search with
+        the shift held fixed (or a shift measured on the pose) may otherwise put an ICR on the
+        wrong side of the centre, which is no vehicle.
+        """
+        half = data.params.track_gauge_m / (2.0 * data.params.chi)
+        off = float(np.clip(float(theta or 0.0), -0.95 * half, 0.95 * half))
+        p = dataclasses.replace(data.params, icr_offset_m=off)
         return base_design(data.frame, p).X
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
