@@ -346,12 +346,16 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
 
     if d.space_map is not None:
         sm = d.space_map
-        fig, ax = plt.subplots(figsize=(6, 5))
+        # size the figure to the map's aspect ratio (long thin A->B lots stay readable)
+        span_x = float(sm.x_edges[-1] - sm.x_edges[0])
+        span_y = float(sm.y_edges[-1] - sm.y_edges[0])
+        aspect = min(max(span_y / max(span_x, 1e-9), 0.2), 2.0)
+        fig, ax = plt.subplots(figsize=(9.0, max(2.8, 7.5 * aspect + 1.2)))
         lim = float(np.nanmax(np.abs(sm.mean_w))) if np.any(np.isfinite(sm.mean_w)) else 1.0
         mesh = ax.pcolormesh(
             sm.x_edges, sm.y_edges, sm.mean_w.T, cmap="RdBu_r", vmin=-lim, vmax=lim, shading="flat"
         )
-        fig.colorbar(mesh, ax=ax, label="mean residual [W]")
+        fig.colorbar(mesh, ax=ax, label="mean residual [W]", fraction=0.04, pad=0.02)
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
