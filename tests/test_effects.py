@@ -14,9 +14,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.attribute import block_bootstrap, ljung_box, split_masks
-from ecoplan.diagnose.calibrate import calibrate
-from ecoplan.diagnose.effects import EFFECTS, NoEffect, make_effect, prepare
+from ecoplan.diagnose.attribute import block_bootstrap, ljung_box, noise_floor_mae, split_masks
+from ecoplan.diagnose.calibrate import calibrate, kinematic_chi
+from ecoplan.diagnose.effects import EFFECTS, NoEffect, huber_weights, make_effect, prepare
 from ecoplan.diagnose.replay import build_frame, rate_limit, snap_speeds
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
@@ -277,3 +277,79 @@ def test_wheeled_calibration_keeps_turns_it_never_saw_near_the_preset() -> None:
     sharp_l, sharp_r = 0.2 - w * y_icr, 0.2 + w * y_icr
     p_true = float(true.power(sharp_l, sharp_r).total_w)
     assert float(cal.params.power(sharp_l, sharp_r).total_w) == pytest.approx(p_true, rel=0.15)
+
+
+def test_noise_floor_of_a_smoothed_channel_is_measured_at_its_scale() -> None:
+    # white noise of sigma 1 has MAE sqrt(2/pi) = 0.798; a 50-sample moving average of it has
+    # sigma 1/sqrt(50), MAE 0.113.  First differences of the smoothed series nearly vanish
+    # (the floor would read about 0.113 * sqrt(2/50)), samples 50 apart are independent.
+    rng = np.random.default_rng(3)
+    e = rng.normal(0.0, 1.0, 200_000)
+    assert noise_floor_mae(e) == pytest.approx(np.sqrt(2 / np.pi), rel=0.02)
+    smooth = np.convolve(e, np.ones(50) / 50, mode="valid")
+    true_mae = np.sqrt(2 / np.pi) / np.sqrt(50)
+    assert noise_floor_mae(smooth) < 0.25 * true_mae
+    run = np.repeat([0.0, 1.0], smooth.size // 2 + 1)[: smooth.size]
+    assert noise_floor_mae(smooth, run, decimate=50) == pytest.approx(true_mae, rel=0.05)
+
+
+def _pioneer_log(c_nspm: float, chi: float, seed: int = 0) -> SimpleNamespace:
+    """Straight runs and wide arcs of a Pioneer with a gyro; optional c (V_l² + V_r²) [W]."""
+    true = dataclasses.replace(vehicle("pioneer-3at", "asphalt"), chi=chi)
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, 240.0, 0.05)
+    v = 0.15 + 0.15 * (np.floor(t / 20.0) % 4)
+    k = np.select([(t // 10.0) % 3 == 0, (t // 10.0) % 3 == 1], [0.0, 0.06], -0.04)
+    vl, vr = v * (1 - k), v * (1 + k)
+    p = true.power(vl, vr).total_w + c_nspm * (vl**2 + vr**2)
+    # yaw rate by tracked eq. 3 written out: wz = (V_r - V_l) chi / gauge
+    wz = (vr - vl) * chi / true.track_gauge_m
+    return SimpleNamespace(
+        t=t,
+        v_left=vl,
+        v_right=vr,
+        p_total=p + rng.normal(0.0, 0.3, t.size),
+        v_left_cmd=None,
+        v_right_cmd=None,
+        x=None,
+        y=None,
+        yaw=None,
+        wz=wz + rng.normal(0.0, 0.01, t.size),
+        p_left=None,
+        p_right=None,
+        terrain=None,
+    )
+
+
+def test_wheeled_chi_is_measured_on_the_gyro() -> None:
+    pioneer = vehicle("pioneer-3at", "asphalt")  # preset chi 0.65
+    frame = build_frame([_pioneer_log(0.0, chi=0.55)], pioneer, snap_mps=2e-3)
+    assert kinematic_chi(frame, pioneer) == pytest.approx(0.55, abs=0.01)
+    assert calibrate(frame, pioneer).params.chi == pytest.approx(0.55, abs=0.01)
+    no_gyro = dataclasses.replace(frame, wz_log=None)
+    assert kinematic_chi(no_gyro, pioneer) is None  # then chi is searched on the power
+    assert kinematic_chi(frame, vehicle("auriga-beta-narrow", "asphalt")) is None
+
+
+def test_wheeled_effect_fit_undoes_what_calibration_absorbed() -> None:
+    # c (V_l² + V_r²) over 0.15-0.6 m/s is nearly linear in v: calibration alone absorbs most
+    # of it into a_inf.  Refitted jointly with the base coefficients, pulled towards the
+    # preset like calibration, the effect must come back near the true c = 10 N s/m.
+    pioneer = vehicle("pioneer-3at", "asphalt")
+    frame = build_frame([_pioneer_log(10.0, chi=0.65, seed=1)], pioneer, snap_mps=2e-3)
+    cal = calibrate(frame, pioneer)
+    data = prepare(frame, cal.params)
+    eff = make_effect("speed_dependent_resistance").fit(data)
+    assert eff.params_["c_n_s_per_m"] == pytest.approx(10.0, rel=0.2)
+    none = NoEffect().fit(data)
+    assert eff.score(data) < 0.9 * none.score(data)
+
+
+def test_huber_weights_cap_outliers_only() -> None:
+    rng = np.random.default_rng(5)
+    r = rng.normal(0.0, 1.0, 10_000)
+    r[:10] = 100.0
+    w = huber_weights(r)
+    assert np.all(w[10:][np.abs(r[10:]) < 2.5] == 1.0)
+    # MAD scale of a unit normal is 1: the outliers get 3 / 100
+    np.testing.assert_allclose(w[:10], 0.03, rtol=0.05)

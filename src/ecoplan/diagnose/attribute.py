@@ -38,7 +38,7 @@ from ecoplan.diagnose.effects import (
     NoEffect,
     make_effect,
 )
-from ecoplan.diagnose.replay import Frame, smooth_derivative
+from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
 
 __all__ = [
     "SEPARATING_MANOEUVRES",
@@ -92,14 +92,24 @@ def split_masks(frame: Frame, split_s: float | None = None) -> tuple[BoolArray, 
     return ~test, test
 
 
-def noise_floor_mae(residual: FloatArray, run: FloatArray | None = None) -> float:
+def noise_floor_mae(
+    residual: FloatArray, run: FloatArray | None = None, decimate: int = 1
+) -> float:
     """MAE a white Gaussian noise would leave, from first differences: ``σ √(2/π)`` [W].
 
     ``σ² ≈ var(Δr) / 2`` for white noise; slow structure in the residual barely changes it.
+    A residual smoothed over ``k`` samples is no longer white at the sample scale (its first
+    differences nearly vanish): pass ``decimate = k`` to difference samples ``k`` apart.
     """
-    d = np.diff(residual)
+    step = max(int(decimate), 1)
+    idx = np.arange(residual.size)
+    if run is not None and step > 1:
+        idx = np.concatenate([np.flatnonzero(run == r)[::step] for r in np.unique(run)])
+    elif step > 1:
+        idx = idx[::step]
+    d = np.diff(residual[idx])
     if run is not None:
-        d = d[np.diff(run) == 0]
+        d = d[np.diff(run[idx]) == 0]
     sigma = float(np.sqrt(np.mean(d**2) / 2.0)) if d.size else 0.0
     return sigma * math.sqrt(2.0 / math.pi)
 
@@ -530,6 +540,9 @@ def attribute(
         off = IcrAsymmetry(theta=delta).fit(train)
         fitted["icr_asymmetry"] = off
         residuals["icr_asymmetry"] = test.p - off.predict(test)
+        # the pose channel is smoothed over POSE_SMOOTH_S: its floor is measured at that scale
+        dt = float(np.median(test.frame.dt)) if test.frame.n else 1.0
+        smooth_k = max(round(POSE_SMOOTH_S / max(dt, 1e-6)), 1)
         kin_scores.append(
             _score(
                 "icr_asymmetry",
@@ -540,7 +553,7 @@ def attribute(
                 rng,
                 level,
                 3 * min_gain,
-                noise_floor_mae(k0),
+                noise_floor_mae(k0, test.frame.run.astype(np.float64), smooth_k),
                 (before, off.score(test)),
                 dict(off.params_),
             )

@@ -44,6 +44,8 @@ __all__ = [
     "calibrate",
     "fit_accel_limit",
     "grid_then_bounded",
+    "kinematic_chi",
+    "wheeled_prior",
     "with_linear_params",
 ]
 
@@ -196,6 +198,36 @@ def _wheeled_theta(params: WheeledParams) -> FloatArray:
     return np.array([*vals, params.p_powerup_w], dtype=np.float64)
 
 
+#: Preset coefficients that :func:`calibrate` pulled each calibrated wheeled model towards,
+#: by the calibrated coefficients (a small memo, see :func:`wheeled_prior`).
+_PRIORS: dict[tuple[float, ...], FloatArray] = {}
+_PRIORS_MAX = 256
+
+
+def _remember_prior(calibrated: WheeledParams, preset: WheeledParams) -> None:
+    if len(_PRIORS) >= _PRIORS_MAX:
+        _PRIORS.pop(next(iter(_PRIORS)))
+    _PRIORS[tuple(_wheeled_theta(calibrated).tolist())] = _wheeled_theta(preset)
+
+
+def wheeled_prior(params: WheeledParams) -> tuple[FloatArray, FloatArray]:
+    """The pull of :data:`WHEELED_RIDGE`: the prior coefficients and the envelope design.
+
+    Returns ``(theta, E)``: the coefficients calibration pulled ``params`` towards (the
+    preset's, when ``params`` came out of :func:`calibrate`; else ``params``' own) and the
+    design of :func:`base_design` over the operating envelope (9 x 9 side-speed pairs up to
+    the top speed).  The effects of :mod:`ecoplan.diagnose.effects` refit the coefficients
+    jointly with their own columns under the same penalty ``ridge * n * mean((E (c -
+    theta))^2)``, so that an effect and the base model are fitted like for like with
+    calibration: a pull towards the *calibrated* coefficients would keep what calibration
+    absorbed (a speed-dependent resistance doubled ``a_inf`` on the blind check's Pioneer
+    sessions, and the effect's fit could undo only a fifth of it).
+    """
+    own = _wheeled_theta(params)
+    prior = _PRIORS.get(tuple(own.tolist()), own)
+    return prior, _envelope_design(params)
+
+
 def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[VehicleParams, float]:
     p = dataclasses.replace(params, chi=chi)
     if isinstance(p, TrackedParams):
@@ -247,6 +279,27 @@ def fit_accel_limit(frame: Frame) -> float | None:
     if allacc.size < 20:
         return None
     return float(np.quantile(allacc, 0.95))
+
+
+def kinematic_chi(frame: Frame, params: VehicleParams) -> float | None:
+    """χ of a wheeled vehicle from its gyro: ``wz = χ (V_r - V_l) / gauge`` (tracked eq. 3).
+
+    The wheeled power model (Chuy et al. 2009, eqs. 12-15) is a function of the turn radius,
+    a kinematic quantity: χ only maps side speeds to that radius.  Searched on the power, χ
+    trades off against the nine free coefficients of eqs. 14-15 (on the blind check's
+    Pioneer sessions it wandered between 0.42 and 0.84 for a true 0.65, absorbing part of a
+    drift or a delay), so when the log has a yaw rate χ is measured where it is defined.
+    Returns None for tracked vehicles (their χ is searched on the power, as calibrated
+    against in Morales et al.), without a logged yaw rate, or when the log barely turns.
+    """
+    if not isinstance(params, WheeledParams) or frame.wz_log is None:
+        return None
+    d = (frame.vr - frame.vl) / params.track_gauge_m
+    den = float(np.dot(d, d))
+    if den <= 0.0 or float(np.sqrt(den / max(frame.n, 1))) < 0.02:
+        return None
+    chi = float(np.dot(frame.wz_log, d)) / den
+    return float(np.clip(chi, *CHI_BOUNDS))
 
 
 @dataclass(frozen=True, slots=True)
@@ -304,12 +357,18 @@ def calibrate(frame: Frame, params: VehicleParams) -> Calibration:
         mask = np.zeros(frame.n, dtype=bool)
         mask[:: int(np.ceil(frame.n / CAL_SEARCH_SAMPLES))] = True
         sub = frame.subset(mask)
-    chi = grid_then_bounded(lambda c: _fit_at_chi(sub, params, c)[1], *CHI_BOUNDS)
+    chi_kin = kinematic_chi(frame, params)
+    if chi_kin is not None:
+        chi = chi_kin
+    else:
+        chi = grid_then_bounded(lambda c: _fit_at_chi(sub, params, c)[1], *CHI_BOUNDS)
     best, _ = _fit_at_chi(frame, params, chi)
     accel = fit_accel_limit(frame)
     if accel is not None and accel > 0.0:
         best = dataclasses.replace(best, accel_max_mps2=accel)
     after = float(np.mean(np.abs(frame.p - best.power(frame.vl, frame.vr).total_w)))
+    if isinstance(best, WheeledParams) and isinstance(params, WheeledParams):
+        _remember_prior(best, params)
     old, new = _flat(params), _flat(best)
     changed = {k: (old[k], new[k]) for k in new if k in old and not np.isclose(old[k], new[k])}
     return Calibration(best, changed, before, after)

@@ -30,6 +30,7 @@ from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.presets import VehicleParams
 
 __all__ = [
+    "POSE_SMOOTH_S",
     "Frame",
     "LogLike",
     "ReplayResiduals",
@@ -41,6 +42,10 @@ __all__ = [
     "smooth_derivative",
     "snap_speeds",
 ]
+
+
+#: Window over which the pose-speed channel (``Frame.v_pose_err``) is smoothed [s].
+POSE_SMOOTH_S = 1.0
 
 
 class LogLike(Protocol):
@@ -351,10 +356,11 @@ def build_frame(
         opt["vr_cmd"].append(_opt(log, "v_right_cmd", n))
         x, y, yaw = opt["x"][-1], opt["y"][-1], opt["yaw"][-1]
         if x is not None and y is not None and yaw is not None:
-            v_pose = smooth_derivative(t, x, 1.0) * np.cos(yaw) + smooth_derivative(
-                t, y, 1.0
-            ) * np.sin(yaw)
-            opt["v_pose_err"].append(v_pose - smooth(t, 0.5 * (vl + vr), 1.0))
+            w = POSE_SMOOTH_S
+            v_pose = smooth_derivative(t, x, w) * np.cos(yaw) + smooth_derivative(t, y, w) * np.sin(
+                yaw
+            )
+            opt["v_pose_err"].append(v_pose - smooth(t, 0.5 * (vl + vr), w))
         else:
             opt["v_pose_err"].append(None)
     dt_all = np.concatenate(cols["dt"])
