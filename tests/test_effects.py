@@ -15,8 +15,15 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from ecoplan.diagnose.attribute import block_bootstrap, ljung_box, noise_floor_mae, split_masks
-from ecoplan.diagnose.calibrate import calibrate, kinematic_chi
-from ecoplan.diagnose.effects import EFFECTS, NoEffect, huber_weights, make_effect, prepare
+from ecoplan.diagnose.calibrate import base_design, calibrate, kinematic_chi, wheeled_prior
+from ecoplan.diagnose.effects import (
+    EFFECTS,
+    NoEffect,
+    effect_base_design,
+    huber_weights,
+    make_effect,
+    prepare,
+)
 from ecoplan.diagnose.replay import build_frame, rate_limit, snap_speeds
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
@@ -293,12 +300,12 @@ def test_noise_floor_of_a_smoothed_channel_is_measured_at_its_scale() -> None:
     assert noise_floor_mae(smooth, run, decimate=50) == pytest.approx(true_mae, rel=0.05)
 
 
-def _pioneer_log(c_nspm: float, chi: float, seed: int = 0) -> SimpleNamespace:
+def _pioneer_log(c_nspm: float, chi: float, seed: int = 0, v0: float = 0.15) -> SimpleNamespace:
     """Straight runs and wide arcs of a Pioneer with a gyro; optional c (V_l² + V_r²) [W]."""
     true = dataclasses.replace(vehicle("pioneer-3at", "asphalt"), chi=chi)
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, 240.0, 0.05)
-    v = 0.15 + 0.15 * (np.floor(t / 20.0) % 4)
+    v = v0 + 0.15 * (np.floor(t / 20.0) % 4)
     k = np.select([(t // 10.0) % 3 == 0, (t // 10.0) % 3 == 1], [0.0, 0.06], -0.04)
     vl, vr = v * (1 - k), v * (1 + k)
     p = true.power(vl, vr).total_w + c_nspm * (vl**2 + vr**2)
@@ -353,3 +360,20 @@ def test_huber_weights_cap_outliers_only() -> None:
     assert np.all(w[10:][np.abs(r[10:]) < 2.5] == 1.0)
     # MAD scale of a unit normal is 1: the outliers get 3 / 100
     np.testing.assert_allclose(w[:10], 0.03, rtol=0.05)
+
+
+def test_wheeled_effect_design_takes_braking_sides_from_the_preset() -> None:
+    # calibration that absorbed a speed-dependent resistance has a negative straight-line
+    # offset, so its model calls both sides "braking" in slow straight motion.  The effects'
+    # design must keep the preset's physics (only the inner side brakes, in tight turns): at
+    # the preset's coefficients it reproduces the preset's battery draw |P| (wheeled_power).
+    pioneer = vehicle("pioneer-3at", "asphalt")
+    frame = build_frame([_pioneer_log(10.0, chi=0.65, seed=2, v0=0.04)], pioneer, snap_mps=2e-3)
+    cal = calibrate(frame, pioneer)
+    assert cal.params.inner.b_inf + cal.params.outer.b_inf < 0.0  # the absorbed offset
+    theta, _ = wheeled_prior(cal.params)
+    p_preset = dataclasses.replace(pioneer, chi=cal.params.chi).power(frame.vl, frame.vr).total_w
+    design = effect_base_design(frame, cal.params).X
+    np.testing.assert_allclose(design @ theta, p_preset, atol=1e-9)
+    calibrated_signs = base_design(frame, cal.params).X
+    assert float(np.max(np.abs(calibrated_signs @ theta - p_preset))) > 0.5

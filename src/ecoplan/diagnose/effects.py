@@ -43,10 +43,12 @@ from ecoplan._typing import BoolArray, FloatArray, IntArray
 from ecoplan.diagnose.calibrate import (
     CHI_BOUNDS,
     WHEELED_RIDGE,
+    BaseDesign,
     base_design,
     grid_then_bounded,
     kinematic_chi,
     wheeled_prior,
+    with_linear_params,
 )
 from ecoplan.diagnose.replay import Frame, rate_limit
 from ecoplan.errors import InputError
@@ -69,6 +71,7 @@ __all__ = [
     "Slope",
     "SpeedDependentResistance",
     "TerrainPatch",
+    "effect_base_design",
     "effect_names",
     "make_effect",
     "prepare",
@@ -155,10 +158,31 @@ def _segments(frame: Frame) -> list[IntArray]:
     return [np.arange(a, b) for a, b in itertools.pairwise(edges) if b > a]
 
 
+def effect_base_design(frame: Frame, params: VehicleParams) -> BaseDesign:
+    """The base model's linear design as the candidate effects use it.
+
+    Tracked: :func:`~ecoplan.diagnose.calibrate.base_design`.  Wheeled: the same unit columns
+    (at ``params``' χ and decay exponents), each side's sign -- battery draw ``|P|`` (wheeled
+    §III-A) -- taken from the coefficients calibration was pulled towards (the preset's,
+    :func:`~ecoplan.diagnose.calibrate.wheeled_prior`), not from the calibrated ones.  Which
+    side brakes in which turn is the vehicle's physics (the inner side below r ≈ 2.4 m,
+    wheeled Fig. 6); a calibration that absorbed an effect may bend it: one that absorbed a
+    speed-dependent resistance had a negative straight-line offset, called both sides
+    "braking" in slow straight motion and so flipped the columns' sign there (0.06 W of
+    error everywhere on a Pioneer log, whatever the effect).
+    """
+    if not isinstance(params, WheeledParams):
+        return base_design(frame, params)
+    theta, _ = wheeled_prior(params)
+    # the unit columns depend on χ, the ICRs and the decay exponents, not on the linear
+    # coefficients: only the sides' signs come from the prior coefficients
+    return base_design(frame, with_linear_params(params, (), theta))
+
+
 def prepare(frame: Frame, params: VehicleParams, t_rel: FloatArray | None = None) -> EffectData:
     """Build :class:`EffectData` for a frame and calibrated parameters."""
     pb = params.power(frame.vl, frame.vr)
-    design = base_design(frame, params)
+    design = effect_base_design(frame, params)
     yaw = np.empty(frame.n)
     for idx in _per_run(frame):
         t = frame.t[idx]
@@ -228,6 +252,21 @@ def _fit_linear(data: EffectData, D: FloatArray, rows: BoolArray | None = None) 
 
 #: Reweighting passes of the wheeled fits (:func:`huber_weights`).
 WHEELED_ROBUST_ITERATIONS = 2
+
+
+def huber_loss(residual: FloatArray, k: float = 3.0) -> float:
+    """Huber loss ``Σ ρ(r)`` at the robust scale of :func:`huber_weights` [W²].
+
+    ``ρ(r) = r²`` within ``k s`` and ``2 k s |r| - (k s)²`` beyond: the searches of the
+    wheeled effects' nonlinear parameters (a disc, a delay, a cap) compare candidates by it,
+    as the linear fits weigh samples, so that a few noise-made outliers do not pick them.
+    """
+    r = np.abs(np.asarray(residual, dtype=np.float64))
+    s = 1.4826 * float(np.median(np.abs(residual - np.median(residual)))) if r.size else 0.0
+    c = k * s
+    if c <= 0.0:
+        return float(np.sum(r**2))
+    return float(np.sum(np.where(r <= c, r**2, 2.0 * c * r - c * c)))
 
 
 def huber_weights(residual: FloatArray, k: float = 3.0) -> FloatArray:
@@ -330,6 +369,8 @@ class Effect:
 
     def _sse(self, data: EffectData, theta: Any) -> float:
         pred = self._predict(data, theta, self._fit_coef(data, theta))
+        if isinstance(data.params, WheeledParams):
+            return huber_loss(data.p - pred)
         return float(np.sum((data.p - pred) ** 2))
 
     # -- the contract --------------------------------------------------------------------
@@ -493,7 +534,7 @@ class IcrAsymmetry(_ScalarSearch):
         half = data.params.track_gauge_m / (2.0 * data.params.chi)
         off = float(np.clip(float(theta or 0.0), -0.95 * half, 0.95 * half))
         p = dataclasses.replace(data.params, icr_offset_m=off)
-        return base_design(data.frame, p).X
+        return effect_base_design(data.frame, p).X
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         return {"icr_offset_m": float(theta or 0.0)}
@@ -665,7 +706,7 @@ class ActuatorLag(_ScalarSearch):
 
     def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         sl, sr = self.speeds(data, float(theta or 0.0))
-        return base_design(dataclasses.replace(data.frame, vl=sl, vr=sr), data.params).X
+        return effect_base_design(dataclasses.replace(data.frame, vl=sl, vr=sr), data.params).X
 
     def fit(self, data: EffectData) -> Effect:  # noqa: D102
         # the lag is found on speeds; χ stays (speeds do not depend on it)
