@@ -600,6 +600,10 @@ class PowerSaturation(_ScalarSearch):
         return {"p_max_w": float(theta) if theta is not None else float("inf")}
 
 
+#: Grid discs of the terrain-patch search that are refined locally (best first).
+TERRAIN_STARTS = 3
+
+
 class TerrainPatch(Effect):
     """Friction and resistance scaled inside a disc ``(c_x, c_y, R)`` of the map (needs pose)."""
 
@@ -636,6 +640,7 @@ class TerrainPatch(Effect):
         ]
         centres += list(zip(f.x[::step_i].tolist(), f.y[::step_i].tolist(), strict=True))
         best: tuple[float, Any] = (self._sse(data, None), None)
+        scored: list[tuple[float, tuple[float, float, float]]] = []
 
         def trial(disc: tuple[float, float, float]) -> None:
             nonlocal best
@@ -643,6 +648,7 @@ class TerrainPatch(Effect):
             if n_in < 20 or n_in > 0.9 * f.n:
                 return
             sse = self._sse(data, disc)
+            scored.append((sse, disc))
             if sse < best[0]:
                 best = (sse, disc)
 
@@ -650,8 +656,10 @@ class TerrainPatch(Effect):
             dist = np.hypot(f.x - cx, f.y - cy)
             for r in np.quantile(dist, [0.1, 0.2, 0.3, 0.45]):
                 trial((cx, cy, float(max(r, 1e-3))))
-        if best[1] is not None:
-            cx, cy, r = best[1]
+        # refine the best few discs of the grid (distinct discs can cover the same turns)
+        starts = [d for _, d in sorted(scored, key=lambda sd: sd[0])[:TERRAIN_STARTS]]
+        for start in starts:
+            cx, cy, r = start
             h = span / 30.0
             for dx in (-h, 0.0, h):
                 for dy in (-h, 0.0, h):
