@@ -13,7 +13,9 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
   non-negative linear least squares (``scipy.optimize.lsq_linear``).
 * **Wheeled** (Chuy et al. 2009, eqs. 12-15): per side ``P = a(r) v + b(r)`` is linear in
   ``a_inf, a_alpha, b_inf, b_alpha`` for fixed decay exponents; the battery draw ``|P|`` is
-  handled by fixing each side's sign from the current fit and iterating.  χ as above.  The
+  handled by fixing each side's sign from the current fit and iterating.  χ from the logged
+  yaw rate when there is one (:func:`kinematic_chi`: the model is one of the turn radius), else
+  as above.  The
   coefficients are weakly pulled towards the preset's (ridge, :data:`WHEELED_RIDGE`), since a
   log rarely sweeps enough turn radii to separate all nine.
 * **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
