@@ -15,9 +15,8 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
   ``a_inf, a_alpha, b_inf, b_alpha`` for fixed decay exponents; the battery draw ``|P|`` is
   handled by fixing each side's sign from the current fit and iterating.  χ from the logged
   yaw rate when there is one (:func:`kinematic_chi`: the model is one of the turn radius), else
-  as above.  The
-  coefficients are weakly pulled towards the preset's (ridge, :data:`WHEELED_RIDGE`), since a
-  log rarely sweeps enough turn radii to separate all nine.
+  as above.  The coefficients are weakly pulled towards the preset's (ridge,
+  :data:`WHEELED_RIDGE`), since a log rarely sweeps enough turn radii to separate all nine.
 * **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
   accelerations while a side is far from its command (saturated).
 """
