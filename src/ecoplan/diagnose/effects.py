@@ -6,6 +6,9 @@ effect, fitted values end in ``_``, ``predict(data)`` gives the power it expects
 the base model's linear parameters** (the calibration design of
 :mod:`ecoplan.diagnose.calibrate`), so that calibration cannot silently absorb it and the
 comparison with the calibrated model alone (the :class:`NoEffect` candidate) is like for like.
+For a wheeled vehicle (Chuy et al. 2009) that joint fit keeps the preset's braking sides
+(:func:`effect_base_design`), is weakly pulled towards the preset like calibration and
+Huber-weighted (:func:`_fit_linear`), and χ stays at the gyro's value when there is one.
 
 =============================  ===========================================================  ======
 name                           addition to the electrical power ``P_T``                     params
