@@ -17,7 +17,7 @@ A per-class table follows: right / cases and the median ratio of the effect's si
 power noise (context, not a target; kinematic effects show small power ratios).  On
 ``--vehicle pioneer-3at`` two classes are below the noise at the moderate magnitude on any
 executable session -- ``regeneration`` (its inner side brakes only in turns tighter than
-2.4 m, about 0.03 x the noise) and ``power_saturation`` (about 0.15 x) -- and end ``none``.
+2.4 m, about 0.01 x the noise) and ``power_saturation`` (about 0.1 x) -- and end ``none``.
 """
 
 from __future__ import annotations
