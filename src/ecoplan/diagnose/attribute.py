@@ -12,8 +12,9 @@
   reduction's confidence interval and one-sided p-value from a bootstrap over held-out time
   blocks (the paired difference per block, so slow structure in the residual is respected),
   Bonferroni-corrected over the candidates.
-* **Verdict**: ``none`` when no candidate reduces the gap significantly and the calibrated
-  residual is close to the noise floor; ``unexplained`` when the gap is significant but the
+* **Verdict**: ``none`` when the calibrated model's held-out gap is below 0.2 % of the mean
+  logged power, or no candidate reduces the gap significantly and the calibrated residual is
+  close to the noise floor; ``unexplained`` when the gap is significant but the
   best candidate closes less than 80 % of it above the noise floor (its residual is then
   coloured: Ljung-Box test); ``ambiguous`` when the two best are tied and cannot be told apart;
   otherwise the best candidate's name.
@@ -447,6 +448,7 @@ def attribute(
     min_gain: float = 0.03,
     explain_min: float = 0.8,
     explain_min_kinematic: float = 0.5,
+    material_share: float = 0.002,
 ) -> Attribution:
     """Fit every candidate on ``train``, score on ``test`` and give a verdict.
 
@@ -470,6 +472,11 @@ def attribute(
     explain_min_kinematic : float
         The same for the kinematic channels, whose noise floor (smoothed speeds, derivative
         of the pose) is estimated less tightly.
+    material_share : float
+        A power gap whose held-out MAE is below this share of the mean logged power is
+        ``none`` whatever its colour: a simulated log of the model itself leaves a residual
+        of a few hundredths of a watt that is coloured (smoothing, integration) but not
+        worth modelling.
 
     Returns
     -------
@@ -571,6 +578,7 @@ def attribute(
         train,
         explain_min,
         len(candidates),
+        material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
     )
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
     kin_win.sort(key=lambda s: -s.reduction_pct)
@@ -619,11 +627,16 @@ def _power_verdict(
     train: EffectData,
     explain_min: float,
     n_cand: int,
+    material_w: float = 0.0,
 ) -> tuple[
     str, float, tuple[str, ...], float, float, FloatArray, tuple[str, str] | None, float | None
 ]:
     """Verdict from the power channel alone (see the module docstring)."""
     dec = _decimation(test.frame)
+    if before <= material_w:
+        # no gap worth modelling, however coloured the residual
+        _, lb_p = ljung_box(r0, decimate=dec)
+        return "none", 1.0, (), lb_p, 0.0, r0, None, None
     # the best significant candidate (a larger but insignificant reduction is not evidence)
     best = next((sc for sc in scores if sc.significant), scores[0] if scores else None)
     pair_names: tuple[str, str] | None = None
