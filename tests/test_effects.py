@@ -345,7 +345,7 @@ def test_wheeled_effect_fit_undoes_what_calibration_absorbed() -> None:
     pioneer = vehicle("pioneer-3at", "asphalt")
     frame = build_frame([_pioneer_log(10.0, chi=0.65, seed=1)], pioneer, snap_mps=2e-3)
     cal = calibrate(frame, pioneer)
-    data = prepare(frame, cal.params)
+    data = prepare(frame, cal.params, prior=pioneer)
     eff = make_effect("speed_dependent_resistance").fit(data)
     assert eff.params_["c_n_s_per_m"] == pytest.approx(10.0, rel=0.2)
     none = NoEffect().fit(data)
@@ -371,9 +371,9 @@ def test_wheeled_effect_design_takes_braking_sides_from_the_preset() -> None:
     frame = build_frame([_pioneer_log(10.0, chi=0.65, seed=2, v0=0.04)], pioneer, snap_mps=2e-3)
     cal = calibrate(frame, pioneer)
     assert cal.params.inner.b_inf + cal.params.outer.b_inf < 0.0  # the absorbed offset
-    theta, _ = wheeled_prior(cal.params)
+    theta, _ = wheeled_prior(cal.params, pioneer)
     p_preset = dataclasses.replace(pioneer, chi=cal.params.chi).power(frame.vl, frame.vr).total_w
-    design = effect_base_design(frame, cal.params).X
+    design = effect_base_design(frame, cal.params, pioneer).X
     np.testing.assert_allclose(design @ theta, p_preset, atol=1e-9)
     calibrated_signs = base_design(frame, cal.params).X
     assert float(np.max(np.abs(calibrated_signs @ theta - p_preset))) > 0.5

@@ -22,6 +22,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -173,17 +174,7 @@ class PairEffect(Effect):
     def fit(self, data: EffectData) -> Effect:  # noqa: D102
         self.first.fit(data)
         rest = data.p - self.first.effect_w(data)
-        shifted = EffectData(
-            frame=_with_p(data.frame, rest),
-            params=data.params,
-            X=data.X,
-            base_w=data.base_w,
-            friction_w=data.friction_w,
-            resistance_w=data.resistance_w,
-            side_neg_w=data.side_neg_w,
-            yaw=data.yaw,
-            t_rel=data.t_rel,
-        )
+        shifted = dataclasses.replace(data, frame=_with_p(data.frame, rest))
         self.second.fit(shifted)
         self.coef_ = np.zeros(0)
         self.chi_ = self.second.chi_

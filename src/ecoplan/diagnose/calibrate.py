@@ -215,23 +215,13 @@ def _wheeled_theta(params: WheeledParams) -> FloatArray:
     return np.array([*vals, params.p_powerup_w], dtype=np.float64)
 
 
-#: Preset coefficients that :func:`calibrate` pulled each calibrated wheeled model towards,
-#: by the calibrated coefficients (a small memo, see :func:`wheeled_prior`).
-_PRIORS: dict[tuple[float, ...], FloatArray] = {}
-_PRIORS_MAX = 256
-
-
-def _remember_prior(calibrated: WheeledParams, preset: WheeledParams) -> None:
-    if len(_PRIORS) >= _PRIORS_MAX:
-        _PRIORS.pop(next(iter(_PRIORS)))
-    _PRIORS[tuple(_wheeled_theta(calibrated).tolist())] = _wheeled_theta(preset)
-
-
-def wheeled_prior(params: WheeledParams) -> tuple[FloatArray, FloatArray]:
+def wheeled_prior(
+    params: WheeledParams, preset: VehicleParams | None = None
+) -> tuple[FloatArray, FloatArray]:
     """The pull of :data:`WHEELED_RIDGE`: the prior coefficients and the envelope design.
 
-    Returns ``(theta, E)``: the coefficients calibration pulled ``params`` towards (the
-    preset's, when ``params`` came out of :func:`calibrate`; else ``params``' own) and the
+    Returns ``(theta, E)``: the coefficients calibration pulled ``params`` towards (those of
+    ``preset``, the parameters :func:`calibrate` started from; ``params``' own without it) and the
     design of :func:`base_design` over the operating envelope (9 x 9 side-speed pairs up to
     the top speed).  The effects of :mod:`ecoplan.diagnose.effects` refit the coefficients
     jointly with their own columns under the same penalty ``ridge * n * mean((E (c -
@@ -240,8 +230,7 @@ def wheeled_prior(params: WheeledParams) -> tuple[FloatArray, FloatArray]:
     absorbed (a speed-dependent resistance doubled ``a_inf`` on the blind check's Pioneer
     sessions, and the effect's fit could undo only a fifth of it).
     """
-    own = _wheeled_theta(params)
-    prior = _PRIORS.get(tuple(own.tolist()), own)
+    prior = _wheeled_theta(preset if isinstance(preset, WheeledParams) else params)
     return prior, _envelope_design(params)
 
 
@@ -386,8 +375,6 @@ def calibrate(frame: Frame, params: VehicleParams) -> Calibration:
     if accel is not None and accel > 0.0:
         best = dataclasses.replace(best, accel_max_mps2=accel)
     after = float(np.mean(np.abs(frame.p - best.power(frame.vl, frame.vr).total_w)))
-    if isinstance(best, WheeledParams) and isinstance(params, WheeledParams):
-        _remember_prior(best, params)
     old, new = _flat(params), _flat(best)
     changed = {k: (old[k], new[k]) for k in new if k in old and not np.isclose(old[k], new[k])}
     return Calibration(best, changed, before, after)

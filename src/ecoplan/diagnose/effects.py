@@ -104,6 +104,9 @@ class EffectData:
         Heading [rad]: logged, else integrated from the kinematic yaw rate per run.
     t_rel : ndarray
         Time on the logs' clock [s] (a session clock when runs follow each other).
+    prior : TrackedParams or WheeledParams or None
+        The parameters calibration started from (the preset), which the wheeled refits are
+        pulled towards (:func:`~ecoplan.diagnose.calibrate.wheeled_prior`); None: ``params``.
     """
 
     frame: Frame
@@ -115,6 +118,7 @@ class EffectData:
     side_neg_w: FloatArray
     yaw: FloatArray
     t_rel: FloatArray
+    prior: VehicleParams | None = None
 
     @property
     def p(self) -> FloatArray:
@@ -125,7 +129,9 @@ class EffectData:
         """The same samples prepared with the base parameters at another χ (eq. 12)."""
         if chi == self.params.chi:
             return self
-        return prepare(self.frame, dataclasses.replace(self.params, chi=chi), self.t_rel)
+        return prepare(
+            self.frame, dataclasses.replace(self.params, chi=chi), self.t_rel, prior=self.prior
+        )
 
     def subset(self, mask: BoolArray) -> EffectData:
         """The samples where ``mask`` is true."""
@@ -139,6 +145,7 @@ class EffectData:
             self.side_neg_w[mask],
             self.yaw[mask],
             self.t_rel[mask],
+            self.prior,
         )
 
 
@@ -161,7 +168,9 @@ def _segments(frame: Frame) -> list[IntArray]:
     return [np.arange(a, b) for a, b in itertools.pairwise(edges) if b > a]
 
 
-def effect_base_design(frame: Frame, params: VehicleParams) -> BaseDesign:
+def effect_base_design(
+    frame: Frame, params: VehicleParams, prior: VehicleParams | None = None
+) -> BaseDesign:
     """The base model's linear design as the candidate effects use it.
 
     Tracked: :func:`~ecoplan.diagnose.calibrate.base_design`.  Wheeled: the same unit columns
@@ -176,16 +185,26 @@ def effect_base_design(frame: Frame, params: VehicleParams) -> BaseDesign:
     """
     if not isinstance(params, WheeledParams):
         return base_design(frame, params)
-    theta, _ = wheeled_prior(params)
+    theta, _ = wheeled_prior(params, prior)
     # the unit columns depend on χ, the ICRs and the decay exponents, not on the linear
     # coefficients: only the sides' signs come from the prior coefficients
     return base_design(frame, with_linear_params(params, (), theta))
 
 
-def prepare(frame: Frame, params: VehicleParams, t_rel: FloatArray | None = None) -> EffectData:
-    """Build :class:`EffectData` for a frame and calibrated parameters."""
+def prepare(
+    frame: Frame,
+    params: VehicleParams,
+    t_rel: FloatArray | None = None,
+    *,
+    prior: VehicleParams | None = None,
+) -> EffectData:
+    """Build :class:`EffectData` for a frame and calibrated parameters.
+
+    ``prior`` is the model calibration started from (the preset): the wheeled refits are pulled
+    towards it like calibration was, and take the sides' braking signs from it.
+    """
     pb = params.power(frame.vl, frame.vr)
-    design = effect_base_design(frame, params)
+    design = effect_base_design(frame, params, prior)
     yaw = np.empty(frame.n)
     for idx in _per_run(frame):
         t = frame.t[idx]
@@ -204,6 +223,7 @@ def prepare(frame: Frame, params: VehicleParams, t_rel: FloatArray | None = None
         side_neg_w=np.minimum(pb.left_w, 0.0) + np.minimum(pb.right_w, 0.0),
         yaw=yaw,
         t_rel=frame.t if t_rel is None else t_rel,
+        prior=prior,
     )
 
 
@@ -245,7 +265,7 @@ def _fit_linear(data: EffectData, D: FloatArray, rows: BoolArray | None = None) 
     X = D if rows is None else D[rows]
     if not isinstance(data.params, WheeledParams) or X.shape[0] == 0:
         return _lstsq(X, y)
-    theta, env = wheeled_prior(data.params)
+    theta, env = wheeled_prior(data.params, data.prior)
     k = env.shape[1]
     w = np.sqrt(EFFECT_RIDGE * X.shape[0] / env.shape[0])
     aug = np.zeros((env.shape[0], X.shape[1]))
@@ -547,7 +567,7 @@ class IcrAsymmetry(_ScalarSearch):
         half = data.params.track_gauge_m / (2.0 * data.params.chi)
         off = float(np.clip(float(theta or 0.0), -0.95 * half, 0.95 * half))
         p = dataclasses.replace(data.params, icr_offset_m=off)
-        return effect_base_design(data.frame, p).X
+        return effect_base_design(data.frame, p, data.prior).X
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         return {"icr_offset_m": float(theta or 0.0)}
@@ -727,7 +747,8 @@ class ActuatorLag(_ScalarSearch):
 
     def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         sl, sr = self.speeds(data, float(theta or 0.0))
-        return effect_base_design(dataclasses.replace(data.frame, vl=sl, vr=sr), data.params).X
+        frame = dataclasses.replace(data.frame, vl=sl, vr=sr)
+        return effect_base_design(frame, data.params, data.prior).X
 
     def fit(self, data: EffectData) -> Effect:  # noqa: D102
         # the lag is found on speeds; χ stays (speeds do not depend on it)

@@ -227,7 +227,7 @@ def corrected_model(d: Diagnosis) -> CorrectedModel:
     if name == "icr_asymmetry":
         params = dataclasses.replace(params, icr_offset_m=float(eff.params_["icr_offset_m"]))
     if eff.coef_ is not None and eff.coef_.size and name != "actuator_lag":
-        data = prepare(d.test_frame, params)
+        data = prepare(d.test_frame, params, prior=d.preset)
         names = base_design(data.frame, params).names
         params = with_linear_params(params, names, eff.coef_[: len(names)])
     eparams = {k: v for k, v in eff.params_.items() if k != "chi"}

@@ -203,8 +203,8 @@ def diagnose(
     )
     train_f, test_f = frame.subset(train_m), frame.subset(test_m)
     cal = calibrate(train_f, params)
-    train = prepare(train_f, cal.params)
-    test = prepare(test_f, cal.params)
+    train = prepare(train_f, cal.params, prior=params)
+    test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
     r_cal = test.p - att.fitted["none"].predict(test)
     gap_cal = float(np.mean(np.abs(r_cal)))
@@ -241,7 +241,7 @@ def diagnose(
 
 
 def _effect_data(d: Diagnosis) -> EffectData:
-    return prepare(d.test_frame, d.calibration.params)
+    return prepare(d.test_frame, d.calibration.params, prior=d.preset)
 
 
 def run_diagnose_cli(
