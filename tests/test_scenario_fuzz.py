@@ -58,7 +58,7 @@ TOKENS = st.sampled_from(
 FUZZ = settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 
 
-def _check_parse(text: str) -> None:
+def check_parse(text: str) -> None:
     try:
         sc = parse_scenario(text, source="fuzz.yaml")
     except InputError as exc:
@@ -90,19 +90,19 @@ def test_the_fuzz_base_scenario_is_valid() -> None:
 @FUZZ
 @given(st.text(max_size=300))
 def test_arbitrary_text(text: str) -> None:
-    _check_parse(text)
+    check_parse(text)
 
 
 @FUZZ
 @given(st.lists(TOKENS, max_size=40).map("".join))
 def test_yaml_token_soup(text: str) -> None:
-    _check_parse(text)
+    check_parse(text)
 
 
 @FUZZ
 @given(VALUES)
 def test_arbitrary_documents(doc: Any) -> None:
-    _check_parse(yaml.safe_dump(doc))
+    check_parse(yaml.safe_dump(doc))
 
 
 @FUZZ
@@ -117,7 +117,7 @@ def test_mutated_valid_scenario(mutations: list[tuple[tuple[Any, ...], Any]]) ->
             node[path[-1]] = value
         except (KeyError, IndexError, TypeError):
             continue  # an earlier mutation removed this path
-    _check_parse(yaml.safe_dump(doc))
+    check_parse(yaml.safe_dump(doc))
 
 
 @FUZZ
@@ -128,4 +128,4 @@ def test_deleted_key(path: tuple[Any, ...]) -> None:
     for key in path[:-1]:
         node = node[key]
     del node[path[-1]]
-    _check_parse(yaml.safe_dump(doc))
+    check_parse(yaml.safe_dump(doc))
