@@ -303,10 +303,10 @@ class Log:
         return write_log_csv(self, path, overwrite=overwrite)
 
 
-def _check_values(
+def _check_required_finite(
     cols: Mapping[str, Any], source: str, lines: npt.NDArray[Any], line_label: str
 ) -> None:
-    """Finiteness, time order and plausible speeds; names the column and line/sample."""
+    """Every required column finite; else name the column and the first bad line/sample."""
     for name in REQUIRED_COLUMNS:
         arr = cols[name]
         bad = np.flatnonzero(~np.isfinite(arr))
@@ -316,6 +316,13 @@ def _check_values(
                 f"{source}, {line_label} {int(lines[i])}: required column {name!r} is "
                 f"{float(arr[i])!r}; required columns must be finite"
             )
+
+
+def _check_values(
+    cols: Mapping[str, Any], source: str, lines: npt.NDArray[Any], line_label: str
+) -> None:
+    """Finiteness, time order and plausible speeds; names the column and line/sample."""
+    _check_required_finite(cols, source, lines, line_label)
     for name in OPTIONAL_FLOAT_COLUMNS:
         arr = cols.get(name)
         if arr is None:
@@ -524,15 +531,7 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
             f"{_where(source, int(line_arr[0]))}: a single data row; a log needs at least 2"
         )
     ignored = [c for c in header if c not in REQUIRED_COLUMNS and c not in OPTIONAL_COLUMNS]
-    for name in REQUIRED_COLUMNS:
-        arr = cols[name]
-        bad = np.flatnonzero(~np.isfinite(arr))
-        if bad.size:
-            i = int(bad[0])
-            raise LogFormatError(
-                f"{_where(source, int(line_arr[i]))}: required column {name!r} is "
-                f"{float(arr[i])!r}; required columns must be finite"
-            )
+    _check_required_finite(cols, source, line_arr, "line")  # before rows are dropped
     drop = np.zeros(n_rows, dtype=np.bool_)
     for name in OPTIONAL_FLOAT_COLUMNS:
         if name not in cols:
