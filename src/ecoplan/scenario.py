@@ -47,10 +47,10 @@ from shapely.validation import explain_validity
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.cost import EnergyCost, LengthCost, path_cost
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InputError, PlanningError, ScenarioError
 from ecoplan.models.limits import check_tracks
 from ecoplan.presets import VehicleParams, VehicleSpec
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 from ecoplan.world import GeometryError, World, circle
 
