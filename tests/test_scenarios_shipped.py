@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 from ecoplan.cli import main
-from ecoplan.cost import path_cost
 from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.path import path_cost
 from ecoplan.planning.speed import best_speed
 from ecoplan.presets import VehicleSpec
 from ecoplan.scenario import Scenario, load_scenario

@@ -1,7 +1,7 @@
 """OMPL sampling-based planners with ecoplan's energy objective (issue 3, deliverable 4).
 
 The OMPL glue is one :class:`ompl.base.OptimizationObjective` subclass and one state
-validity function; everything about the vehicle lives in :mod:`ecoplan.cost` and
+validity function; everything about the vehicle lives in :mod:`ecoplan.energy` and
 everything about the map in :class:`ecoplan.world.World`.
 
 State spaces and what a motion costs
@@ -11,14 +11,14 @@ State spaces and what a motion costs
     the segment direction ``theta``, the straight segment, and a turn from ``theta`` to
     ``yaw2``.  Its cost is ``h(theta - yaw1) + c L + h(yaw2 - theta)`` where ``c L`` is
     the straight segment's cost and ``h`` the net cost of a turn by the cost module
-    (:func:`ecoplan.cost.turn_costs`, on the spot or a fillet arc, with room for a fillet
+    (:func:`ecoplan.energy.turns.turn_costs`, on the spot or a fillet arc, with room for a fillet
     of half the segment).  Splitting the turn at a waypoint in two costs the same as the
     whole turn whenever the waypoint's yaw lies between the incoming and outgoing
     directions (on-the-spot energy is proportional to the angle, tracked paper eq. 11),
     so the optimum aligns the yaws.  The turn out of the start (when no initial heading
     is given) and the turn into the goal are free: the cost module does the same
     (a path starts aligned with its first segment and has no goal heading).  The
-    returned path is evaluated by :func:`ecoplan.cost.path_cost` on its waypoints.
+    returned path is evaluated by :func:`ecoplan.energy.path.path_cost` on its waypoints.
 ``"dubins"`` / ``"reeds_shepp"``
     For vehicles with a minimum turning radius at the cruise speed (the Pioneer 3-AT:
     on-the-spot turns exceed its side power limit, wheeled paper Fig. 10).  The radius
@@ -27,7 +27,7 @@ State spaces and what a motion costs
     radius ``r`` and straights (Reeds-Shepp: forward or reverse); its cost is the sum of
     per-metre costs of each piece, the pieces found by sampling the curve with OMPL's
     own interpolation.  The returned path is turned into a timed track-speed trajectory
-    and evaluated by :func:`ecoplan.cost.trajectory_cost`.
+    and evaluated by :func:`ecoplan.energy.trajectory.trajectory_cost`.
 
 Benchmark logs
 --------------
@@ -76,14 +76,10 @@ from ompl import geometric as og
 from ompl import util as ou
 
 from ecoplan._typing import ArrayLike, FloatArray
-from ecoplan.cost import (
-    PathCost,
-    PathCostModel,
-    TrackTrajectory,
-    Violation,
-    trajectory_cost,
-    turn_costs,
-)
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.result import PathCost, Violation
+from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
+from ecoplan.energy.turns import turn_costs
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.models.kinematics import setpoint_to_tracks
 from ecoplan.models.limits import check_tracks, min_radius_for_speed, vr_to_tracks
@@ -233,7 +229,7 @@ def _wrap(a: float) -> float:
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
-def _objective_kind(cost: PathCostModel) -> str:
+def _objective_kind(cost: CostObjective) -> str:
     if cost.name not in ("energy", "length"):
         raise InputError(
             f"the OMPL planner supports the 'energy' and 'length' cost objects, got {cost.name!r}"
@@ -244,12 +240,12 @@ def _objective_kind(cost: PathCostModel) -> str:
 class _TurnTable:
     """Net cost of a turn by ``|dpsi|`` with fillet room ``room`` (bilinear lookup).
 
-    Built once per plan from :func:`ecoplan.cost.turn_costs` so that the objective's
+    Built once per plan from :func:`ecoplan.energy.turns.turn_costs` so that the objective's
     inner loop stays pure-Python scalar arithmetic.  Infeasible turns cost ``inf``;
     net costs are clamped at 0 so that motion costs stay above the straight-line bound.
     """
 
-    def __init__(self, cost: PathCostModel) -> None:
+    def __init__(self, cost: CostObjective) -> None:
         params = cost.params()
         a = np.linspace(0.0, math.pi, _N_TURN_ANGLES)
         self.da = float(a[1] - a[0])
@@ -259,8 +255,7 @@ class _TurnTable:
         aa, rooms = np.broadcast_arrays(a[:, None], _ROOMS[None, :])
         for sign in (1.0, -1.0):
             net, _ = turn_costs(params, sign * aa, cost.speed_mps, rooms, cost.turn)
-            if cost.name == "length":
-                net = np.where(np.isnan(net), np.nan, 0.0)
+            net = cost.turn_value(net)
             tables.append(np.where(np.isnan(net), np.inf, np.maximum(net, 0.0)).tolist())
         self.left: list[list[float]] = tables[0]
         self.right: list[list[float]] = tables[1]
@@ -287,7 +282,7 @@ class _StraightMotions:
 
     def __init__(
         self,
-        cost: PathCostModel,
+        cost: CostObjective,
         start: tuple[float, float],
         goal: tuple[float, float],
         free_start_turn: bool,
@@ -348,7 +343,7 @@ class _StraightMotions:
 class _CurveMotions:
     """Dubins / Reeds-Shepp motions: per-metre costs of arcs and straights (module doc)."""
 
-    def __init__(self, cost: PathCostModel, space: Any, radius_m: float, step_m: float) -> None:
+    def __init__(self, cost: CostObjective, space: Any, radius_m: float, step_m: float) -> None:
         self.space = space
         self.radius = radius_m
         self.step = step_m
@@ -358,7 +353,7 @@ class _CurveMotions:
             cost.world.has_regions or cost.world.default_terrain is not None
         )
         terrains: list[str | None] = [None]
-        if self.regions and cost.world is not None:
+        if self.regions and isinstance(cost.world, World):
             terrains = list(
                 dict.fromkeys(
                     [cost.world.default_terrain] + [r.terrain for r in cost.world.regions]
@@ -368,7 +363,7 @@ class _CurveMotions:
         self.default = terrains[0]
 
     def _coefficients(
-        self, cost: PathCostModel, terrain: str | None
+        self, cost: CostObjective, terrain: str | None
     ) -> dict[tuple[int, int], float]:
         """Cost per metre of ``(direction, turn)``: direction +-1, turn = sign of the yaw rate."""
         params = cost.params(terrain)
@@ -383,10 +378,8 @@ class _CurveMotions:
                     vl, vr = vr_to_tracks(params, d * v, d * k * self.radius)
                 if not check_tracks(params, vl, vr).ok.all():
                     out[(d, k)] = math.inf
-                elif cost.name == "length":
-                    out[(d, k)] = 1.0
                 else:
-                    out[(d, k)] = float(params.power(vl, vr).total_w) / v
+                    out[(d, k)] = cost.per_metre(float(params.power(vl, vr).total_w) / v)
         return out
 
     def heuristic_per_m(self) -> float:
@@ -513,7 +506,7 @@ class OmplPlanner:
     Examples
     --------
     >>> from ecoplan.world import World, rectangle
-    >>> from ecoplan.cost import EnergyCost
+    >>> from ecoplan.energy.objective import EnergyCost
     >>> from ecoplan.presets import VehicleSpec
     >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
     >>> c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
@@ -523,10 +516,10 @@ class OmplPlanner:
     (True, 'ompl:RRTstar/se2')
     """
 
-    def __init__(self, world: World, cost: PathCostModel, options: OmplOptions | None = None):
+    def __init__(self, world: World, cost: CostObjective, options: OmplOptions | None = None):
         if not isinstance(world, World):
             raise InputError(f"world must be an ecoplan.world.World, got {type(world).__name__}")
-        if not isinstance(cost, PathCostModel):
+        if not isinstance(cost, CostObjective):
             raise InputError(f"cost must be an EnergyCost or LengthCost, got {type(cost).__name__}")
         if cost.world is not None and cost.world is not world:
             raise InputError("the cost object was built for a different world")
@@ -813,7 +806,7 @@ class OmplPlanner:
 
 def plan_ompl(
     world: World,
-    cost: PathCostModel,
+    cost: CostObjective,
     start: ArrayLike,
     goal: ArrayLike,
     options: OmplOptions | None = None,
