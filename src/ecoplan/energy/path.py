@@ -139,6 +139,22 @@ class _Acc:
         self.length += length
         self.peak = max(self.peak, float(np.max(p.total_w)))
 
+    def result(
+        self, psi_rad: float, violations: list[Violation], turns: list[TurnPlan]
+    ) -> PathCost:
+        """The evaluation of the walked path."""
+        return PathCost(
+            length_m=self.length,
+            duration_s=self.duration,
+            psi_rad=float(psi_rad),
+            energy_j=float(sum(self.energy.values())),
+            breakdown_j=dict(self.energy),
+            peak_power_w=self.peak,
+            feasible=not violations,
+            violations=tuple(violations),
+            turns=tuple(turns),
+        )
+
     def add_ramp(self, params: VehicleParams, v: float, accel: float) -> None:
         p, duration = _ramp_power(params, v, accel)
         for k, val in p.components().items():
@@ -244,19 +260,7 @@ def path_cost(
         ramp = (bool(stop_at[i]) and ramps, bool(stop_at[i + 1]) and ramps)
         seg = (pts[i], pts[i + 1], float(v_seg[i]), tangent[i])
         _add_segment(acc, vehicle, world, seg, ramp, i, violations)
-    psi = sum(abs(tp.dpsi_rad) for tp in turns)
-    energy = float(sum(acc.energy.values()))
-    return PathCost(
-        length_m=acc.length,
-        duration_s=acc.duration,
-        psi_rad=float(psi),
-        energy_j=energy,
-        breakdown_j=dict(acc.energy),
-        peak_power_w=acc.peak,
-        feasible=not violations,
-        violations=tuple(violations),
-        turns=tuple(turns),
-    )
+    return acc.result(sum(abs(tp.dpsi_rad) for tp in turns), violations, turns)
 
 
 def _controlled_path_cost(
@@ -329,17 +333,7 @@ def _controlled_path_cost(
     for i in range(n_seg):
         seg = (pts[i], pts[i + 1], float(v_seg[i]), np.zeros(2))
         _add_segment(acc, vehicle, world, seg, (False, False), i, violations)
-    return PathCost(
-        length_m=acc.length,
-        duration_s=acc.duration,
-        psi_rad=psi,
-        energy_j=float(sum(acc.energy.values())),
-        breakdown_j=dict(acc.energy),
-        peak_power_w=acc.peak,
-        feasible=not violations,
-        violations=tuple(violations),
-        turns=tuple(turns),
-    )
+    return acc.result(psi, violations, turns)
 
 
 def _add_turn(
