@@ -71,7 +71,7 @@ def main() -> None:
     print(
         f"{args.paths} random polylines per vehicle, seed {args.seed}; error = analytic / sim - 1"
     )
-    print(f"{'vehicle':30s} {'estimate':10s}   p5    p25    p50    p75    p95")
+    print(f"{'vehicle':34s} {'estimate':10s}   p5    p25    p50    p75    p95")
     for name, terrain, ctrl in CASES:
         params = vehicle(name, terrain)
         paths = random_polylines(g, args.paths)
@@ -90,9 +90,9 @@ def main() -> None:
         label = f"{name}/{terrain} G {ctrl.gain:g}"
         for est, e in (("static", e_static), ("controller", e_ctrl)):
             err = (e[done] / e_sim[done] - 1.0) * 100.0
-            print(f"{label:30s} {est:10s} {describe(err)}")
+            print(f"{label:34s} {est:10s} {describe(err)}")
         print(
-            f"{'':30s} {int(done.sum())}/{len(paths)} runs completed; simulated in {t_sim:.1f} s, "
+            f"{'':34s} {int(done.sum())}/{len(paths)} runs completed; simulated in {t_sim:.1f} s, "
             f"corner tables {t_table:.1f} s, {len(paths)} controller estimates {t_cost:.2f} s"
         )
 
