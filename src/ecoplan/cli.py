@@ -128,7 +128,7 @@ def _progress(
 
 
 def _load(args: argparse.Namespace) -> Any:
-    from ecoplan.scenario import load_scenario
+    from ecoplan.app.scenario import load_scenario
 
     return load_scenario(args.scenario)
 
@@ -170,7 +170,7 @@ def _report(
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import plan_case, simulate_case
+    from ecoplan.app.run import plan_case, simulate_case
 
     out = _out(args)
     sc = _load(args)
@@ -198,7 +198,7 @@ def _print_files(out: _Out, args: argparse.Namespace, files: Sequence[Path]) -> 
 
 
 def _base_case(sc: Any) -> Any:
-    from ecoplan.scenario import Case
+    from ecoplan.app.scenario import Case
 
     return Case(sc.spec.name, sc.spec.model_copy(update={"compare": []}), sc.source)
 
@@ -223,7 +223,7 @@ def _print_case(out: _Out, r: Any) -> None:
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import CaseResult, plan_case
+    from ecoplan.app.run import CaseResult, plan_case
 
     out = _out(args)
     sc = _load(args)
@@ -269,7 +269,8 @@ def _parse_points(items: Sequence[str]) -> list[list[float]]:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import parse_scenario, simulate_case
+    from ecoplan.app.run import simulate_case
+    from ecoplan.app.scenario import parse_scenario
 
     out = _out(args)
     sc = _load(args)
@@ -305,9 +306,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 def _cmd_compare(args: argparse.Namespace) -> int:
     from functools import partial
 
+    from ecoplan.app.run import run_case
     from ecoplan.executor import make_executor
     from ecoplan.report import summary_table
-    from ecoplan.scenario import run_case
 
     out = _out(args)
     sc = _load(args)
@@ -350,9 +351,10 @@ def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
     (:func:`ecoplan.diagnose.loop.polyline_trajectory`).  The scenario is checked before the
     diagnosis starts, so a bad file costs no waiting.
     """
+    from ecoplan.app.run import plan_case
+    from ecoplan.app.scenario import load_scenario
     from ecoplan.diagnose.loop import polyline_trajectory
     from ecoplan.presets import vehicle
-    from ecoplan.scenario import load_scenario, plan_case
 
     sc = load_scenario(args.scenario)
     if sc.vehicle.name != args.vehicle:
@@ -422,14 +424,14 @@ class _BenchCase:
     """One benchmark case; carries the scenario itself, so remote workers need no files."""
 
     scenario: str
-    case: Any  # ecoplan.scenario.Case with the planner set
+    case: Any  # ecoplan.app.scenario.Case with the planner set
     planner: str
     seed: int
 
 
 def _bench_one(c: _BenchCase) -> dict[str, Any]:
     """One benchmark case: plan the scenario with a planner and seed, then simulate."""
-    from ecoplan.scenario import run_case
+    from ecoplan.app.run import run_case
 
     t0 = time.perf_counter()
     r = run_case(c.case)
@@ -448,7 +450,8 @@ def _bench_one(c: _BenchCase) -> dict[str, Any]:
 
 
 def _bench_cases(args: argparse.Namespace, planners: Sequence[str]) -> list[_BenchCase]:
-    from ecoplan.scenario import Case, PlannerSection, load_scenario
+    from ecoplan.app.scenario import Case, load_scenario
+    from ecoplan.app.scenario.schema import PlannerSection
 
     out = []
     for path in args.scenarios:

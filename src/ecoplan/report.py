@@ -35,7 +35,8 @@ from ecoplan.errors import InputError
 from ecoplan.models.power import COMPONENTS
 
 if TYPE_CHECKING:
-    from ecoplan.scenario import CaseResult, Scenario
+    from ecoplan.app.run import CaseResult
+    from ecoplan.app.scenario import Scenario
 
 __all__ = [
     "MANIFEST",
