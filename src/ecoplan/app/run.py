@@ -19,7 +19,7 @@ from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.app.scenario.build import Case, Scenario, build_scenario
 from ecoplan.app.scenario.schema import BatterySection, PlannerSection
 from ecoplan.cost import EnergyCost, LengthCost, path_cost
-from ecoplan.errors import PlanningError
+from ecoplan.errors import InputError, PlanningError
 from ecoplan.models.limits import check_tracks
 from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
@@ -29,6 +29,7 @@ __all__ = [
     "CaseResult",
     "PlanOutcome",
     "battery_verdict",
+    "candidate_routes",
     "plan_case",
     "run_case",
     "simulate_case",
@@ -543,3 +544,44 @@ def battery_verdict(
         empty_at = (float(sim.t[k]), float(sim.x[k]), float(sim.y[k]), float(dist[k]))
     completes = sim.completed and energy <= usable
     return BatteryVerdict(b.capacity_wh, usable, energy, completes, usable - energy, empty_at)
+
+
+def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
+    """Candidate routes of a scenario as drive trajectories, for ranking by a diagnosis.
+
+    Each case of the scenario (its ``compare`` variants, or the scenario itself) is
+    planned (or takes its fixed waypoints), with the planner's alternatives when it
+    returns several; every route is driven turn-on-the-spot then straight at the case's
+    speed (:func:`ecoplan.diagnose.loop.polyline_trajectory`).
+
+    Parameters
+    ----------
+    sc : Scenario
+        The scenario.
+    params : VehicleParams
+        The diagnosed vehicle on its terrain.
+
+    Returns
+    -------
+    dict of str to trajectory
+        ``(t, v_left, v_right)`` per route name (``"<case> (alt i)"`` for alternatives).
+
+    Raises
+    ------
+    InputError
+        The scenario gives fewer than two routes.
+    """
+    from ecoplan.diagnose.loop import polyline_trajectory
+
+    routes: dict[str, Any] = {}
+    for case in sc.cases():
+        plan = plan_case(case)
+        for i, wps in enumerate((plan.waypoints, *plan.alternatives)):
+            name = case.name if i == 0 else f"{case.name} (alt {i})"
+            routes[name] = polyline_trajectory(wps.tolist(), params, speed_mps=plan.speed_mps)
+    if len(routes) < 2:
+        raise InputError(
+            f"{sc.source}: it gives one route; a ranking needs at least two "
+            "(add `compare:` variants or planner.k > 1)"
+        )
+    return routes

@@ -21,6 +21,7 @@ message names the file, the line, the field and what was expected, e.g.::
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 from pydantic import ValidationError
@@ -28,9 +29,9 @@ from pydantic import ValidationError
 from ecoplan.app.scenario.build import Scenario, build_scenario
 from ecoplan.app.scenario.schema import MAX_FILE_BYTES, ScenarioSpec
 from ecoplan.errors import ScenarioError
-from ecoplan.io.yaml import format_validation, read_text, read_yaml
+from ecoplan.io.yaml import LineMap, format_validation, read_text, read_yaml
 
-__all__ = ["load_scenario", "parse_scenario"]
+__all__ = ["load_scenario", "parse_scenario", "with_waypoints"]
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -88,4 +89,40 @@ def parse_scenario(text: str, source: str = "<string>") -> Scenario:
         raise ScenarioError(format_validation(exc, source, lines, ScenarioSpec)) from None
     except RecursionError:
         raise ScenarioError(f"{source}: document nested too deeply") from None
+    return build_scenario(spec, source, lines)
+
+
+def with_waypoints(sc: Scenario, points: Sequence[Sequence[float]]) -> Scenario:
+    """The scenario with fixed waypoints instead of its planner, goal and variants.
+
+    The patched spec is validated and built again like a file (points outside the map or
+    inside an obstacle are errors); messages name the source with ``(--waypoints)``.
+
+    Parameters
+    ----------
+    sc : Scenario
+        A loaded scenario.
+    points : sequence of (x, y)
+        The waypoints after the start [m].
+
+    Returns
+    -------
+    Scenario
+        The scenario driving through ``points`` (planner ``none``).
+
+    Raises
+    ------
+    ScenarioError
+        The patched scenario is invalid.
+    """
+    data = sc.spec.model_dump(exclude_none=True)
+    data.update(waypoints=[[float(x), float(y)] for x, y in points], compare=[])
+    data.pop("planner", None)
+    data.pop("goal", None)
+    source = f"{sc.source} (--waypoints)"
+    lines = LineMap()  # no lines: the patched spec is not a file
+    try:
+        spec = ScenarioSpec.model_validate(data)
+    except ValidationError as exc:
+        raise ScenarioError(format_validation(exc, source, lines, ScenarioSpec)) from None
     return build_scenario(spec, source, lines)
