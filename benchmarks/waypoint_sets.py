@@ -33,9 +33,10 @@ import time
 import numpy as np
 import shapely
 
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import EcoplanError
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.sim import HeadingController, WaypointRun, simulate_batch
+from ecoplan.sim import WaypointRun, simulate_batch
 from ecoplan.sim.replay import ab_scenario, replay
 
 V_SP, GAIN, BELT = 0.5, 0.18, "narrow"

@@ -28,11 +28,11 @@ from ecoplan.cost import (
     trajectory_cost,
     turn_costs,
 )
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InfeasibleError, InputError
 from ecoplan.models.limits import feasible
 from ecoplan.models.power import COMPONENTS
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.replay import ab_scenario
 from ecoplan.sim.simulate import simulate_waypoints
 from ecoplan.world import World, rectangle

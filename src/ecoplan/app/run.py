@@ -21,7 +21,7 @@ from ecoplan.app.scenario.schema import BatterySection, PlannerSection
 from ecoplan.cost import EnergyCost, LengthCost, path_cost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.models.limits import check_tracks
-from ecoplan.sim.controller import HeadingController
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
 __all__ = [

@@ -8,18 +8,18 @@ its breakdown by component.
 Step ``k`` (time ``t_k = k dt``):
 
 1. a command policy gives track-speed commands from the pose at ``t_k`` (the heading
-   controller of :mod:`ecoplan.sim.controller`, or a fixed schedule);
+   controller of :mod:`ecoplan.dynamics.controller`, or a fixed schedule);
 2. commands beyond the top track speed are saturated as eq. (5) says: the commanded
    yaw rate (eq. 3) is kept -- clipped to eq. (6) -- and the forward speed reduced
-   (:func:`~ecoplan.sim.controller.saturate_setpoint`); the result is what the log
+   (:func:`~ecoplan.dynamics.drive.saturate_tracks`); the result is what the log
    records as ``v_left_cmd``/``v_right_cmd`` (the heading controller's commands are
    already saturated);
 3. each actual track speed moves towards its command by at most ``accel_max_mps2 * dt``
-   (the paper reaches top speed in a 2.5 s ramp, §III-C);
+   (the drive law, :func:`~ecoplan.dynamics.drive.drive_step`; the paper reaches top
+   speed in a 2.5 s ramp, §III-C);
 4. the speeds are held over ``[t_k, t_k + dt)``: the body twist is constant, and the
-   pose is advanced by the exact arc (midpoint heading times the chord factor
-   ``sinc(w dt / 2)``), so a piecewise-constant speed profile is integrated without
-   discretisation error;
+   pose is advanced by the exact arc (:func:`~ecoplan.dynamics.integrate.arc_step`), so
+   a piecewise-constant speed profile is integrated without discretisation error;
 5. the power of the step is the model's power at those speeds, so the energy
    ``sum_k P_T(V_k) dt`` is exact for the same profile.
 
@@ -52,21 +52,21 @@ from typing import Any, Protocol
 import numpy as np
 
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray, IntArray
+from ecoplan.dynamics.controller import (
+    DEFAULT_CONTROLLER,
+    HeadingController,
+    WaypointFollower,
+    power_limited_radius,
+    wrap_angle,
+)
+from ecoplan.dynamics.drive import IcrArrays, drive_step, saturate_tracks
+from ecoplan.dynamics.integrate import SERIES_HALF_ANGLE_MAX, arc_step
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.power import COMPONENTS
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
-from ecoplan.sim.controller import (
-    DEFAULT_CONTROLLER,
-    HeadingController,
-    IcrArrays,
-    WaypointFollower,
-    saturate_setpoint,
-    tracks_from_setpoint,
-    wrap_angle,
-)
 
 __all__ = [
     "DEFAULT_CONFIG",
@@ -377,7 +377,16 @@ def simulate_batch(
         raise InputError("simulate_batch needs at least one run")
     params = [r.params for r in runs]
     icr = IcrArrays.of([p.icr for p in params], [p.top_track_speed_mps for p in params])
-    policy = WaypointFollower([r.waypoints[1:] for r in runs], [r.controller for r in runs], icr)
+    r_min = [
+        power_limited_radius(r.params, r.controller.speed_mps)
+        if r.controller.power_limited
+        else 0.0
+        for r in runs
+    ]
+    stop_step = [p.accel_max_mps2 * config.dt_s for p in params]
+    policy = WaypointFollower(
+        [r.waypoints[1:] for r in runs], [r.controller for r in runs], icr, r_min, stop_step
+    )
     t_max = config.t_max_s
     if t_max is None:
         t_max = max(3.0 * r.polyline_length_m / r.controller.speed_mps + 60.0 for r in runs)
@@ -509,10 +518,9 @@ def _integrate(
     centred = not np.any(mid) and not np.any(icr.x_m)
     dv = np.array([p.accel_max_mps2 for p in params]) * dt
     vmax = icr.top_speed_mps * (1.0 + 1e-12)
-    # chord factor sin(h)/h of the arc, h = w dt / 2: its series to h^4 is exact to
-    # 2e-10 for |h| <= 0.1; saturated track speeds bound |w| by 2 V_max / spread
+    # saturated track speeds bound |w| by 2 V_max / spread: the series chord factor holds
     h_top = float(np.max(1.1 * icr.top_speed_mps * inv_spread)) * dt
-    series = h_top <= 0.1
+    series = h_top <= SERIES_HALF_ANGLE_MAX
     n_max = max(math.ceil(t_max / dt - 1e-9), 1)
     cap = min(n_max + 1, 4096)
     buf = np.empty((cap, len(_STATE), n))
@@ -527,9 +535,9 @@ def _integrate(
             buf = np.concatenate([buf, np.empty((cap - buf.shape[0], len(_STATE), n))])
         vlc, vrc = policy.command(x, y, yaw)
         if np.count_nonzero(np.maximum(np.abs(vlc), np.abs(vrc)) > vmax):
-            vlc, vrc = _saturate_tracks(vlc, vrc, icr, mid)
-        vl = vl + np.minimum(np.maximum(vlc - vl, -dv), dv)
-        vr = vr + np.minimum(np.maximum(vrc - vr, -dv), dv)
+            vlc, vrc = saturate_tracks(vlc, vrc, icr, icr.top_speed_mps)
+        vl = drive_step(vl, vlc, dv)
+        vr = drive_step(vr, vrc, dv)
         wz = (vr - vl) * inv_spread
         row = buf[k]
         row[0], row[1], row[2] = x, y, yaw
@@ -545,36 +553,13 @@ def _integrate(
             finished = end >= 0
             end[~finished] = k
             return buf[: k + 1], end, finished
-        # exact arc over the step: heading at mid-step, chord factor sin(h)/h
-        half = (0.5 * dt) * wz
-        heading = yaw + half
-        if series:
-            h2 = half * half
-            chord = dt * (1.0 - h2 * (1.0 / 6.0 - h2 / 120.0))
-        else:
-            chord = dt * np.sinc(half / math.pi)
-        c, s = np.cos(heading), np.sin(heading)
         if centred:
-            vx = 0.5 * (vr + vl) * chord
-            x = x + vx * c
-            y = y + vx * s
+            x, y, yaw = arc_step(x, y, yaw, 0.5 * (vr + vl), wz, dt, series=series)
         else:
-            vx = (0.5 * (vr + vl) + wz * mid) * chord
-            vy = -wz * icr.x_m * chord
-            x = x + (vx * c - vy * s)
-            y = y + (vx * s + vy * c)
-        yaw = heading + half
+            vx = 0.5 * (vr + vl) + wz * mid
+            x, y, yaw = arc_step(x, y, yaw, vx, wz, dt, -wz * icr.x_m, series=series)
         k += 1
     return buf[: k + 1], end, np.ones(n, dtype=bool)
-
-
-def _saturate_tracks(
-    v_left: FloatArray, v_right: FloatArray, icr: IcrArrays, mid: FloatArray
-) -> tuple[FloatArray, FloatArray]:
-    """Eq. (5) on track commands: back to ``(v, w)`` (eqs. 2-3), saturate, eq. (4)."""
-    w = (v_right - v_left) / icr.spread_m
-    v, w = saturate_setpoint(0.5 * (v_left + v_right) + w * mid, w, icr, icr.top_speed_mps)
-    return tracks_from_setpoint(v, w, icr)
 
 
 def _result(
