@@ -48,11 +48,11 @@ from shapely.validation import explain_validity
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.cost import EnergyCost, LengthCost, path_cost
 from ecoplan.errors import InputError, PlanningError, ScenarioError
+from ecoplan.geometry.world import GeometryError, World, circle
 from ecoplan.models.limits import check_tracks
 from ecoplan.presets import VehicleParams, VehicleSpec
 from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
-from ecoplan.world import GeometryError, World, circle
 
 __all__ = [
     "MAX_FILE_BYTES",
@@ -130,7 +130,7 @@ class Circle(_Section):
     radius_m: PositiveLength
 
     def geometry(self) -> Polygon:
-        """The circle as a 32-gon that contains the disc (:func:`ecoplan.world.circle`)."""
+        """The circle as a 32-gon that contains the disc (:func:`ecoplan.geometry.world.circle`)."""
         return circle(self.center[0], self.center[1], self.radius_m, n_vertices=32)
 
 
