@@ -47,8 +47,8 @@ import numpy as np
 
 from ecoplan.cost import EnergyCost, LengthCost
 from ecoplan.errors import EcoplanError
+from ecoplan.geometry.world import World, circle, rectangle
 from ecoplan.presets import VehicleSpec
-from ecoplan.world import World, circle, rectangle
 
 VEHICLES = {"auriga-beta-narrow": 0.5, "pioneer-3at": 0.4}
 OMPL_PLANNERS = ("BITstar", "RRTstar", "InformedRRTstar")

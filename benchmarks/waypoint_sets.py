@@ -65,8 +65,8 @@ def planner_sets(sc) -> tuple[list[tuple[str, np.ndarray]], str]:
     """The graph planner's best energy and length paths, or an explanation why not."""
     try:
         from ecoplan.cost import EnergyCost, LengthCost
+        from ecoplan.geometry.world import World, rectangle
         from ecoplan.planning.graph import plan_graph
-        from ecoplan.world import World, rectangle
     except ImportError as exc:  # planner not landed
         return [], f"planner rows left out: {exc}"
     spec = VehicleSpec.of(f"auriga-beta-{BELT}", sc.terrain)

@@ -30,12 +30,12 @@ from ecoplan.cost import (
 )
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InfeasibleError, InputError
+from ecoplan.geometry.world import World, rectangle
 from ecoplan.models.limits import feasible
 from ecoplan.models.power import COMPONENTS
 from ecoplan.presets import VehicleSpec, vehicle
 from ecoplan.sim.replay import ab_scenario
 from ecoplan.sim.simulate import simulate_waypoints
-from ecoplan.world import World, rectangle
 
 K, P_PU, P_BR, K_NR, ETA = 342.0, 58.0, 164.0, 162.0, 0.95
 MU_ASPHALT, CHI_ASPHALT = 0.81, 0.80

@@ -22,11 +22,11 @@ from shapely.geometry import LineString
 
 from ecoplan.cost import EnergyCost, LengthCost, PathCostModel
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import OutOfBoundsError, PointInObstacleError, World, rectangle
 from ecoplan.models.limits import feasible, min_radius_for_speed, vr_to_tracks
 from ecoplan.planning.base import PlanResult
 from ecoplan.planning.ompl import OmplOptions, OmplPlanner, _CurveMotions
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.world import OutOfBoundsError, PointInObstacleError, World, rectangle
 
 AURIGA = VehicleSpec.of("auriga-beta-narrow")
 PIONEER = VehicleSpec.of("pioneer-3at")
@@ -246,7 +246,7 @@ def test_terminal_stays_clean() -> None:
         from ecoplan.cost import EnergyCost
         from ecoplan.presets import VehicleSpec
         from ecoplan.planning.ompl import OmplOptions, OmplPlanner
-        from ecoplan.world import World, rectangle
+        from ecoplan.geometry.world import World, rectangle
         w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
         c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
         for seed in (1, 2):

@@ -36,7 +36,7 @@ Decisions where the issue is silent
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
 * Terrain of a turn is the terrain at its waypoint; straight parts are split by
-  :meth:`ecoplan.world.World.split_by_terrain`.
+  :meth:`ecoplan.geometry.world.World.split_by_terrain`.
 """
 
 from __future__ import annotations
@@ -51,11 +51,11 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.errors import InfeasibleError, InputError
+from ecoplan.geometry.world import World
 from ecoplan.models.kinematics import max_yaw_rate, setpoint_to_tracks, tracks_to_twist
 from ecoplan.models.limits import check_tracks, min_radius_for_speed, vr_to_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
 from ecoplan.presets import VehicleParams, VehicleSpec
-from ecoplan.world import World
 
 __all__ = [
     "EnergyCost",

@@ -19,9 +19,9 @@ from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.app.scenario.build import Case, Scenario, build_scenario
 from ecoplan.app.scenario.schema import BatterySection, PlannerSection
 from ecoplan.cost import EnergyCost, LengthCost, path_cost
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.models.limits import check_tracks
-from ecoplan.dynamics.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
 __all__ = [

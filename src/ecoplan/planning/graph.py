@@ -50,9 +50,9 @@ from ecoplan.cost import (
     turn_candidates,
 )
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
 
 __all__ = ["GraphPlanner", "GraphPlannerOptions", "plan_graph"]
 
@@ -214,7 +214,7 @@ class GraphPlanner:
     Examples
     --------
     >>> from ecoplan.presets import VehicleSpec
-    >>> from ecoplan.world import World, rectangle
+    >>> from ecoplan.geometry.world import World, rectangle
     >>> w = World(rectangle(0, 0, 20, 10), [rectangle(8, 3, 12, 7)], inflation_m=0.3)
     >>> cost = EnergyCost(VehicleSpec.of("auriga-beta-wide"), 0.5, world=w)
     >>> res = GraphPlanner(w, cost).plan((2, 5), (18, 5))
@@ -229,7 +229,9 @@ class GraphPlanner:
         options: GraphPlannerOptions | None = None,
     ) -> None:
         if not isinstance(world, World):
-            raise InputError(f"world must be an ecoplan.world.World, got {type(world).__name__}")
+            raise InputError(
+                f"world must be an ecoplan.geometry.world.World, got {type(world).__name__}"
+            )
         if cost.world is not None and cost.world is not world:
             raise InputError("the cost object's world differs from the planner's world")
         self.world = world
@@ -292,7 +294,7 @@ class GraphPlanner:
 
         Raises
         ------
-        ecoplan.world.GeometryError
+        ecoplan.geometry.world.GeometryError
             Start or goal out of bounds or inside an obstacle.
         PlanningError
             No feasible path, or the time budget ran out before a first path.

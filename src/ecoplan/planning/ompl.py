@@ -2,7 +2,7 @@
 
 The OMPL glue is one :class:`ompl.base.OptimizationObjective` subclass and one state
 validity function; everything about the vehicle lives in :mod:`ecoplan.cost` and
-everything about the map in :class:`ecoplan.world.World`.
+everything about the map in :class:`ecoplan.geometry.world.World`.
 
 State spaces and what a motion costs
 ------------------------------------
@@ -85,10 +85,10 @@ from ecoplan.cost import (
     turn_costs,
 )
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.kinematics import setpoint_to_tracks
 from ecoplan.models.limits import check_tracks, min_radius_for_speed, vr_to_tracks
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
 
 __all__ = [
     "PLANNERS",
@@ -512,7 +512,7 @@ class OmplPlanner:
 
     Examples
     --------
-    >>> from ecoplan.world import World, rectangle
+    >>> from ecoplan.geometry.world import World, rectangle
     >>> from ecoplan.cost import EnergyCost
     >>> from ecoplan.presets import VehicleSpec
     >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
@@ -525,7 +525,9 @@ class OmplPlanner:
 
     def __init__(self, world: World, cost: PathCostModel, options: OmplOptions | None = None):
         if not isinstance(world, World):
-            raise InputError(f"world must be an ecoplan.world.World, got {type(world).__name__}")
+            raise InputError(
+                f"world must be an ecoplan.geometry.world.World, got {type(world).__name__}"
+            )
         if not isinstance(cost, PathCostModel):
             raise InputError(f"cost must be an EnergyCost or LengthCost, got {type(cost).__name__}")
         if cost.world is not None and cost.world is not world:

@@ -45,9 +45,9 @@ from ecoplan.cost import (
     spot_turn_energy,
 )
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
 
 __all__ = ["MOVES", "LatticeOptions", "plan_reference"]
 

@@ -27,7 +27,7 @@ from scipy.optimize import minimize_scalar
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.cost import PathCost, TurnMode, Vehicle, params_on, path_cost
 from ecoplan.errors import InputError, PlanningError
-from ecoplan.world import World
+from ecoplan.geometry.world import World
 
 __all__ = ["SpeedChoice", "best_speed", "energy_vs_speed"]
 

@@ -26,9 +26,9 @@ from ecoplan.app.scenario.schema import (
     SpeedSection,
 )
 from ecoplan.errors import InputError, ScenarioError
+from ecoplan.geometry.world import GeometryError, World
 from ecoplan.io.yaml import LineMap, error_at, one_line
 from ecoplan.presets import VehicleParams, VehicleSpec
-from ecoplan.world import GeometryError, World
 
 __all__ = ["Case", "Scenario", "build_scenario"]
 

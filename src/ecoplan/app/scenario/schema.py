@@ -24,7 +24,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 from shapely import Polygon, box
 
-from ecoplan.world import circle
+from ecoplan.geometry.world import circle
 
 __all__ = [
     "MAX_COORD_M",
