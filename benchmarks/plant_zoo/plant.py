@@ -3,7 +3,7 @@
 Pipeline of :func:`make_case` (internal step 0.01 s):
 
 1. operator commands (:mod:`plant_zoo.drive`), quantised to 0.01 m/s;
-2. side speeds follow the commands through a first-order drive lag (0.15 s);
+2. side speeds follow the commands through a first-order drive lag (0.1 s);
 3. ICR kinematics and pose (paper frame, then REP-103: x forward, y left, yaw CCW);
 4. electrical power of the variant's plant with the effect injected *physically* (a terrain
    patch changes mu and K under the robot, a slope adds ``m g sin(alpha)`` times the uphill
@@ -32,8 +32,8 @@ FloatArray = NDArray[np.float64]
 DT_S = 0.01
 #: Logging period (s): 20 Hz.
 LOG_DT_S = 0.05
-#: Nominal drive lag (s).
-DRIVE_LAG_S = 0.15
+#: Nominal drive lag (s): the speed loop of a real drive; the paper models no dynamics.
+DRIVE_LAG_S = 0.1
 
 IN_LIBRARY: tuple[str, ...] = (
     "inertia",
