@@ -265,3 +265,14 @@ def test_deterministic_and_checked() -> None:
     assert len(plant_zoo.VARIANTS) >= 6
     assert {k for k, _ in plant_zoo.VARIANTS.values()} == {"tracked", "wheeled"}
     assert len(plant_zoo.IN_LIBRARY) == 10 and len(plant_zoo.OUT_OF_LIBRARY) >= 3
+
+
+def test_power_saturation_slows_the_drive_instead_of_exceeding_the_supply() -> None:
+    for variant in ("a", "g"):
+        c = plant_zoo.make_case(variant, "power_saturation", 2, duration_s=90.0)
+        cap = c.effect_params["cap_w"]
+        eta = 0.95 if variant == "a" else 1.0
+        # the supply limit is on the drive demand (P_M + P_D); the meter sees it over eta
+        assert c.true_power_w.max() <= cap / eta * (1 + 1e-6)
+        free = plant_zoo.make_case(variant, "none", 2, duration_s=90.0)
+        assert free.true_power_w.max() > cap / eta  # the limit did bind
