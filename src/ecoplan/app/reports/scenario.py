@@ -82,7 +82,9 @@ def write_report(
     simulated = [r for r in results if r.sim is not None]
     fig_names = [f"{stem}.{ext}" for stem in ("map", "power", "breakdown") for ext in opts.figures]
     names = ["summary.json", "summary.csv", *fig_names]
-    csv_names = dict(zip((id(r) for r in results), case_file_names([r.name for r in results]), strict=True))
+    csv_names = dict(
+        zip((id(r) for r in results), case_file_names([r.name for r in results]), strict=True)
+    )
     if opts.csv:
         names += [csv_names[id(r)] for r in simulated]
     if opts.markdown:
