@@ -240,6 +240,7 @@ def test_time_budget_is_honoured_without_an_iteration_cap(world: World) -> None:
     assert res.planning_time_s <= wall and wall < 0.3 + 1.0
 
 
+@pytest.mark.slow
 def test_terminal_stays_clean() -> None:
     # OMPL's log lines and nanobind's leak report at exit must not reach the user
     script = textwrap.dedent(
