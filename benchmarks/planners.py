@@ -175,7 +175,7 @@ def write_csv(rows: list[dict], path: Path) -> None:
 
 
 def write_ompl_logs(rows: list[dict], out: Path, budget: float) -> list[Path]:
-    from ecoplan.planning.ompl import BenchmarkRun, write_benchmark_log
+    from ecoplan.planning.benchlog import BenchmarkRun, write_benchmark_log
 
     paths = []
     for vehicle in VEHICLES:

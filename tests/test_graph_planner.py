@@ -202,6 +202,7 @@ PROPERTY_PLANNERS = {
 }
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(
     sx=st.floats(0.5, 29.5),

@@ -131,6 +131,7 @@ def test_every_shipped_scenario_is_listed() -> None:
     } <= names
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_shipped_scenario_runs_and_agrees_with_the_library(
     path: Path, runs: Callable[[str], tuple[Path, dict[str, Any]]]
@@ -243,6 +244,7 @@ def test_a_simulated_run_goes_through_ecoplan_diagnose(
     assert isinstance(result["verdict"]["effect"], str)
 
 
+@pytest.mark.slow
 def test_diagnose_ranks_a_scenarios_routes_under_the_corrected_model(
     runs: Callable[[str], tuple[Path, dict[str, Any]]],
     tmp_path: Path,
