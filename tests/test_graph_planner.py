@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import LineString
 
-from ecoplan.cost import EnergyCost, LengthCost
+from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.world import (
     GeometryError,

@@ -8,7 +8,8 @@ its breakdown by component.
 Step ``k`` (time ``t_k = k dt``):
 
 1. a command policy gives track-speed commands from the pose at ``t_k`` (the heading
-   controller of :mod:`ecoplan.dynamics.controller`, or a fixed schedule);
+   controller of :mod:`ecoplan.dynamics.controller`, or a fixed schedule; the step loop is
+   :func:`ecoplan.dynamics.rollout.rollout`);
 2. commands beyond the top track speed are saturated as eq. (5) says: the commanded
    yaw rate (eq. 3) is kept -- clipped to eq. (6) -- and the forward speed reduced
    (:func:`~ecoplan.dynamics.drive.saturate_tracks`); the result is what the log
@@ -47,7 +48,7 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 
@@ -59,8 +60,8 @@ from ecoplan.dynamics.controller import (
     power_limited_radius,
     wrap_angle,
 )
-from ecoplan.dynamics.drive import IcrArrays, drive_step, saturate_tracks
-from ecoplan.dynamics.integrate import SERIES_HALF_ANGLE_MAX, arc_step
+from ecoplan.dynamics.drive import IcrArrays
+from ecoplan.dynamics.rollout import ROLLOUT_STATE, CommandPolicy, rollout
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range
 from ecoplan.models.kinematics import tracks_to_twist
@@ -72,7 +73,6 @@ __all__ = [
     "DEFAULT_CONFIG",
     "EXTRA_COLUMNS",
     "LOG_COLUMNS",
-    "CommandPolicy",
     "SimConfig",
     "SimResult",
     "TrackSchedule",
@@ -240,25 +240,6 @@ class SimResult:
         ax_pow.plot(self.t, self.p_total)
         ax_pow.set(xlabel="t [s]", ylabel="P_T [W]", title=f"E = {self.energy_j / 1e3:.1f} kJ")
         return fig
-
-
-class CommandPolicy(Protocol):
-    """Gives track-speed commands for a batch of runs, one call per step.
-
-    ``stopped`` marks runs whose task is over: their commands must be zero, and a run
-    ends once it is stopped and its tracks stand still.
-    """
-
-    @property
-    def stopped(self) -> BoolArray:
-        """Runs whose task is over."""
-        ...
-
-    def command(
-        self, x_m: FloatArray, y_m: FloatArray, yaw_rad: FloatArray
-    ) -> tuple[FloatArray, FloatArray]:
-        """``(v_left_cmd, v_right_cmd)`` [m/s] for the poses at the current step."""
-        ...
 
 
 class TrackSchedule:
@@ -493,79 +474,19 @@ def simulate_policy(
     pose0 = np.asarray(start, dtype=np.float64)
     if pose0.shape != (len(params), 3) or not np.all(np.isfinite(pose0)):
         raise InputError(f"start must be finite with shape ({len(params)}, 3), got {pose0.shape}")
-    raw, end, finished = _integrate(params, policy, pose0, config.dt_s, config.t_max_s)
+    raw, end, finished = rollout(params, policy, pose0, config.dt_s, config.t_max_s)
     return [
         _result(p, raw, i, int(end[i]), bool(finished[i]), config.dt_s)
         for i, p in enumerate(params)
     ]
 
 
-_STATE = ("x", "y", "yaw", "v_left_cmd", "v_right_cmd", "v_left", "v_right", "wz")
-
-
-def _integrate(
-    params: Sequence[VehicleParams],
-    policy: CommandPolicy,
-    pose0: FloatArray,
-    dt: float,
-    t_max: float,
-) -> tuple[FloatArray, IntArray, BoolArray]:
-    """The step loop: rows ``(n_rows, len(_STATE), n_runs)``, each run's last row, stopped."""
-    n = len(params)
-    icr = IcrArrays.of([p.icr for p in params], [p.top_track_speed_mps for p in params])
-    inv_spread = 1.0 / icr.spread_m
-    mid = 0.5 * (icr.y_left_m + icr.y_right_m)
-    centred = not np.any(mid) and not np.any(icr.x_m)
-    dv = np.array([p.accel_max_mps2 for p in params]) * dt
-    vmax = icr.top_speed_mps * (1.0 + 1e-12)
-    # saturated track speeds bound |w| by 2 V_max / spread: the series chord factor holds
-    h_top = float(np.max(1.1 * icr.top_speed_mps * inv_spread)) * dt
-    series = h_top <= SERIES_HALF_ANGLE_MAX
-    n_max = max(math.ceil(t_max / dt - 1e-9), 1)
-    cap = min(n_max + 1, 4096)
-    buf = np.empty((cap, len(_STATE), n))
-    x, y, yaw = pose0[:, 0].copy(), pose0[:, 1].copy(), pose0[:, 2].copy()
-    vl = np.zeros(n)
-    vr = np.zeros(n)
-    end = np.full(n, -1, dtype=np.int64)
-    k = 0
-    while True:
-        if k == cap:
-            cap = min(2 * cap, n_max + 1)
-            buf = np.concatenate([buf, np.empty((cap - buf.shape[0], len(_STATE), n))])
-        vlc, vrc = policy.command(x, y, yaw)
-        if np.count_nonzero(np.maximum(np.abs(vlc), np.abs(vrc)) > vmax):
-            vlc, vrc = saturate_tracks(vlc, vrc, icr, icr.top_speed_mps)
-        vl = drive_step(vl, vlc, dv)
-        vr = drive_step(vr, vrc, dv)
-        wz = (vr - vl) * inv_spread
-        row = buf[k]
-        row[0], row[1], row[2] = x, y, yaw
-        row[3], row[4], row[5], row[6], row[7] = vlc, vrc, vl, vr, wz
-        stopped = policy.stopped
-        if np.count_nonzero(stopped):
-            done = stopped & (vl == 0.0) & (vr == 0.0) & (end < 0)
-            if np.count_nonzero(done):
-                end[done] = k
-                if np.all(end >= 0):
-                    break
-        if k == n_max:
-            finished = end >= 0
-            end[~finished] = k
-            return buf[: k + 1], end, finished
-        if centred:
-            x, y, yaw = arc_step(x, y, yaw, 0.5 * (vr + vl), wz, dt, series=series)
-        else:
-            vx = 0.5 * (vr + vl) + wz * mid
-            x, y, yaw = arc_step(x, y, yaw, vx, wz, dt, -wz * icr.x_m, series=series)
-        k += 1
-    return buf[: k + 1], end, np.ones(n, dtype=bool)
-
-
 def _result(
     params: VehicleParams, raw: FloatArray, i: int, end: int, completed: bool, dt: float
 ) -> SimResult:
-    cols = {name: np.ascontiguousarray(raw[: end + 1, j, i]) for j, name in enumerate(_STATE)}
+    cols = {
+        name: np.ascontiguousarray(raw[: end + 1, j, i]) for j, name in enumerate(ROLLOUT_STATE)
+    }
     vl, vr = cols["v_left"], cols["v_right"]
     pw = params.power(vl, vr)
     comps = {c: np.asarray(v, dtype=np.float64) for c, v in pw.components().items()}

@@ -88,7 +88,7 @@ class Circle(_Section):
     radius_m: PositiveLength
 
     def geometry(self) -> Polygon:
-        """The circle as a 32-gon that contains the disc (:func:`ecoplan.world.circle`)."""
+        """The circle as a 32-gon that contains the disc (:func:`ecoplan.geometry.world.circle`)."""
         return circle(self.center[0], self.center[1], self.radius_m, n_vertices=32)
 
 
