@@ -7,10 +7,11 @@ from pathlib import Path
 
 import pytest
 
+from ecoplan.app.executor import DaskExecutor, LocalExecutor, make_executor
+from ecoplan.app.run import CaseResult, run_case
+from ecoplan.app.scenario import parse_scenario
 from ecoplan.cli import main
 from ecoplan.errors import InputError
-from ecoplan.executor import DaskExecutor, LocalExecutor, make_executor
-from ecoplan.scenario import CaseResult, parse_scenario, run_case
 
 SWEEP = """
 name: sweep

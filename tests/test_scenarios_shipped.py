@@ -1,7 +1,7 @@
 """Every shipped scenario runs from the command line; its outputs agree with the library API.
 
 The numbers written by ``ecoplan compare`` are recomputed here with the library's own
-building blocks, independently of :mod:`ecoplan.scenario`'s pipeline: the simulator on the
+building blocks, independently of :mod:`ecoplan.app.run`'s pipeline: the simulator on the
 reported waypoints, the power model on the logged track speeds (per logged terrain), the
 cost module on the route, and the battery arithmetic.
 """
@@ -19,11 +19,11 @@ from typing import Any
 import numpy as np
 import pytest
 
+from ecoplan.app.scenario import Scenario, load_scenario
 from ecoplan.cli import main
 from ecoplan.cost import path_cost
 from ecoplan.planning.speed import best_speed
 from ecoplan.presets import VehicleSpec
-from ecoplan.scenario import Scenario, load_scenario
 from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, simulate_waypoints
 
