@@ -88,7 +88,7 @@ class Circle(_Section):
     radius_m: PositiveLength
 
     def geometry(self) -> Polygon:
-        """The circle as a 32-gon that contains the disc (:func:`ecoplan.geometry.world.circle`)."""
+        """The circle as a 32-gon containing the disc (:func:`ecoplan.geometry.world.circle`)."""
         return circle(self.center[0], self.center[1], self.radius_m, n_vertices=32)
 
 
@@ -200,7 +200,7 @@ class PlannerSection(_Section):
     @model_validator(mode="after")
     def _name_for_ompl(self) -> PlannerSection:
         if self.type == "ompl" and self.name is None:
-            raise ValueError("planner type ompl needs a name (e.g. RRTstar, BITstar, RRTConnect)")
+            raise ValueError("planner type ompl needs a name (e.g. RRTstar, BITstar, PRMstar)")
         return self
 
 
