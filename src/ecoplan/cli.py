@@ -332,7 +332,7 @@ def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
     """Candidate routes of ``--scenario``, checked before the diagnosis starts."""
     from ecoplan.app.run import candidate_routes
     from ecoplan.app.scenario import load_scenario
-    from ecoplan.presets import vehicle
+    from ecoplan.presets import VehicleSpec
 
     sc = load_scenario(args.scenario)
     if sc.vehicle.name != args.vehicle:
@@ -340,7 +340,7 @@ def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
             f"--scenario {args.scenario}: its vehicle is {sc.vehicle.name!r} but the logs are "
             f"diagnosed against --vehicle {args.vehicle!r}; rank routes of the same vehicle"
         )
-    return candidate_routes(sc, vehicle(args.vehicle, args.terrain))
+    return candidate_routes(sc, VehicleSpec.of(args.vehicle, args.terrain))
 
 
 def _cmd_diagnose(args: argparse.Namespace) -> int:

@@ -21,6 +21,7 @@ from ecoplan.app.scenario.schema import BatterySection, PlannerSection
 from ecoplan.cost import EnergyCost, LengthCost, path_cost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.models.limits import check_tracks
+from ecoplan.presets import VehicleSpec
 from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
@@ -546,7 +547,7 @@ def battery_verdict(
     return BatteryVerdict(b.capacity_wh, usable, energy, completes, usable - energy, empty_at)
 
 
-def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
+def candidate_routes(sc: Scenario, vehicle: VehicleSpec) -> dict[str, Any]:
     """Candidate routes of a scenario as drive trajectories, for ranking by a diagnosis.
 
     Each case of the scenario (its ``compare`` variants, or the scenario itself) is
@@ -558,8 +559,8 @@ def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
     ----------
     sc : Scenario
         The scenario.
-    params : VehicleParams
-        The diagnosed vehicle on its terrain.
+    vehicle : VehicleSpec
+        The diagnosed vehicle on its terrain (``vehicle.terrain``).
 
     Returns
     -------
@@ -573,6 +574,7 @@ def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
     """
     from ecoplan.diagnose.loop import polyline_trajectory
 
+    params = vehicle.on()
     routes: dict[str, Any] = {}
     for case in sc.cases():
         plan = plan_case(case)
