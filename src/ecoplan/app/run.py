@@ -10,6 +10,7 @@ clearance are checked, and the energy is compared with the battery budget.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -31,6 +32,7 @@ __all__ = [
     "PlanOutcome",
     "battery_verdict",
     "candidate_routes",
+    "cheapest",
     "plan_case",
     "run_case",
     "simulate_case",
@@ -587,3 +589,30 @@ def candidate_routes(sc: Scenario, vehicle: VehicleSpec) -> dict[str, Any]:
             "(add `compare:` variants or planner.k > 1)"
         )
     return routes
+
+
+def cheapest(results: Sequence[CaseResult], source: str = "<scenario>") -> CaseResult:
+    """The case that used the least energy among those that found a route.
+
+    Parameters
+    ----------
+    results : sequence of CaseResult
+        The cases of a comparison.
+    source : str
+        The scenario, for the message.
+
+    Returns
+    -------
+    CaseResult
+        The simulated case of least ``energy_j`` (the first of equals).
+
+    Raises
+    ------
+    PlanningError
+        No case found a route.
+    """
+    done = [r for r in results if r.error is None and r.sim is not None]
+    if not done:
+        why = results[0].error if results else "no cases"
+        raise PlanningError(f"no case of {source} found a route: {why}")
+    return min(done, key=lambda r: r.energy_j)
