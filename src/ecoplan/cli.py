@@ -539,7 +539,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 def _cmd_demo(args: argparse.Namespace) -> int:
     out = _out(args)
     try:
-        from ecoplan.sim.replay import run_demo
+        from ecoplan.experiments.ab_replay import run_demo
     except ImportError:
         return _fig3_cases(out)
     from ecoplan.report import prepare_out_dir

@@ -44,7 +44,9 @@ of the range, as Fig. 11 suggests), asphalt/wide 0.80 (ICRs farther apart on asp
 
 Resulting table: marble wide 0.90, narrow 0.91; asphalt wide 0.80, narrow 0.81.
 Hoisted (µ = 0) has no ground contact, so χ has no effect on power; the marble values
-are kept so the kinematics stay defined.
+are kept so the kinematics stay defined.  Without ground contact no track brakes the
+motion the other induces (cases 3-4) or is dragged by it (case 2), so ``hoisted`` also
+sets ``p_braking_w`` and ``k_nonregen_n`` to 0 (Fig. 9c: K = 282 N and power-up only).
 
 Non-regenerated power onset and acceleration ramp
 -------------------------------------------------
@@ -134,7 +136,14 @@ TERRAINS: dict[str, dict[str, dict[str, Any]]] = {
     "tracked": {
         "marble": {"mu": 0.63, "chi": {"wide": 0.90, "narrow": 0.91}},
         "asphalt": {"mu": 0.81, "chi": {"wide": 0.80, "narrow": 0.81}},
-        "hoisted": {"mu": 0.0, "chi": {"wide": 0.90, "narrow": 0.91}, "k_resistance_n": 282.0},
+        # no ground contact: no track brakes or drags the other (no braking, no non-regen)
+        "hoisted": {
+            "mu": 0.0,
+            "chi": {"wide": 0.90, "narrow": 0.91},
+            "k_resistance_n": 282.0,
+            "p_braking_w": 0.0,
+            "k_nonregen_n": 0.0,
+        },
     },
     "wheeled": {
         # wheeled Table I (asphalt) and Table II (vinyl floor); second column is a_alpha

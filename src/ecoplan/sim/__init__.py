@@ -1,9 +1,10 @@
-"""Simulation: heading controller (tracked paper eq. 23), integrator, A->B replay.
+"""Simulation: heading controller (tracked paper eq. 23) and integrator.
 
 * :mod:`ecoplan.sim.controller` -- heading controller with way points (§IV, eq. 23);
 * :mod:`ecoplan.sim.simulate` -- fixed-step ICR-kinematics integrator with power and
-  energy from the vehicle's model, vectorised over runs, CSV in the diagnosis log format;
-* :mod:`ecoplan.sim.replay` -- the A->B obstacle experiment of §IV-A (Table III, Fig. 14).
+  energy from the vehicle's model, vectorised over runs, CSV in the diagnosis log format.
+
+The A->B replay of §IV-A is :mod:`ecoplan.experiments.ab_replay`.
 """
 
 from ecoplan.sim.controller import HeadingController, WaypointFollower
