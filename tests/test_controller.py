@@ -7,17 +7,15 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ecoplan.errors import InputError
-from ecoplan.models.kinematics import TrackICR, setpoint_to_tracks, tracks_to_twist
-from ecoplan.sim.controller import (
+from ecoplan.dynamics.controller import (
     HeadingController,
-    IcrArrays,
     WaypointFollower,
     heading_error,
-    saturate_setpoint,
-    tracks_from_setpoint,
     wrap_angle,
 )
+from ecoplan.dynamics.drive import IcrArrays, saturate_setpoint, tracks_from_setpoint
+from ecoplan.errors import InputError
+from ecoplan.models.kinematics import TrackICR, setpoint_to_tracks, tracks_to_twist
 
 # Auriga-β (tracked paper §III-B): L = 0.42 m, V_max = 0.86 m/s; χ = 0.81 is the
 # narrow-belt asphalt preset (Table II is lost; see ecoplan.presets).

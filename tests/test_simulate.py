@@ -8,11 +8,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
 from ecoplan.sim import (
     LOG_COLUMNS,
-    HeadingController,
     SimConfig,
     WaypointRun,
     simulate_batch,

@@ -1,8 +1,10 @@
 """Vehicle and terrain presets by stable name, usable from Python, the CLI and YAML.
 
-Vehicles: ``auriga-beta-wide``, ``auriga-beta-narrow`` (tracked, Morales et al. 2009)
-and ``pioneer-3at`` (wheeled, Chuy et al. 2009).  Terrains: ``marble``, ``asphalt``,
-``hoisted`` for the tracked vehicles; ``asphalt``, ``vinyl`` for the wheeled one.
+A preset is a vehicle file shipped with the package (``ecoplan/models/vehicle_files/``,
+read by :mod:`ecoplan.models.vehicles`): ``auriga-beta-wide``, ``auriga-beta-narrow``
+(tracked, Morales et al. 2009), ``pioneer-3at`` (wheeled, Chuy et al. 2009) and
+``husky-a200`` (Clearpath Husky A200, identified from the BorealTC logs).  The terrains of
+each are the keys of its file's ``terrains`` table.  This module keeps the by-name API.
 
 >>> from ecoplan.presets import vehicle
 >>> p = vehicle("auriga-beta-wide", "marble")
@@ -70,17 +72,14 @@ Power limits (not in the seeds' text)
 from __future__ import annotations
 
 import dataclasses
-import functools
 from collections.abc import Mapping
 from typing import Any
 
-from ecoplan.errors import InputError
 from ecoplan.models.tracked import TrackedParams
-from ecoplan.models.wheeled import SideCoefficients, WheeledParams
+from ecoplan.models.vehicles import Vehicle, shipped_names, shipped_vehicle
+from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
-    "TERRAINS",
-    "VEHICLES",
     "VehicleParams",
     "VehicleSpec",
     "default_terrain",
@@ -91,98 +90,20 @@ __all__ = [
 
 VehicleParams = TrackedParams | WheeledParams
 
-#: Vehicle presets: kind and the values that do not depend on terrain.
-VEHICLES: dict[str, dict[str, Any]] = {
-    "auriga-beta-wide": {
-        "kind": "tracked",
-        "belt": "wide",
-        "mass_kg": 286.0,
-        "track_gauge_m": 0.42,
-        "contact_length_m": 0.72,
-        "top_track_speed_mps": 0.86,
-        "k_resistance_n": 342.0,
-        "p_powerup_w": 58.0,
-        "p_braking_w": 164.0,
-        "k_nonregen_n": 162.0,
-        "eta": 0.95,
-        "p_total_max_w": 3040.0,
-    },
-    "auriga-beta-narrow": {
-        "kind": "tracked",
-        "belt": "narrow",
-        "mass_kg": 286.0,
-        "track_gauge_m": 0.42,
-        "contact_length_m": 0.72,
-        "top_track_speed_mps": 0.86,
-        "k_resistance_n": 324.0,
-        "p_powerup_w": 58.0,
-        "p_braking_w": 164.0,
-        "k_nonregen_n": 162.0,
-        "eta": 0.95,
-        "p_total_max_w": 3040.0,
-    },
-    "pioneer-3at": {
-        "kind": "wheeled",
-        "mass_kg": 30.0,
-        "track_gauge_m": 0.40,
-        "chi": 0.65,
-        "top_track_speed_mps": 0.9,
-        "p_side_max_w": 12.0,
-    },
-}
-
-#: Terrain presets per vehicle kind.
-TERRAINS: dict[str, dict[str, dict[str, Any]]] = {
-    "tracked": {
-        "marble": {"mu": 0.63, "chi": {"wide": 0.90, "narrow": 0.91}},
-        "asphalt": {"mu": 0.81, "chi": {"wide": 0.80, "narrow": 0.81}},
-        # no ground contact: no track brakes or drags the other (no braking, no non-regen)
-        "hoisted": {
-            "mu": 0.0,
-            "chi": {"wide": 0.90, "narrow": 0.91},
-            "k_resistance_n": 282.0,
-            "p_braking_w": 0.0,
-            "k_nonregen_n": 0.0,
-        },
-    },
-    "wheeled": {
-        # wheeled Table I (asphalt) and Table II (vinyl floor); second column is a_alpha
-        "asphalt": {
-            "inner": SideCoefficients(7.5313, -170.0, 2.5507, 0.006, 500.0, 7.7136),
-            "outer": SideCoefficients(10.2208, 250.0, 2.2187, 0.03397, 300.0, 4.818),
-        },
-        "vinyl": {
-            "inner": SideCoefficients(7.2772, -100.0, 2.0404, -0.004, 250.0, 7.0894),
-            "outer": SideCoefficients(9.8043, 300.0, 2.6260, 0.01263, 35.32, 2.9796),
-        },
-    },
-}
-
-_DEFAULT_TERRAIN = {"tracked": "asphalt", "wheeled": "asphalt"}
-
 
 def vehicle_names() -> list[str]:
-    """Stable names of the vehicle presets."""
-    return sorted(VEHICLES)
+    """Stable names of the vehicle presets (the shipped vehicle files)."""
+    return shipped_names()
 
 
 def terrain_names(vehicle_name: str) -> list[str]:
-    """Stable names of the terrain presets that apply to a vehicle preset."""
-    return sorted(TERRAINS[_lookup_vehicle(vehicle_name)["kind"]])
+    """Stable names of the terrains a vehicle preset's file describes."""
+    return shipped_vehicle(vehicle_name).terrains
 
 
 def default_terrain(vehicle_name: str) -> str:
-    """Terrain used when none is given (asphalt: the paper's navigation experiments)."""
-    return _DEFAULT_TERRAIN[_lookup_vehicle(vehicle_name)["kind"]]
-
-
-def _lookup_vehicle(name: str) -> dict[str, Any]:
-    try:
-        return VEHICLES[name]
-    except (KeyError, TypeError):
-        raise InputError(
-            f"unknown vehicle preset {name!r}; accepted: {', '.join(vehicle_names())}"
-        ) from None
+    """Terrain used when none is given (the file's ``default_terrain``)."""
+    return shipped_vehicle(vehicle_name).default_terrain
 
 
 def vehicle(
@@ -211,83 +132,60 @@ def vehicle(
     InputError
         Unknown preset or field name, or a value out of its accepted range.
     """
-    spec = _lookup_vehicle(name)
-    kind = spec["kind"]
-    terrain = default_terrain(name) if terrain is None else terrain
-    terrains = TERRAINS[kind]
-    if terrain not in terrains:
-        raise InputError(
-            f"unknown terrain preset {terrain!r} for {name}; "
-            f"accepted: {', '.join(sorted(terrains))}"
-        )
-    values: dict[str, Any] = {k: v for k, v in spec.items() if k not in ("kind", "belt")}
-    for key, val in terrains[terrain].items():
-        values[key] = val[spec["belt"]] if key == "chi" else val
-    values["name"] = f"{name}/{terrain}"
-    cls: type[TrackedParams] | type[WheeledParams] = (
-        TrackedParams if kind == "tracked" else WheeledParams
-    )
-    allowed = {f.name for f in dataclasses.fields(cls) if f.init}
-    for key, val in (overrides or {}).items():
-        if key not in allowed:
-            raise InputError(
-                f"unknown parameter {key!r} for {name}; accepted: {', '.join(sorted(allowed))}"
-            )
-        if key in ("inner", "outer") and isinstance(val, Mapping):
-            base = dataclasses.asdict(values[key])
-            unknown = set(val) - set(base)
-            if unknown:
-                raise InputError(
-                    f"unknown coefficient(s) {sorted(unknown)} in {key}; accepted: {sorted(base)}"
-                )
-            val = SideCoefficients(**{**base, **val})
-        values[key] = val
-    try:
-        return cls(**values)
-    except TypeError as exc:  # wrong type for a field
-        raise InputError(f"invalid parameter for {name}: {exc}") from None
+    return shipped_vehicle(name).params(terrain, overrides)
 
 
 @dataclasses.dataclass(frozen=True, slots=True)
 class VehicleSpec:
-    """A vehicle preset plus overrides, evaluated on any terrain (for worlds with regions).
+    """A vehicle (preset or file) plus overrides, evaluated on any terrain.
 
     Attributes
     ----------
     name : str
-        Vehicle preset name.
+        Vehicle preset name, or the name inside ``file``.
     overrides : tuple of (str, value)
         Field overrides applied on every terrain (hashable form of a mapping).
     terrain : str or None
         Default terrain of the vehicle in this scenario.
+    file : Vehicle or None
+        A vehicle file read by the user (None: the preset ``name``).
     """
 
     name: str
     overrides: tuple[tuple[str, Any], ...] = ()
     terrain: str | None = None
+    file: Vehicle | None = None
 
     def __post_init__(self) -> None:
         self.on(self.terrain)  # validate eagerly: bad names and values fail here
 
     @classmethod
     def of(
-        cls, name: str, terrain: str | None = None, overrides: Mapping[str, Any] | None = None
+        cls,
+        name: str | Vehicle,
+        terrain: str | None = None,
+        overrides: Mapping[str, Any] | None = None,
     ) -> VehicleSpec:
-        """Build a spec from a mapping of overrides."""
-        return cls(name, tuple(sorted((overrides or {}).items())), terrain)
+        """Build a spec from a preset name or a :class:`~ecoplan.models.vehicles.Vehicle`."""
+        items = tuple(sorted((overrides or {}).items()))
+        if isinstance(name, Vehicle):
+            return cls(name.name, items, terrain, name)
+        return cls(name, items, terrain)
+
+    @property
+    def vehicle(self) -> Vehicle:
+        """The vehicle file behind the spec."""
+        return self.file if self.file is not None else shipped_vehicle(self.name)
 
     def on(self, terrain: str | None = None) -> VehicleParams:
         """Parameters on ``terrain`` (default: the spec's terrain)."""
-        return _cached_vehicle(self.name, terrain or self.terrain, self.overrides)
+        return self.vehicle.params(terrain or self.terrain, dict(self.overrides))
 
     @property
     def kind(self) -> str:
-        """``"tracked"`` or ``"wheeled"``."""
-        return str(_lookup_vehicle(self.name)["kind"])
+        """``"tracked"`` or ``"wheeled"``: the power model's family.
 
-
-@functools.lru_cache(maxsize=256)
-def _cached_vehicle(
-    name: str, terrain: str | None, overrides: tuple[tuple[str, Any], ...]
-) -> VehicleParams:
-    return vehicle(name, terrain, dict(overrides))
+        Contact-friction vehicles (also wheeled ones) are evaluated with the tracked
+        paper's model, so their parameters are ``TrackedParams``.
+        """
+        return str(self.on().kind)

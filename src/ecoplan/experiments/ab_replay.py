@@ -95,10 +95,10 @@ import numpy as np
 import shapely
 
 from ecoplan._typing import FloatArray
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InputError
 from ecoplan.models.tracked import DEFAULT_NONREGEN_ONSET_MPS
 from ecoplan.presets import vehicle
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import DEFAULT_CONFIG, SimConfig, SimResult, WaypointRun, simulate_batch
 
 __all__ = [
