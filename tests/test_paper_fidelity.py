@@ -268,3 +268,58 @@ def test_findings_report_shows_every_finding_under_the_step_and_three_onsets(
         cell = rows["slow_costs_more"][col]
         assert cell.startswith(f"{held}/8"), (width, cell)
         assert cell.endswith("✗") == (held < 8)
+
+
+# --- item 4, identifiability: the onset is found from small speed differences -------------
+
+
+def _measured_total(vl: np.ndarray, vr: np.ndarray, onset_mps: float, rng_seed: int) -> np.ndarray:
+    """P_T of narrow belts on asphalt, eqs. (14), (18)-(20), case 2 only, with an onset.
+
+    ``162 N (|V_l| + |V_r|)`` (§III-C) scaled by ``clip((|ΔV| - 1 mm/s) / w, 0, 1)``
+    (``w = 0``: the paper's step), plus 2 W of Gaussian sensor noise.
+    """
+    dv = np.abs(vr - vl)
+    travel = np.abs(vl) + np.abs(vr)
+    p_s = friction_per_speed_difference(0.81, MU["asphalt"]) * dv
+    s = np.ones_like(dv) if onset_mps == 0.0 else np.clip((dv - 1e-3) / onset_mps, 0.0, 1.0)
+    p_t = (p_s + K_NARROW * travel + P_UP + K_NR * travel * s) / ETA
+    return p_t + np.random.default_rng(rng_seed).normal(0.0, 2.0, dv.size)
+
+
+@pytest.mark.parametrize("true_onset", [0.0, 0.03, 0.08])
+def test_onset_is_identified_from_heading_corrections(true_onset: float) -> None:
+    from ecoplan.models.tracked import fit_nonregen_onset
+
+    rng = np.random.default_rng(7)
+    d = rng.uniform(0.002, 0.15, 600)  # heading-controller corrections: small differences
+    vr = np.full(d.size, 0.5)
+    vl = vr - d
+    p_meas = _measured_total(vl, vr, true_onset, 8)
+    fit = fit_nonregen_onset(vl, vr, p_meas, _tracked("auriga-beta-narrow", "asphalt"))
+    assert fit.identified
+    assert fit.onset_mps == pytest.approx(true_onset, abs=0.004)
+    assert fit.mae_w < 2.0  # the noise's mean absolute value is 1.6 W
+
+
+def test_the_papers_stationary_grid_cannot_identify_the_onset() -> None:
+    # §III-C: track speeds 0.2 m/s apart, so no case-2 pair (both forward, Fig. 3b) lies
+    # inside an onset below 0.199 m/s: a step and a 0.19 m/s onset fit them alike
+    from ecoplan.models.tracked import fit_nonregen_onset
+
+    vl, vr = (a.ravel() for a in np.meshgrid(GRID[GRID > 0], GRID[GRID > 0]))
+    vl, vr = vl[vl != vr], vr[vl != vr]
+    assert vl.size == 12
+    p_meas = _measured_total(vl, vr, 0.0, 9)
+    params = _tracked("auriga-beta-narrow", "asphalt")
+    fit = fit_nonregen_onset(vl, vr, p_meas, params, max_mps=0.19)
+    assert fit.n_informative == 0 and not fit.identified
+    assert fit.mae_w < 4.0  # noise only (2 W Gaussian, 12 samples)
+
+
+def test_onset_fit_rejects_mismatched_logs_with_one_line() -> None:
+    from ecoplan.errors import InputError
+    from ecoplan.models.tracked import fit_nonregen_onset
+
+    with pytest.raises(InputError, match="of one length; got 3, 3, 2"):
+        fit_nonregen_onset([0.1, 0.2, 0.3], [0.2, 0.2, 0.2], [1.0, 2.0], TrackedParams())

@@ -20,13 +20,14 @@ vectorised array operations.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
 import numpy.typing as npt
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
+from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array
 from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
@@ -36,9 +37,11 @@ __all__ = [
     "GRAVITY_MPS2",
     "STATIONARY_RAMP_MPS2",
     "FrictionViews",
+    "OnsetFit",
     "TrackedParams",
     "contact_points",
     "dynamic_friction_views",
+    "fit_nonregen_onset",
     "tracked_power",
     "tracked_total_power",
 ]
@@ -108,17 +111,21 @@ class TrackedParams:
         ``k_nr (|V_l| + |V_r|)`` at any difference above ``case_tol_mps``).
 
         The paper does not identify the shape below 0.2 m/s: its stationary experiments
-        use track speeds 0.2 m/s apart (§III-C), so every onset up to 0.2 m/s fits them
+        use track speeds 0.2 m/s apart (§III-C), so every onset below 0.2 m/s fits them
         identically.  The default, 0.05 m/s, is a physical estimate: Coulomb friction
         (eq. 8) saturates at any sliding speed, but rubber on hard ground reaches its
         sliding friction only after a slip of the order of 10 % of the rolling speed,
         i.e. 0.03-0.05 m/s at the walking speeds of §IV (0.3-0.5 m/s); the contact
-        points at the ends of a track slide at ``|wz| * 0.36 m``, which is 0.6-0.7 of
+        points at the ends of a track slide at ``|wz| * 0.36 m``, which is 0.7-0.8 of
         ``|V_r - V_l|`` for χ = 0.8-0.9 (eqs. 3, 12), so the dragged track's friction
-        saturates at a difference of about 0.05 m/s.  Below that the slower track is
+        saturates at a difference of 0.04-0.07 m/s.  Below that the slower track is
         not yet fully dragged, its motor generates less and less is lost in its
         non-regenerating driver.  It is identifiable from logs with small speed
-        differences (heading-controller corrections); the sensitivity of the Table III
+        differences (heading-controller corrections): :func:`fit_nonregen_onset`.  The
+        paper's navigation runs corroborate an onset of this order: with the step, "0.3
+        m/s always costs more than 0.5 m/s" (Table III) fails in 4 of the replay's 8
+        pairings, with 0.02 m/s in 2, with 0.05 and 0.1 m/s in none.  The
+        sensitivity of the Table III
         findings to it (step, 0.02, 0.05, 0.1 m/s) is in
         :mod:`ecoplan.experiments.ab_replay`.
     case_tol_mps : float
@@ -409,6 +416,104 @@ def _onset(ad: FloatArray, idx: npt.NDArray[np.uint8], k: _KernelConstants) -> F
         s *= turning
         return s
     return turning
+
+
+class OnsetFit(NamedTuple):
+    """Result of :func:`fit_nonregen_onset`.
+
+    Attributes
+    ----------
+    onset_mps : float
+        Best ``nonregen_onset_mps`` on the searched range [m/s].
+    mae_w : float
+        Mean absolute error of ``P_T`` with that onset [W].
+    n_informative : int
+        Case-2 samples whose speed difference lies inside the searched onsets (between
+        ``case_tol_mps`` and ``case_tol_mps + max_mps``): only these depend on the onset.
+    identified : bool
+        True when ``n_informative >= min_informative``; otherwise every onset fits the
+        data alike and ``onset_mps`` means nothing.
+    """
+
+    onset_mps: float
+    mae_w: float
+    n_informative: int
+    identified: bool
+
+
+def fit_nonregen_onset(
+    v_left: ArrayLike,
+    v_right: ArrayLike,
+    p_total_w: ArrayLike,
+    params: TrackedParams,
+    *,
+    max_mps: float = 0.2,
+    grid: int = 201,
+    min_informative: int = 20,
+) -> OnsetFit:
+    """Identify ``nonregen_onset_mps`` from logged track speeds and total power.
+
+    Every other parameter is held at ``params``; the onset minimising the mean absolute
+    error of ``P_T`` (eq. 20) is found on a grid of ``[0, max_mps]`` (least absolute
+    errors, as the paper's simplex fits, §III-C).  Only case-2 samples with a speed
+    difference inside the onset carry information: the paper's stationary experiments
+    (pairs 0.2 m/s apart) have none, so they cannot tell a step from any onset up to
+    0.2 m/s; a heading controller's corrections have many.
+
+    Parameters
+    ----------
+    v_left, v_right : array_like
+        Track speeds [m/s].
+    p_total_w : array_like
+        Measured total electrical power [W], same shape.
+    params : TrackedParams
+        The vehicle's other parameters.
+    max_mps : float
+        Largest onset searched [m/s].
+    grid : int
+        Onsets evaluated (evenly spaced, 0 included).
+    min_informative : int
+        Informative samples needed to call the onset identified.
+
+    Returns
+    -------
+    OnsetFit
+        Best onset, its error, and whether the data identify it.
+
+    Raises
+    ------
+    InputError
+        Shapes that differ, or a search range or grid out of bounds.
+    """
+    vl = finite_array("v_left", v_left).ravel()
+    vr = finite_array("v_right", v_right).ravel()
+    pt = finite_array("p_total_w", p_total_w).ravel()
+    if not vl.shape == vr.shape == pt.shape or vl.size == 0:
+        raise InputError(
+            f"v_left, v_right and p_total_w must be non-empty and of one length; "
+            f"got {vl.size}, {vr.size}, {pt.size}"
+        )
+    check_range("fit_nonregen_onset", "max_mps", max_mps, 0.0, 1.0, lo_open=True)
+    check_range("fit_nonregen_onset", "grid", grid, 2, 100_000)
+    widths = np.linspace(0.0, max_mps, int(grid))
+    errors = np.array(
+        [
+            float(
+                np.mean(
+                    np.abs(tracked_total_power(vl, vr, replace(params, nonregen_onset_mps=w)) - pt)
+                )
+            )
+            for w in widths
+        ]
+    )
+    best = int(np.argmin(errors))
+    ad = np.abs(vr - vl)
+    same = np.take(
+        _SAME_TABLE, motion_case_index(vl, vr, np.abs(vl), np.abs(vr), ad, params.case_tol_mps)
+    )
+    inside = (same > 0.0) & (ad < params.case_tol_mps + max_mps)
+    n_inf = int(np.count_nonzero(inside))
+    return OnsetFit(float(widths[best]), float(errors[best]), n_inf, n_inf >= min_informative)
 
 
 def _total_block(vl: FloatArray, vr: FloatArray, k: _KernelConstants, out: FloatArray) -> None:
