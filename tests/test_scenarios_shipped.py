@@ -155,7 +155,7 @@ def test_shipped_scenario_runs_and_agrees_with_the_library(
 
 
 def test_ab_obstacle_uses_the_replay_coordinates() -> None:
-    replay = pytest.importorskip("ecoplan.sim.replay")
+    replay = pytest.importorskip("ecoplan.experiments.ab_replay")
     ab = replay.ab_scenario()
     sc = load_scenario(SCENARIOS / "ab_obstacle.yaml")
     by_count = {len(c.spec.waypoints or []) + 1: c for c in sc.cases() if c.spec.waypoints}
