@@ -48,8 +48,8 @@ import numpy as np
 
 from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import EcoplanError
+from ecoplan.geometry.world import World, circle, rectangle
 from ecoplan.presets import VehicleSpec
-from ecoplan.world import World, circle, rectangle
 
 VEHICLES = {"auriga-beta-narrow": 0.5, "pioneer-3at": 0.4}
 OMPL_PLANNERS = ("BITstar", "RRTstar", "InformedRRTstar")
@@ -176,7 +176,7 @@ def write_csv(rows: list[dict], path: Path) -> None:
 
 
 def write_ompl_logs(rows: list[dict], out: Path, budget: float) -> list[Path]:
-    from ecoplan.planning.ompl import BenchmarkRun, write_benchmark_log
+    from ecoplan.planning.benchlog import BenchmarkRun, write_benchmark_log
 
     paths = []
     for vehicle in VEHICLES:

@@ -1,7 +1,7 @@
 """Every shipped scenario runs from the command line; its outputs agree with the library API.
 
 The numbers written by ``ecoplan compare`` are recomputed here with the library's own
-building blocks, independently of :mod:`ecoplan.scenario`'s pipeline: the simulator on the
+building blocks, independently of :mod:`ecoplan.app.run`'s pipeline: the simulator on the
 reported waypoints, the power model on the logged track speeds (per logged terrain), the
 cost module on the route, and the battery arithmetic.
 """
@@ -19,12 +19,12 @@ from typing import Any
 import numpy as np
 import pytest
 
+from ecoplan.app.scenario import Scenario, load_scenario
 from ecoplan.cli import main
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.path import path_cost
 from ecoplan.planning.speed import best_speed
 from ecoplan.presets import VehicleSpec
-from ecoplan.scenario import Scenario, load_scenario
 from ecoplan.sim.simulate import SimConfig, simulate_waypoints
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
@@ -134,6 +134,7 @@ def test_every_shipped_scenario_is_listed() -> None:
     } <= names
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_shipped_scenario_runs_and_agrees_with_the_library(
     path: Path, runs: Callable[[str], tuple[Path, dict[str, Any]]]
@@ -157,7 +158,7 @@ def test_shipped_scenario_runs_and_agrees_with_the_library(
 
 
 def test_ab_obstacle_uses_the_replay_coordinates() -> None:
-    replay = pytest.importorskip("ecoplan.sim.replay")
+    replay = pytest.importorskip("ecoplan.experiments.ab_replay")
     ab = replay.ab_scenario()
     sc = load_scenario(SCENARIOS / "ab_obstacle.yaml")
     by_count = {len(c.spec.waypoints or []) + 1: c for c in sc.cases() if c.spec.waypoints}
@@ -246,6 +247,7 @@ def test_a_simulated_run_goes_through_ecoplan_diagnose(
     assert isinstance(result["verdict"]["effect"], str)
 
 
+@pytest.mark.slow
 def test_diagnose_ranks_a_scenarios_routes_under_the_corrected_model(
     runs: Callable[[str], tuple[Path, dict[str, Any]]],
     tmp_path: Path,

@@ -49,7 +49,7 @@ Decisions where the issue is silent
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
 * Terrain of a turn is the terrain at its waypoint; straight parts are split by
-  :meth:`ecoplan.world.World.split_by_terrain`.
+  :meth:`ecoplan.geometry.world.World.split_by_terrain`.
 """
 
 from __future__ import annotations

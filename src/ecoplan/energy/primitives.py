@@ -55,7 +55,7 @@ class TerrainVehicle(Protocol):
 
 
 class TerrainPieceLike(Protocol):
-    """A straight piece on one terrain (:class:`ecoplan.world.TerrainPiece`)."""
+    """A straight piece on one terrain (:class:`ecoplan.geometry.world.TerrainPiece`)."""
 
     @property
     def length_m(self) -> float:
@@ -69,7 +69,7 @@ class TerrainPieceLike(Protocol):
 
 
 class WorldLike(Protocol):
-    """The queries the energy module asks of a map (:class:`ecoplan.world.World`)."""
+    """The queries the energy module asks of a map (:class:`ecoplan.geometry.world.World`)."""
 
     @property
     def has_regions(self) -> bool:

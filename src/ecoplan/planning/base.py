@@ -1,6 +1,6 @@
 """Types shared by every planner: results, the cost objects, input checks and the deadline.
 
-A planner takes a :class:`~ecoplan.world.World`, a start and a goal, and a cost object
+A planner takes a :class:`~ecoplan.geometry.world.World`, a start and a goal, and a cost object
 (:class:`~ecoplan.energy.objective.EnergyCost` or
 :class:`~ecoplan.energy.objective.LengthCost`: the baseline is one argument) and returns a
 :class:`PlanResult`.  Every returned :class:`Plan` carries the full evaluation of its
@@ -20,7 +20,7 @@ from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.energy.objective import CostObjective, EnergyCost, LengthCost
 from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError, PlanningError
-from ecoplan.world import World
+from ecoplan.geometry.world import World
 
 __all__ = [
     "CostObjective",
@@ -102,7 +102,7 @@ def check_endpoints(
 
     Raises
     ------
-    ecoplan.world.GeometryError
+    ecoplan.geometry.world.GeometryError
         ``OutOfBoundsError`` or ``PointInObstacleError`` naming the point; an
         :class:`~ecoplan.errors.InputError` when start and goal coincide.
     """

@@ -46,9 +46,9 @@ from ecoplan.energy.objective import CostObjective
 from ecoplan.energy.primitives import best_spot_yaw_rate
 from ecoplan.energy.turns import fillet_points_many, turn_candidates
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
 
 __all__ = ["GraphPlanner", "GraphPlannerOptions", "plan_graph"]
 
@@ -211,7 +211,7 @@ class GraphPlanner:
     --------
     >>> from ecoplan.energy.objective import EnergyCost
     >>> from ecoplan.presets import VehicleSpec
-    >>> from ecoplan.world import World, rectangle
+    >>> from ecoplan.geometry.world import World, rectangle
     >>> w = World(rectangle(0, 0, 20, 10), [rectangle(8, 3, 12, 7)], inflation_m=0.3)
     >>> cost = EnergyCost(VehicleSpec.of("auriga-beta-wide"), 0.5, world=w)
     >>> res = GraphPlanner(w, cost).plan((2, 5), (18, 5))
@@ -226,7 +226,9 @@ class GraphPlanner:
         options: GraphPlannerOptions | None = None,
     ) -> None:
         if not isinstance(world, World):
-            raise InputError(f"world must be an ecoplan.world.World, got {type(world).__name__}")
+            raise InputError(
+                f"world must be an ecoplan.geometry.world.World, got {type(world).__name__}"
+            )
         if cost.world is not None and cost.world is not world:
             raise InputError("the cost object's world differs from the planner's world")
         self.world = world
@@ -289,7 +291,7 @@ class GraphPlanner:
 
         Raises
         ------
-        ecoplan.world.GeometryError
+        ecoplan.geometry.world.GeometryError
             Start or goal out of bounds or inside an obstacle.
         PlanningError
             No feasible path, or the time budget ran out before a first path.

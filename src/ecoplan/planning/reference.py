@@ -40,9 +40,9 @@ from ecoplan.energy.objective import CostObjective
 from ecoplan.energy.primitives import arc_turn_energy, best_spot_yaw_rate, spot_turn_energy
 from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
 
 __all__ = ["MOVES", "LatticeOptions", "plan_reference"]
 

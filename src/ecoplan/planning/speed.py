@@ -29,7 +29,7 @@ from ecoplan.energy.path import path_cost
 from ecoplan.energy.primitives import TurnMode, Vehicle, params_on
 from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError, PlanningError
-from ecoplan.world import World
+from ecoplan.geometry.world import World
 
 __all__ = ["SpeedChoice", "best_speed", "energy_vs_speed"]
 
