@@ -26,7 +26,7 @@ Decisions where the issue is silent
   best feasible yaw rate, or the fillet arc (radius from the smallest feasible one,
   :func:`ecoplan.models.limits.min_radius_for_speed`, up to the largest that fits) that
   minimises the turn's energy **net of the straight driving it saves**.  For Auriga-β
-  the winner depends on the ramp of the non-regenerated term (``nonregen_blend_mps``,
+  the winner depends on the ramp of the non-regenerated term (``nonregen_onset_mps``,
   issue 11 item 4): with the paper's step (0) or a 0.02 m/s ramp, a 90° corner is
   turned on a tight arc (``r`` near ``r_min``) at 0.3 and 0.5 m/s and on the spot at
   0.8 m/s; with a 0.1 m/s ramp, wide arcs win -- their track-speed difference
