@@ -24,10 +24,10 @@ def test_planner_functions_share_the_argument_order(planner: Callable[..., Any])
 
 
 def test_plan_ompl_plans_with_the_shared_order() -> None:
+    from ecoplan.geometry.world import World, rectangle
     from ecoplan.planning import EnergyCost
     from ecoplan.planning.ompl import OmplOptions
     from ecoplan.presets import vehicle
-    from ecoplan.world import World, rectangle
 
     world = World(bounds=rectangle(0, 0, 20, 10), obstacles=[rectangle(9, 3, 11, 7)])
     cost = EnergyCost(vehicle("auriga-beta-wide", "asphalt"), 0.5, world=world)

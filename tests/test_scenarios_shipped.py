@@ -21,10 +21,10 @@ import pytest
 
 from ecoplan.app.scenario import Scenario, load_scenario
 from ecoplan.cli import main
-from ecoplan.cost import path_cost
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.path import path_cost
 from ecoplan.planning.speed import best_speed
 from ecoplan.presets import VehicleSpec
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, simulate_waypoints
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"

@@ -19,11 +19,12 @@ import numpy as np
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.app.scenario.build import Case, Scenario, build_scenario
 from ecoplan.app.scenario.schema import BatterySection, PlannerSection
-from ecoplan.cost import EnergyCost, LengthCost, path_cost
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.objective import EnergyCost, LengthCost
+from ecoplan.energy.path import path_cost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.models.limits import check_tracks
 from ecoplan.presets import VehicleSpec
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
 __all__ = [
@@ -55,7 +56,7 @@ class PlanOutcome:
     planning_time_s : float
         Wall-clock time of planning [s] (0 for fixed waypoints).
     estimate_energy_j : float or None
-        Analytic energy of the route by :func:`ecoplan.cost.path_cost` [J].
+        Analytic energy of the route by :func:`ecoplan.energy.path.path_cost` [J].
     feasible : bool or None
         Whether every command of the analytic execution respects the vehicle's limits.
     violations : tuple of str

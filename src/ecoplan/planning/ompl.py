@@ -1,8 +1,8 @@
 """OMPL sampling-based planners with ecoplan's energy objective (issue 3, deliverable 4).
 
 The OMPL glue is one :class:`ompl.base.OptimizationObjective` subclass and one state
-validity function; everything about the vehicle lives in :mod:`ecoplan.cost` and
-everything about the map in :class:`ecoplan.world.World`.
+validity function; everything about the vehicle lives in :mod:`ecoplan.energy` and
+everything about the map in :class:`ecoplan.geometry.world.World`.
 
 State spaces and what a motion costs
 ------------------------------------
@@ -11,14 +11,14 @@ State spaces and what a motion costs
     the segment direction ``theta``, the straight segment, and a turn from ``theta`` to
     ``yaw2``.  Its cost is ``h(theta - yaw1) + c L + h(yaw2 - theta)`` where ``c L`` is
     the straight segment's cost and ``h`` the net cost of a turn by the cost module
-    (:func:`ecoplan.cost.turn_costs`, on the spot or a fillet arc, with room for a fillet
+    (:func:`ecoplan.energy.turns.turn_costs`, on the spot or a fillet arc, with room for a fillet
     of half the segment).  Splitting the turn at a waypoint in two costs the same as the
     whole turn whenever the waypoint's yaw lies between the incoming and outgoing
     directions (on-the-spot energy is proportional to the angle, tracked paper eq. 11),
     so the optimum aligns the yaws.  The turn out of the start (when no initial heading
     is given) and the turn into the goal are free: the cost module does the same
     (a path starts aligned with its first segment and has no goal heading).  The
-    returned path is evaluated by :func:`ecoplan.cost.path_cost` on its waypoints.
+    returned path is evaluated by :func:`ecoplan.energy.path.path_cost` on its waypoints.
 ``"dubins"`` / ``"reeds_shepp"``
     For vehicles with a minimum turning radius at the cruise speed (the Pioneer 3-AT:
     on-the-spot turns exceed its side power limit, wheeled paper Fig. 10).  The radius
@@ -27,7 +27,7 @@ State spaces and what a motion costs
     radius ``r`` and straights (Reeds-Shepp: forward or reverse); its cost is the sum of
     per-metre costs of each piece, the pieces found by sampling the curve with OMPL's
     own interpolation.  The returned path is turned into a timed track-speed trajectory
-    and evaluated by :func:`ecoplan.cost.trajectory_cost`.
+    and evaluated by :func:`ecoplan.energy.trajectory.trajectory_cost`.
 
 Files
 -----
@@ -75,27 +75,23 @@ from ompl import geometric as og
 from ompl import util as ou
 
 from ecoplan._typing import ArrayLike, FloatArray
-from ecoplan.cost import (
-    PathCost,
-    PathCostModel,
-    TrackTrajectory,
-    Violation,
-    trajectory_cost,
-    turn_costs,
-)
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.result import PathCost, Violation
+from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
+from ecoplan.energy.turns import turn_costs
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.kinematics import setpoint_to_tracks
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
 from ecoplan.planning.ompl_glue import (
-    CostObjective,
+    OmplObjective,
     SegmentValidator,
     quiet_ompl,
     state_validity,
     termination,
 )
 from ecoplan.planning.ompl_motions import CurveMotions, StraightMotions, objective_kind, wrap_angle
-from ecoplan.world import World
 
 __all__ = [
     "PLANNERS",
@@ -245,8 +241,8 @@ class OmplPlanner:
 
     Examples
     --------
-    >>> from ecoplan.world import World, rectangle
-    >>> from ecoplan.cost import EnergyCost
+    >>> from ecoplan.geometry.world import World, rectangle
+    >>> from ecoplan.energy.objective import EnergyCost
     >>> from ecoplan.presets import VehicleSpec
     >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
     >>> c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
@@ -256,10 +252,12 @@ class OmplPlanner:
     (True, 'ompl:RRTstar/se2')
     """
 
-    def __init__(self, world: World, cost: PathCostModel, options: OmplOptions | None = None):
+    def __init__(self, world: World, cost: CostObjective, options: OmplOptions | None = None):
         if not isinstance(world, World):
-            raise InputError(f"world must be an ecoplan.world.World, got {type(world).__name__}")
-        if not isinstance(cost, PathCostModel):
+            raise InputError(
+                f"world must be an ecoplan.geometry.world.World, got {type(world).__name__}"
+            )
+        if not isinstance(cost, CostObjective):
             raise InputError(f"cost must be an EnergyCost or LengthCost, got {type(cost).__name__}")
         if cost.world is not None and cost.world is not world:
             raise InputError("the cost object was built for a different world")
@@ -414,7 +412,7 @@ class OmplPlanner:
             for yaw in yaws:
                 goals.addState(_state(space, g, yaw))
             ss.setGoal(goals)
-        objective = CostObjective(si, motion, motion.heuristic_per_m())
+        objective = OmplObjective(si, motion, motion.heuristic_per_m())
         ss.setOptimizationObjective(objective)
         ss.setPlanner(PLANNERS[opts.planner](si))
         ss.setup()
@@ -548,7 +546,7 @@ def plan_ompl(
     world: World,
     start: ArrayLike,
     goal: ArrayLike,
-    cost: PathCostModel,
+    cost: CostObjective,
     options: OmplOptions | None = None,
     *,
     initial_heading_rad: float | None = None,
@@ -564,7 +562,7 @@ def plan_ompl(
         The map.
     start, goal : array_like
         ``(x, y)`` [m].
-    cost : PathCostModel
+    cost : CostObjective
         The objective (energy or length).
     options : OmplOptions, optional
         Planner, budget, seed, state space.

@@ -2,7 +2,7 @@
 
 Nothing of ecoplan's vehicle model lives here: the objective calls a motion-cost
 function (:mod:`ecoplan.planning.ompl_motions`) and the validity checks ask the
-:class:`~ecoplan.world.World`.  OMPL's Python objectives must implement ``stateCost``
+:class:`~ecoplan.geometry.world.World`.  OMPL's Python objectives must implement ``stateCost``
 and ``motionCost``; the heuristic is set explicitly (``motionCostHeuristic``).
 """
 
@@ -17,13 +17,13 @@ import shapely
 from ompl import base as ob
 from ompl import util as ou
 
+from ecoplan.geometry.world import World
 from ecoplan.planning.base import Deadline
-from ecoplan.world import World
 
-__all__ = ["CostObjective", "SegmentValidator", "quiet_ompl", "state_validity", "termination"]
+__all__ = ["OmplObjective", "SegmentValidator", "quiet_ompl", "state_validity", "termination"]
 
 
-class CostObjective(ob.OptimizationObjective):  # type: ignore[misc]
+class OmplObjective(ob.OptimizationObjective):  # type: ignore[misc]
     """OMPL objective whose motion cost is ecoplan's cost of the motion (energy or length)."""
 
     def __init__(self, si: Any, motion: Callable[[Any, Any], float], heuristic_per_m: float):

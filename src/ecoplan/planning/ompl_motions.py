@@ -2,7 +2,7 @@
 
 SE2 motions (:class:`StraightMotions`) are a turn, a straight segment and a turn, with
 the turns' net costs looked up in a :class:`TurnTable` built once per plan from
-:func:`ecoplan.cost.turn_costs`.  Dubins / Reeds-Shepp motions (:class:`CurveMotions`)
+:func:`ecoplan.energy.turns.turn_costs`.  Dubins / Reeds-Shepp motions (:class:`CurveMotions`)
 are sampled with the state space's own interpolation and costed per metre of arc and
 straight.  See :mod:`ecoplan.planning.ompl` for the model behind each; nothing here
 imports OMPL (the state space is passed in).
@@ -15,8 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from ecoplan.cost import PathCostModel, turn_costs
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.turns import turn_costs
 from ecoplan.errors import InputError
+from ecoplan.geometry.world import World
 from ecoplan.models.limits import check_tracks, vr_to_tracks
 
 __all__ = ["CurveMotions", "StraightMotions", "TurnTable", "objective_kind", "wrap_angle"]
@@ -30,7 +32,7 @@ def wrap_angle(a: float) -> float:
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
-def objective_kind(cost: PathCostModel) -> str:
+def objective_kind(cost: CostObjective) -> str:
     """The cost object's name, ``"energy"`` or ``"length"`` (others raise InputError)."""
     if cost.name not in ("energy", "length"):
         raise InputError(
@@ -42,12 +44,12 @@ def objective_kind(cost: PathCostModel) -> str:
 class TurnTable:
     """Net cost of a turn by ``|dpsi|`` with fillet room ``room`` (bilinear lookup).
 
-    Built once per plan from :func:`ecoplan.cost.turn_costs` so that the objective's
+    Built once per plan from :func:`ecoplan.energy.turns.turn_costs` so that the objective's
     inner loop stays pure-Python scalar arithmetic.  Infeasible turns cost ``inf``;
     net costs are clamped at 0 so that motion costs stay above the straight-line bound.
     """
 
-    def __init__(self, cost: PathCostModel) -> None:
+    def __init__(self, cost: CostObjective) -> None:
         params = cost.params()
         a = np.linspace(0.0, math.pi, _N_TURN_ANGLES)
         self.da = float(a[1] - a[0])
@@ -57,8 +59,7 @@ class TurnTable:
         aa, rooms = np.broadcast_arrays(a[:, None], _ROOMS[None, :])
         for sign in (1.0, -1.0):
             net, _ = turn_costs(params, sign * aa, cost.speed_mps, rooms, cost.turn)
-            if cost.name == "length":
-                net = np.where(np.isnan(net), np.nan, 0.0)
+            net = cost.turn_value(net)
             tables.append(np.where(np.isnan(net), np.inf, np.maximum(net, 0.0)).tolist())
         self.left: list[list[float]] = tables[0]
         self.right: list[list[float]] = tables[1]
@@ -86,7 +87,7 @@ class StraightMotions:
 
     def __init__(
         self,
-        cost: PathCostModel,
+        cost: CostObjective,
         start: tuple[float, float],
         goal: tuple[float, float],
         free_start_turn: bool,
@@ -149,7 +150,7 @@ class StraightMotions:
 class CurveMotions:
     """Dubins / Reeds-Shepp motions: per-metre costs of arcs and straights (module doc)."""
 
-    def __init__(self, cost: PathCostModel, space: Any, radius_m: float, step_m: float) -> None:
+    def __init__(self, cost: CostObjective, space: Any, radius_m: float, step_m: float) -> None:
         self.space = space
         self.radius = radius_m
         self.step = step_m
@@ -159,7 +160,7 @@ class CurveMotions:
             cost.world.has_regions or cost.world.default_terrain is not None
         )
         terrains: list[str | None] = [None]
-        if self.regions and cost.world is not None:
+        if self.regions and isinstance(cost.world, World):
             terrains = list(
                 dict.fromkeys(
                     [cost.world.default_terrain] + [r.terrain for r in cost.world.regions]
@@ -169,7 +170,7 @@ class CurveMotions:
         self.default = terrains[0]
 
     def _coefficients(
-        self, cost: PathCostModel, terrain: str | None
+        self, cost: CostObjective, terrain: str | None
     ) -> dict[tuple[int, int], float]:
         """Cost per metre of ``(direction, turn)``: direction +-1, turn = sign of the yaw rate."""
         params = cost.params(terrain)
@@ -184,10 +185,8 @@ class CurveMotions:
                     vl, vr = vr_to_tracks(params, d * v, d * k * self.radius)
                 if not check_tracks(params, vl, vr).ok.all():
                     out[(d, k)] = math.inf
-                elif cost.name == "length":
-                    out[(d, k)] = 1.0
                 else:
-                    out[(d, k)] = float(params.power(vl, vr).total_w) / v
+                    out[(d, k)] = cost.per_metre(float(params.power(vl, vr).total_w) / v)
         return out
 
     def heuristic_per_m(self) -> float:

@@ -178,7 +178,7 @@ def _case_markdown(r: CaseResult, *, single: bool) -> list[str]:
     )
     if r.plan.estimate_energy_j is not None:
         lines.append(
-            f"Analytic energy of the route (ecoplan.cost.path_cost): "
+            f"Analytic energy of the route (ecoplan.energy.path.path_cost): "
             f"{r.plan.estimate_energy_j / 1e3:.2f} kJ."
         )
     if r.sim is None:

@@ -1,7 +1,7 @@
 """Building a scenario: geometry, world and vehicle from a validated spec.
 
 Turns a :class:`~ecoplan.app.scenario.schema.ScenarioSpec` into a :class:`Scenario`
-(map polygons, the planning :class:`~ecoplan.world.World`, the vehicle with its
+(map polygons, the planning :class:`~ecoplan.geometry.world.World`, the vehicle with its
 terrains, an optional corrected model) and checks what the schema alone cannot: valid
 polygons, speeds under the vehicle's top track speed, points inside the map and outside
 obstacles, a goal reachable from the start.  Errors name the file, line and field.
@@ -26,9 +26,9 @@ from ecoplan.app.scenario.schema import (
     SpeedSection,
 )
 from ecoplan.errors import InputError, ScenarioError
+from ecoplan.geometry.world import GeometryError, World
 from ecoplan.io.yaml import LineMap, error_at, one_line
 from ecoplan.presets import VehicleParams, VehicleSpec
-from ecoplan.world import GeometryError, World
 
 __all__ = ["Case", "Scenario", "build_scenario"]
 

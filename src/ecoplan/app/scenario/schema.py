@@ -24,7 +24,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 from shapely import Polygon, box
 
-from ecoplan.world import circle
+from ecoplan.geometry.world import circle
 
 __all__ = [
     "MAX_COORD_M",
@@ -88,7 +88,7 @@ class Circle(_Section):
     radius_m: PositiveLength
 
     def geometry(self) -> Polygon:
-        """The circle as a 32-gon that contains the disc (:func:`ecoplan.world.circle`)."""
+        """The circle as a 32-gon containing the disc (:func:`ecoplan.geometry.world.circle`)."""
         return circle(self.center[0], self.center[1], self.radius_m, n_vertices=32)
 
 
