@@ -15,24 +15,44 @@ Every value can be overridden: ``vehicle("pioneer-3at", overrides={"p_side_max_w
 
 Efficiency index χ (tracked Table II, lost in the seed)
 ------------------------------------------------------
-The table was an image; the values below are chosen to agree with everything the text
-says about it:
+The table was an image.  What the text does say, and what each statement pins:
 
-* χ < 1 for every belt and terrain (§II-B);
+* χ < 1 for every belt and terrain (§II-B).
 * "the distance between ICRs ... grows on the asphalted terrain and with the wide belt
-  set" (§III-C): χ is smaller on asphalt than on marble, and smaller with wide belts;
-* dynamic friction is "close to 70 %" of ``P_T`` when turning on the spot at ``w_max``
-  on marble with wide belts (Fig. 11).  With the punctual pressure model (4 contact
-  points per track, 0.24 m apart, 350.7 N each) the share ``P_S / P_T`` at ``w_max``
-  is 64.8 % at χ = 1, 62.7 % at χ = 0.90, 60.7 % at χ = 0.80 and falls for smaller χ
-  (farther ICRs reduce ``w_max`` faster than they lengthen the lever arms).  The share
-  of the electrical power spent on friction, ``(P_S/η) / P_T``, is 66 % at χ = 0.90.
-  So marble/wide takes χ = 0.90, the largest value that leaves room for narrow belts
-  below 1.
+  set" (§III-C): χ(asphalt) < χ(marble) and χ(wide) < χ(narrow).
+* "the narrow belt set requires less power when turning due to a smaller ground contact
+  surface" (Figs. 9a/b, 10a/b, stationary experiments at fixed track speeds).  In the
+  punctual pressure model (4 contact points per track, 0.24 m apart, 350.7 N each) the
+  dynamic-friction power per unit of track-speed difference, ``c = P_S / |V_r - V_l|``,
+  *grows* with χ (closer ICRs raise ``|wz|`` for the same speeds faster than they shorten
+  the lever arms): on marble ``c`` = 832.9 N at χ = 0.80 and 914.7 N at 0.90; on asphalt
+  1070.9 N at 0.80.  Every other term is the same for both belts except ``K`` (342 N
+  wide, 324 N narrow).  So narrow ≤ wide at every turning pair holds exactly when
+  ``c(χ_narrow) - c(χ_wide) <= 18 N`` (the spot turn, ``|ΔV| = |V_l| + |V_r|``, is the
+  binding pair), i.e. χ_narrow - χ_wide <= 0.0199 on marble (χ_wide = 0.90) and
+  <= 0.0185 on asphalt (χ_wide = 0.80).  The belts' χ must therefore be close: the
+  narrow set gets χ_wide + 0.01, inside the bound with half of it as margin.
+* Fig. 11's friction share "close to 70 %" at ``w_max`` on marble with wide belts does
+  **not** pin χ: with four evenly spaced contact points ``P_S / P_T`` at ``w_max`` is at
+  most 64.8 % (χ -> 1) and moves little with χ (56.5 % at χ = 0.5, 60.7 % at 0.80,
+  62.7 % at 0.90); the share of the *electrical* power, ``(P_S / η) / P_T``, is 66.0 % at
+  0.90 and 68 % near 1.  It only says χ lies in the upper part of its range.
 
-Resulting table: marble wide 0.90, narrow 0.95; asphalt wide 0.80, narrow 0.86.
+What does pin χ is the measurement the paper describes (§III-C, ref. [19]): the yaw
+rate against equal and opposite track speeds, ``wz = χ (V_r - V_l) / L`` (eqs. 3, 12) --
+a kinematic quantity (a gyro or heading log; see :mod:`ecoplan.diagnose`), not a power
+reading.  Without Table II the absolute level is a choice: marble/wide 0.90 (upper part
+of the range, as Fig. 11 suggests), asphalt/wide 0.80 (ICRs farther apart on asphalt).
+
+Resulting table: marble wide 0.90, narrow 0.91; asphalt wide 0.80, narrow 0.81.
 Hoisted (µ = 0) has no ground contact, so χ has no effect on power; the marble values
 are kept so the kinematics stay defined.
+
+Non-regenerated power onset and acceleration ramp
+-------------------------------------------------
+Both are :class:`~ecoplan.models.tracked.TrackedParams` defaults, argued there:
+``nonregen_onset_mps`` (0 = the paper's step) and ``accel_max_mps2`` (the ramp of the
+paper's stationary experiments, not a stated vehicle limit).
 
 Power limits (not in the seeds' text)
 -------------------------------------
