@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 import shapely
 
-from ecoplan.cost import EnergyCost
+from ecoplan.energy.objective import EnergyCost
+from ecoplan.geometry.world import World, rectangle
 from ecoplan.planning.graph import GraphPlanner
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.world import World, rectangle
 
 V = 0.5  # m/s
 START, GOAL = (2.0, 10.0), (38.0, 10.0)
