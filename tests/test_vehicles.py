@@ -132,7 +132,6 @@ def _mutate(path: tuple[str, ...], value: object) -> dict[str, Any]:
     [
         (("inertia", "mass_kg"), -5.0, r"greater than 0"),
         (("geometry", "chi"), 1.0, r"less than 1"),
-        (("limits", "p_total_max_w"), 15.0, r"p_total_max_w = 15 W .*idle power.*> 20"),
         (("terrains", "sand", "rolling_resistance", "value"), -0.1, r"rolling_resistance.*>= 0"),
         (("terrains", "sand", "mu", "source"), "guess", r"identified.*paper.*assumption"),
         (("default_terrain",), "ice", r"default_terrain 'ice' is not in terrains"),
@@ -143,6 +142,11 @@ def _mutate(path: tuple[str, ...], value: object) -> dict[str, Any]:
 def test_impossible_values_are_refused(path: tuple[str, ...], value: object, pattern: str) -> None:
     with pytest.raises(ValidationError, match=pattern):
         vehicle_from_mapping(_mutate(path, value))
+
+
+def test_a_limit_below_the_idle_power_is_refused() -> None:
+    with pytest.raises(InputError, match=r"limits.p_total_max_w: 15 W .*idle power.*> 20"):
+        vehicle_from_mapping(_mutate(("limits", "p_total_max_w"), 15.0))
 
 
 def test_unknown_preset_lists_the_shipped_files() -> None:
