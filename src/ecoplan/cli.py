@@ -128,8 +128,12 @@ def _progress(
 
 def _load(args: argparse.Namespace) -> Any:
     from ecoplan.app.scenario import load_scenario
+    from ecoplan.app.scenario.load import with_vehicle
 
-    return load_scenario(args.scenario)
+    sc = load_scenario(args.scenario)
+    if getattr(args, "vehicle", None):
+        sc = with_vehicle(sc, args.vehicle)
+    return sc
 
 
 def _budget(args: argparse.Namespace) -> float | None:
@@ -436,6 +440,14 @@ def _common(p: argparse.ArgumentParser, *, out: bool = True) -> None:
     p.add_argument("-q", "--quiet", action="store_true", help="no human-readable output")
 
 
+def _vehicle_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--vehicle",
+        metavar="FILE",
+        help="drive this vehicle file (or preset) instead of the scenario's vehicle",
+    )
+
+
 def _sweep(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--scheduler",
@@ -470,6 +482,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("scenario", type=Path, help="scenario YAML file")
     run.add_argument("--time-budget", type=float, metavar="S", help="cap the planner's time [s]")
     _common(run)
+    _vehicle_option(run)
     run.set_defaults(func=_cmd_run)
 
     plan = sub.add_parser(
@@ -481,6 +494,7 @@ def build_parser() -> argparse.ArgumentParser:
     plan.add_argument("scenario", type=Path)
     plan.add_argument("--time-budget", type=float, metavar="S")
     _common(plan)
+    _vehicle_option(plan)
     plan.set_defaults(func=_cmd_plan)
 
     sim = sub.add_parser(
@@ -495,6 +509,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--waypoints", nargs="+", metavar="X,Y", help="replace the waypoints (after the start)"
     )
     _common(sim)
+    _vehicle_option(sim)
     sim.set_defaults(func=_cmd_simulate)
 
     cmp_ = sub.add_parser(
@@ -508,6 +523,7 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--time-budget", type=float, metavar="S")
     _sweep(cmp_)
     _common(cmp_)
+    _vehicle_option(cmp_)
     cmp_.set_defaults(func=_cmd_compare)
 
     diag = sub.add_parser(
