@@ -119,3 +119,44 @@ def test_bad_logs_are_one_line() -> None:
             [DriveLog(np.arange(5.0), np.ones(5), np.ones(5), np.ones(5), "asphalt")],
             shipped_vehicle("pioneer-3at"),
         )
+
+
+# ---------------------------------------------------------------------- ecoplan identify
+
+
+def _write_csv(tmp_path, log: DriveLog, name: str, with_terrain: bool = True):  # type: ignore[no-untyped-def]
+    from ecoplan.diagnose.logio import Log, write_log_csv
+
+    terrain = np.full(log.n_samples, log.terrain) if with_terrain else None
+    return write_log_csv(
+        Log(log.t_s, log.v_left, log.v_right, log.p_total_w, terrain=terrain, run_id=name),
+        tmp_path / f"{name}.csv",
+    )
+
+
+def test_cli_identify_writes_a_vehicle_file_from_logs(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    from ecoplan.cli import main
+    from ecoplan.io.vehicles import load_vehicle
+
+    base_file = tmp_path / "robot.yaml"
+    base_file.write_text(yaml.safe_dump(WHEELED, sort_keys=False))
+    v = vehicle_from_mapping(WHEELED)
+    paths = [
+        _write_csv(tmp_path, free_driving_log(v, "sand", rng=k, run_id=f"s{k}"), f"s{k}")
+        for k in range(2)
+    ]
+    paths.append(_write_csv(tmp_path, free_driving_log(v, rng=9), "plain", with_terrain=False))
+    out = tmp_path / "id.yaml"
+    args = ["identify", *map(str, paths[:2]), "--base", str(base_file), "--boot", "40"]
+    assert main([*args, "--name", "robot50-id", "--out", str(out)]) == 0
+    ident = load_vehicle(out)
+    assert ident.name == "robot50-id" and ident.terrains == ["sand"]
+    sand = ident.params("sand")
+    assert sand.mu == pytest.approx(0.6, rel=0.05)  # the simulated robot's values
+    assert sand.k_resistance_n == pytest.approx(0.15 * 50 * 9.81 / 2, rel=0.15)
+    assert "sand: 2 log(s)" in capsys.readouterr().out
+    # a log without a terrain column needs --terrain: one line, exit 2
+    assert main(["identify", str(paths[2]), "--base", str(base_file)]) == 2
+    assert "no terrain column; give its terrain with --terrain" in capsys.readouterr().err
+    assert main(["identify", str(paths[2]), "--base", str(base_file), "--terrain", "asphalt",
+                 "--boot", "20", "--json", str(tmp_path / "r.json")]) == 0  # fmt: skip
