@@ -33,6 +33,9 @@ Decisions where the issue is silent
   acceleration ``accel_max_mps2`` (the track acceleration limit), energy integrated
   over the ramp.  Ramps are off by default (the paper's model is static).  Changes of
   speed between segments and the yaw acceleration of on-the-spot turns are not ramped.
+  With ramps each start also costs the kinetic energy ``M v² / (2 η)``
+  (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``); braking returns nothing
+  (non-regenerative drivers).
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
 * Terrain of a turn is the terrain at its waypoint; straight parts are split by
@@ -61,8 +64,10 @@ from ecoplan.energy.result import PathCost, Violation
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
+from ecoplan.models.inertial import kinetic_energy_j
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
+from ecoplan.models.tracked import TrackedParams
 
 __all__ = ["Speed", "path_cost"]
 
@@ -123,10 +128,16 @@ class _Acc:
         self.length += length
         self.peak = max(self.peak, float(np.max(p.total_w)))
 
-    def add_ramp(self, params: VehicleParams, v: float, accel: float) -> None:
+    def add_ramp(
+        self, params: VehicleParams, v: float, accel: float, accelerating: bool = False
+    ) -> None:
         p, duration = _ramp_power(params, v, accel)
         for k, val in p.components().items():
             self.energy[k] += float(np.mean(val)) * duration
+        if accelerating:  # M a v over the ramp: the kinetic energy, through the drives' eta
+            eta = params.eta if isinstance(params, TrackedParams) else 1.0
+            kinetic = float(kinetic_energy_j(params.mass_kg, v)) / eta
+            self.energy["inertial_w"] = self.energy.get("inertial_w", 0.0) + kinetic
         self.duration += duration
         self.length += v * v / (2.0 * accel)
         self.peak = max(self.peak, float(np.max(p.total_w)))
@@ -284,7 +295,7 @@ def _add_segment(
         v_cruise = min(v, math.sqrt(accel * straight * (2.0 / n_ramps)))
         d_ramp = v_cruise * v_cruise / (2.0 * accel)
         if ramp[0]:
-            acc.add_ramp(first, v_cruise, accel)
+            acc.add_ramp(first, v_cruise, accel, accelerating=True)
             a += d_ramp
         if ramp[1]:
             acc.add_ramp(params_on(vehicle, pieces[-1][2]), v_cruise, accel)
