@@ -448,7 +448,8 @@ def simulate_tracks(
         top = float(np.max(np.abs(np.concatenate([sched.v_left, sched.v_right]))))
         t_max = sched.v_left.shape[0] * config.dt_s + top / params.accel_max_mps2 + 1.0
     start = np.array([start_pose], dtype=np.float64)
-    return simulate_policy([params], sched, start, SimConfig(config.dt_s, t_max, config.inertial))[0]
+    cfg = SimConfig(config.dt_s, t_max, config.inertial)
+    return simulate_policy([params], sched, start, cfg)[0]
 
 
 def simulate_policy(
