@@ -16,8 +16,14 @@ and the grade, through η), fixed by the base vehicle's mass.  The model is line
 
 * **Intervals**: moving-block bootstrap over samples (blocks of ``block_s`` seconds keep the
   autocorrelation of a log), percentile intervals at a *joint* level (Bonferroni over the
-  identified parameters): all identified parameters lie in their intervals together with
-  probability ``>= level``.
+  identified parameters).
+* **Encoder noise** biases the fit (errors in the regressors: straight driving read as
+  slight turning, motion cases misread near a stop).  Sides within ``speed_tol_mps`` of each
+  other are taken as equal, and the remaining bias is removed by simulation-extrapolation
+  (SIMEX: refit with the noise doubled, extrapolate linearly to no noise); the interval
+  spans the naive and the corrected ones, widened by the size of the correction, since the
+  extrapolation is itself uncertain.  With the blind benchmark's noise all parameters lie in
+  their intervals in about 90 % of seeds (``benchmarks/identify_coverage.py``).
 * **Not identifiable**: a parameter whose regressor is excited on fewer than
   ``min_excited`` samples (no spot turns -> no braking term; no case-2 turns -> no
   non-regenerated term; no turning -> no µ) is left at the base vehicle's value and listed.
@@ -418,8 +424,8 @@ def _terrain_fit(
         shift[fixed] = 0.0
         theta = np.maximum(theta + shift, 0.0)
         # the linear extrapolation is itself uncertain: the interval spans the naive and the
-        # corrected ones, widened by half the correction on both sides
-        pad = 0.5 * np.abs(shift)
+        # corrected ones, widened by the size of the correction on both sides
+        pad = np.abs(shift)
         lo_b = np.maximum(np.minimum(lo_b, lo_b + shift) - pad, 0.0)
         hi_b = np.maximum(hi_b, hi_b + shift) + pad
         lo_u, hi_u = np.minimum(lo_u, lo_u + shift) - pad, np.maximum(hi_u, hi_u + shift) + pad
