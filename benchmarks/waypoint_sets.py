@@ -33,9 +33,10 @@ import time
 import numpy as np
 import shapely
 
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import EcoplanError
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.sim import HeadingController, WaypointRun, simulate_batch
+from ecoplan.sim import WaypointRun, simulate_batch
 from ecoplan.sim.replay import ab_scenario, replay
 
 V_SP, GAIN, BELT = 0.5, 0.18, "narrow"
@@ -63,7 +64,7 @@ def arc_height_for_length(a: np.ndarray, b: np.ndarray, length_m: float) -> floa
 def planner_sets(sc) -> tuple[list[tuple[str, np.ndarray]], str]:
     """The graph planner's best energy and length paths, or an explanation why not."""
     try:
-        from ecoplan.cost import EnergyCost, LengthCost
+        from ecoplan.energy.objective import EnergyCost, LengthCost
         from ecoplan.geometry.world import World, rectangle
         from ecoplan.planning.graph import plan_graph
     except ImportError as exc:  # planner not landed

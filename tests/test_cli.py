@@ -126,6 +126,7 @@ def test_run_writes_report_and_json_numbers_match_files(
     assert "![" in report and "map.png" in report
 
 
+@pytest.mark.slow
 def test_out_folder_policy(quick: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     ours = tmp_path / "ours"
     assert main(["run", str(quick), "--out", str(ours), "-q"]) == 0

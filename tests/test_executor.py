@@ -73,6 +73,7 @@ def test_unreachable_scheduler_is_input_error() -> None:
         DaskExecutor("tcp://127.0.0.1:1", timeout_s=0.5)
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_numbers_as_local_processes(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import LineString
 
-from ecoplan.cost import EnergyCost, LengthCost
+from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.world import (
     GeometryError,
@@ -202,6 +202,7 @@ PROPERTY_PLANNERS = {
 }
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(
     sx=st.floats(0.5, 29.5),

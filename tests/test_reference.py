@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from ecoplan.cost import EnergyCost, LengthCost
+from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import PlanningError
 from ecoplan.geometry.world import PointInObstacleError, World, rectangle
 from ecoplan.planning.graph import plan_graph

@@ -303,3 +303,16 @@ def test_battery_verdict_properties(capacity_wh: float, reserve: float) -> None:
         # the first step at which the energy used reaches the usable energy
         assert cum[k] >= usable and (k == 0 or cum[k - 1] < usable)
         assert 0.0 <= b.empty_at[3] <= r.sim.length_m + 1e-9
+
+
+def test_cheapest_skips_cases_without_a_route_and_fails_when_none_has_one() -> None:
+    from ecoplan.app.run import CaseResult, PlanOutcome, cheapest
+    from ecoplan.errors import PlanningError
+
+    ok = _short_run()
+    failed = CaseResult.unsimulated(
+        "no route", PlanOutcome("graph", np.zeros((1, 2)), 0.5), error="budget spent"
+    )
+    assert cheapest([failed, ok]) is ok
+    with pytest.raises(PlanningError, match="budget spent"):
+        cheapest([failed], "x.yaml")

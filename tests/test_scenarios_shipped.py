@@ -21,10 +21,10 @@ import pytest
 
 from ecoplan.app.scenario import Scenario, load_scenario
 from ecoplan.cli import main
-from ecoplan.cost import path_cost
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.path import path_cost
 from ecoplan.planning.speed import best_speed
 from ecoplan.presets import VehicleSpec
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import SimConfig, simulate_waypoints
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
@@ -131,6 +131,7 @@ def test_every_shipped_scenario_is_listed() -> None:
     } <= names
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("path", SHIPPED, ids=[p.stem for p in SHIPPED])
 def test_shipped_scenario_runs_and_agrees_with_the_library(
     path: Path, runs: Callable[[str], tuple[Path, dict[str, Any]]]
@@ -243,6 +244,7 @@ def test_a_simulated_run_goes_through_ecoplan_diagnose(
     assert isinstance(result["verdict"]["effect"], str)
 
 
+@pytest.mark.slow
 def test_diagnose_ranks_a_scenarios_routes_under_the_corrected_model(
     runs: Callable[[str], tuple[Path, dict[str, Any]]],
     tmp_path: Path,

@@ -8,8 +8,8 @@ import pytest
 
 from ecoplan.diagnose.logio import read_log_csv
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.presets import vehicle
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.replay import ab_scenario
 from ecoplan.sim.simulate import simulate_waypoints
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
-from ecoplan.errors import EcoplanError, InputError, PlanningError
+from ecoplan.errors import EcoplanError, InputError
 
 __all__ = ["main"]
 
@@ -174,7 +174,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     out = _out(args)
     sc = _load(args)
     _prepare(args)
-    case = _base_case(sc)
+    case = sc.base_case()
     steps = 3 if args.out else 2
     with _progress(args, f"{sc.name}: plan, simulate, report", steps) as tick:
         plan = plan_case(case, time_budget_s=_budget(args))
@@ -194,12 +194,6 @@ def _print_files(out: _Out, args: argparse.Namespace, files: Sequence[Path]) -> 
         out.say(f"report written to {args.out}/ ({len(files)} files):")
         for f in files:
             out.say(f"  {f}")
-
-
-def _base_case(sc: Any) -> Any:
-    from ecoplan.app.scenario import Case
-
-    return Case(sc.spec.name, sc.spec.model_copy(update={"compare": []}), sc.source)
 
 
 def _print_case(out: _Out, r: Any) -> None:
@@ -227,7 +221,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     out = _out(args)
     sc = _load(args)
     _prepare(args)
-    case = _base_case(sc)
+    case = sc.base_case()
     plan = plan_case(case, time_budget_s=_budget(args))
     out.say(
         f"{sc.name}: route from {plan.planner}, {plan.length_m:.1f} m, v_sp {plan.speed_mps} m/s"
@@ -276,7 +270,7 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
     if args.waypoints:
         sc = with_waypoints(sc, _parse_points(args.waypoints))
     _prepare(args)
-    case = _base_case(sc)
+    case = sc.base_case()
     if case.planner.type != "none":
         raise InputError(
             f"{sc.source}: simulate needs fixed waypoints (in the file or --waypoints X,Y ...); "
@@ -294,7 +288,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
     from ecoplan.app.executor import make_executor
     from ecoplan.app.reports.tables import summary_table
-    from ecoplan.app.run import run_case
+    from ecoplan.app.run import cheapest, run_case
 
     out = _out(args)
     sc = _load(args)
@@ -312,10 +306,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     out.say()
     out.say(summary_table(results))
     files = _report(args, sc, results, out, title=f"{sc.name}: comparison", executor=where)
-    done = [r for r in results if r.error is None]
-    if not done:
-        raise PlanningError(f"no case of {sc.source} found a route: {results[0].error}")
-    best = min(done, key=lambda r: r.energy_j)
+    best = cheapest(results, sc.source)
     out.emit(
         {
             "scenario": sc.name,
@@ -332,7 +323,7 @@ def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
     """Candidate routes of ``--scenario``, checked before the diagnosis starts."""
     from ecoplan.app.run import candidate_routes
     from ecoplan.app.scenario import load_scenario
-    from ecoplan.presets import vehicle
+    from ecoplan.presets import VehicleSpec
 
     sc = load_scenario(args.scenario)
     if sc.vehicle.name != args.vehicle:
@@ -340,7 +331,7 @@ def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
             f"--scenario {args.scenario}: its vehicle is {sc.vehicle.name!r} but the logs are "
             f"diagnosed against --vehicle {args.vehicle!r}; rank routes of the same vehicle"
         )
-    return candidate_routes(sc, vehicle(args.vehicle, args.terrain))
+    return candidate_routes(sc, VehicleSpec.of(args.vehicle, args.terrain))
 
 
 def _cmd_diagnose(args: argparse.Namespace) -> int:
@@ -407,13 +398,10 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    out = _out(args)
-    try:
-        from ecoplan.sim.replay import run_demo
-    except ImportError:
-        return _fig3_cases(out)
     from ecoplan.app.outdir import prepare_out_dir
+    from ecoplan.sim.replay import run_demo
 
+    out = _out(args)
     folder = prepare_out_dir(args.out, force=args.force)
     files = [Path(p) for p in run_demo(folder.path)]
     folder.written.extend(files)
@@ -422,24 +410,6 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     for f in files:
         out.say(f"  {f}")
     out.emit({"files": files})
-    return 0
-
-
-def _fig3_cases(out: _Out) -> int:
-    from ecoplan.presets import vehicle
-
-    params = vehicle("auriga-beta-wide", "marble")
-    cases = {
-        "1 straight": (0.4, 0.4),
-        "2 same sign": (0.8, 0.4),
-        "3 one zero": (0.0, 0.4),
-        "4 opposite": (-0.4, 0.4),
-    }
-    for label, (vl, vr) in cases.items():
-        p = params.power(vl, vr)
-        parts = ", ".join(f"{k[:-2]} {float(v):.0f}" for k, v in p.components().items())
-        total = float(p.total_w)
-        out.say(f"case {label:12s} V=({vl:+.1f},{vr:+.1f}) m/s  P_T {total:6.0f} W  [{parts}]")
     return 0
 
 

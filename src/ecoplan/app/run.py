@@ -10,6 +10,7 @@ clearance are checked, and the energy is compared with the battery budget.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -18,10 +19,12 @@ import numpy as np
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.app.scenario.build import Case, Scenario, build_scenario
 from ecoplan.app.scenario.schema import BatterySection, PlannerSection
-from ecoplan.cost import EnergyCost, LengthCost, path_cost
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.objective import EnergyCost, LengthCost
+from ecoplan.energy.path import path_cost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.models.limits import check_tracks
-from ecoplan.sim.controller import HeadingController
+from ecoplan.presets import VehicleSpec
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
 __all__ = [
@@ -30,6 +33,7 @@ __all__ = [
     "PlanOutcome",
     "battery_verdict",
     "candidate_routes",
+    "cheapest",
     "plan_case",
     "run_case",
     "simulate_case",
@@ -52,7 +56,7 @@ class PlanOutcome:
     planning_time_s : float
         Wall-clock time of planning [s] (0 for fixed waypoints).
     estimate_energy_j : float or None
-        Analytic energy of the route by :func:`ecoplan.cost.path_cost` [J].
+        Analytic energy of the route by :func:`ecoplan.energy.path.path_cost` [J].
     feasible : bool or None
         Whether every command of the analytic execution respects the vehicle's limits.
     violations : tuple of str
@@ -546,7 +550,7 @@ def battery_verdict(
     return BatteryVerdict(b.capacity_wh, usable, energy, completes, usable - energy, empty_at)
 
 
-def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
+def candidate_routes(sc: Scenario, vehicle: VehicleSpec) -> dict[str, Any]:
     """Candidate routes of a scenario as drive trajectories, for ranking by a diagnosis.
 
     Each case of the scenario (its ``compare`` variants, or the scenario itself) is
@@ -558,8 +562,8 @@ def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
     ----------
     sc : Scenario
         The scenario.
-    params : VehicleParams
-        The diagnosed vehicle on its terrain.
+    vehicle : VehicleSpec
+        The diagnosed vehicle on its terrain (``vehicle.terrain``).
 
     Returns
     -------
@@ -573,6 +577,7 @@ def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
     """
     from ecoplan.diagnose.loop import polyline_trajectory
 
+    params = vehicle.on()
     routes: dict[str, Any] = {}
     for case in sc.cases():
         plan = plan_case(case)
@@ -585,3 +590,30 @@ def candidate_routes(sc: Scenario, params: Any) -> dict[str, Any]:
             "(add `compare:` variants or planner.k > 1)"
         )
     return routes
+
+
+def cheapest(results: Sequence[CaseResult], source: str = "<scenario>") -> CaseResult:
+    """The case that used the least energy among those that found a route.
+
+    Parameters
+    ----------
+    results : sequence of CaseResult
+        The cases of a comparison.
+    source : str
+        The scenario, for the message.
+
+    Returns
+    -------
+    CaseResult
+        The simulated case of least ``energy_j`` (the first of equals).
+
+    Raises
+    ------
+    PlanningError
+        No case found a route.
+    """
+    done = [r for r in results if r.error is None and r.sim is not None]
+    if not done:
+        why = results[0].error if results else "no cases"
+        raise PlanningError(f"no case of {source} found a route: {why}")
+    return min(done, key=lambda r: r.energy_j)

@@ -591,7 +591,7 @@ def attribute(
     return Attribution(
         scores,
         verdict,
-        float(conf),
+        float(np.clip(conf, 0.0, 1.0)) if math.isfinite(conf) else 0.0,
         tied,
         pairs,
         not_excited,

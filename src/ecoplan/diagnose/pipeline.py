@@ -32,6 +32,7 @@ import numpy as np
 from ecoplan._typing import BoolArray, FloatArray, RngLike
 from ecoplan.diagnose.attribute import Attribution, attribute, block_bootstrap, split_masks
 from ecoplan.diagnose.calibrate import Calibration, calibrate
+from ecoplan.diagnose.checks import check_logs
 from ecoplan.diagnose.effects import EffectData, prepare
 from ecoplan.diagnose.localise import (
     RegimeShare,
@@ -106,6 +107,8 @@ class Diagnosis:
         Total logged time [s].
     split : str
         How the held-out split was drawn (``"time blocks"``).
+    input_notes : tuple of str
+        What the input check found the log does not excite (:mod:`ecoplan.diagnose.checks`).
     """
 
     vehicle: str
@@ -129,6 +132,7 @@ class Diagnosis:
     n_runs: int = 1
     duration_s: float = 0.0
     split: str = "blocks"
+    input_notes: tuple[str, ...] = ()
 
     @property
     def verdict(self) -> str:
@@ -191,6 +195,7 @@ def diagnose(
     else:
         params, name = vehicle_name, vehicle_name.name
     log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item]
+    checked = check_logs(log_list, params)
     tol = case_tolerance(log_list)
     if tol > params.case_tol_mps:
         params = dataclasses.replace(params, case_tol_mps=tol)
@@ -206,6 +211,9 @@ def diagnose(
     train = prepare(train_f, cal.params, prior=params)
     test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
+    if checked.excitation_notes and att.verdict == "none":
+        # a log that does not excite turning cannot rule out turning effects (issue 12 item 3)
+        att = dataclasses.replace(att, confidence=min(att.confidence, 0.5))
     r_cal = test.p - att.fitted["none"].predict(test)
     gap_cal = float(np.mean(np.abs(r_cal)))
     final_name = att.tied[0] if att.verdict == "ambiguous" and att.tied else att.verdict
@@ -237,6 +245,7 @@ def diagnose(
         n_runs=len(log_list),
         duration_s=frame.duration_s,
         split="time blocks",
+        input_notes=checked.excitation_notes,
     )
 
 

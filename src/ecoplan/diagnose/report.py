@@ -240,6 +240,7 @@ def summary(d: Diagnosis) -> str:
         lines.append(f"not excited by this log: {', '.join(att.not_excited)}")
     if att.unavailable:
         lines.append(f"needs signals the log lacks: {', '.join(att.unavailable)}")
+    lines.extend(f"input: {note}" for note in d.input_notes)
     return "\n".join(lines)
 
 

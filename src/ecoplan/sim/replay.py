@@ -74,9 +74,9 @@ import numpy as np
 import shapely
 
 from ecoplan._typing import FloatArray
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.simulate import DEFAULT_CONFIG, SimConfig, SimResult, WaypointRun, simulate_batch
 
 __all__ = [

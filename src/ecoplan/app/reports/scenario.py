@@ -82,7 +82,9 @@ def write_report(
     simulated = [r for r in results if r.sim is not None]
     fig_names = [f"{stem}.{ext}" for stem in ("map", "power", "breakdown") for ext in opts.figures]
     names = ["summary.json", "summary.csv", *fig_names]
-    csv_names = dict(zip((id(r) for r in results), case_file_names([r.name for r in results]), strict=True))
+    csv_names = dict(
+        zip((id(r) for r in results), case_file_names([r.name for r in results]), strict=True)
+    )
     if opts.csv:
         names += [csv_names[id(r)] for r in simulated]
     if opts.markdown:
@@ -176,7 +178,7 @@ def _case_markdown(r: CaseResult, *, single: bool) -> list[str]:
     )
     if r.plan.estimate_energy_j is not None:
         lines.append(
-            f"Analytic energy of the route (ecoplan.cost.path_cost): "
+            f"Analytic energy of the route (ecoplan.energy.path.path_cost): "
             f"{r.plan.estimate_energy_j / 1e3:.2f} kJ."
         )
     if r.sim is None:

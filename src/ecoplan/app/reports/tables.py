@@ -42,7 +42,6 @@ SUMMARY_COLUMNS = (
 )
 
 
-
 def summary_row(r: CaseResult) -> dict[str, Any]:
     """One row of ``summary.csv`` (:data:`SUMMARY_COLUMNS`) for a case."""
     s = r.summary()

@@ -114,6 +114,10 @@ class Scenario:
         x, y = self.spec.waypoints[-1]
         return (x, y)
 
+    def base_case(self) -> Case:
+        """The scenario itself as one case (its ``compare`` variants left out)."""
+        return Case(self.spec.name, self.spec.model_copy(update={"compare": []}), self.source)
+
     def cases(self) -> list[Case]:
         """Independent cases: the ``compare`` variants, or the scenario itself."""
         if not self.spec.compare:

@@ -200,7 +200,7 @@ class PlannerSection(_Section):
     @model_validator(mode="after")
     def _name_for_ompl(self) -> PlannerSection:
         if self.type == "ompl" and self.name is None:
-            raise ValueError("planner type ompl needs a name (e.g. RRTstar, BITstar, PRMstar)")
+            raise ValueError("planner type ompl needs a name (e.g. RRTstar, BITstar, RRTConnect)")
         return self
 
 

@@ -15,25 +15,22 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.cost import (
-    EnergyCost,
-    LengthCost,
-    TrackTrajectory,
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.objective import EnergyCost, LengthCost
+from ecoplan.energy.path import path_cost
+from ecoplan.energy.primitives import (
     arc_turn_energy,
     best_spot_yaw_rate,
-    cheapest_turn,
-    path_cost,
     spot_turn_energy,
     straight_energy,
-    trajectory_cost,
-    turn_costs,
 )
+from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
+from ecoplan.energy.turns import cheapest_turn, turn_costs
 from ecoplan.errors import InfeasibleError, InputError
 from ecoplan.geometry.world import World, rectangle
 from ecoplan.models.limits import feasible
 from ecoplan.models.power import COMPONENTS
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.sim.controller import HeadingController
 from ecoplan.sim.replay import ab_scenario
 from ecoplan.sim.simulate import simulate_waypoints
 
@@ -271,6 +268,21 @@ def test_cost_objects_share_the_interface() -> None:
     assert EnergyCost(PIONEER, 0.4).turn_cost((0, 0), (0.1, 0), (0.1, 0.1), 0.05) is None
     assert LengthCost(PIONEER, 0.4).turn_cost((0, 0), (0.1, 0), (0.1, 0.1), 0.05) is None
     assert n.value(n.path([(0, 0), (3, 4)])) == pytest.approx(5.0)
+
+
+def test_objectives_value_turns_and_metres_through_one_interface() -> None:
+    # planners cost many turns with turn_costs and convert with turn_value: the same numbers
+    # as turn_cost, with no knowledge of which objective they hold
+    e, n = EnergyCost(TRACKED, 0.5), LengthCost(TRACKED, 0.5)
+    net, _ = turn_costs(TRACKED.on(), np.array([0.5, -1.2, 0.0]), 0.5, room_m=2.5)
+    np.testing.assert_allclose(e.turn_value(net), net)
+    np.testing.assert_array_equal(n.turn_value(net), [0.0, 0.0, 0.0])
+    assert np.isnan(e.turn_value(np.nan)) and np.isnan(n.turn_value(np.inf))
+    corner = ((0, 0), (5, 0), (5 + 5 * math.cos(0.5), 5 * math.sin(0.5)))
+    assert e.turn_cost(*corner, room_m=2.5) == pytest.approx(float(net[0]))
+    # per metre: energy per metre for the energy objective, 1 for the length baseline
+    per_m = tracked_straight_power(0.5) / 0.5
+    assert e.per_metre(per_m) == pytest.approx(per_m) and n.per_metre(per_m) == 1.0
 
 
 coords = st.floats(-20, 20, allow_nan=False)

@@ -1,0 +1,176 @@
+"""Check the input before explaining it (issue 12, item 3): units, vehicle, excitation, crashes.
+
+Every case of the issue is built from one simulated session of the named vehicle
+(``ecoplan.diagnose.synth``, no effect) transformed the way a user's logger would get it
+wrong: power in kW (/1000) or mW (x1000), currents at a 24 V bus (/24), time in ms (x1000),
+speeds in km/h (x3.6), a robot that never moves or never turns, another vehicle's log.  The
+expected outcome is one :class:`~ecoplan.errors.InputError` line naming the column and the
+likely unit (exit 2 in the CLI), or a diagnosis whose confidence is a number in [0, 1].
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from functools import cache
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+
+from ecoplan.cli import main
+from ecoplan.diagnose.checks import MAX_ENERGY_RATIO, check_logs
+from ecoplan.diagnose.logio import Log
+from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.synth import generate_case
+from ecoplan.errors import InputError
+from ecoplan.presets import vehicle
+
+R = dataclasses.replace
+
+
+@cache
+def _session(vehicle_name: str = "auriga-beta-narrow") -> tuple[Log, ...]:
+    case = generate_case(0, "none", "large", vehicle=vehicle_name, n_waypoint_runs=1, rate_hz=10.0)
+    return tuple(case.logs)  # type: ignore[arg-type]
+
+
+def _still(lg: Log) -> Log:
+    zero = np.zeros(len(lg))
+    return Log(t=lg.t, v_left=zero, v_right=zero, p_total=np.full(len(lg), 40.0), source="still")
+
+
+@pytest.mark.parametrize(
+    ("change", "match"),
+    [
+        (lambda lg: R(lg, p_total=lg.p_total / 1000.0), r"'p_total'.*kW"),
+        (lambda lg: R(lg, p_total=lg.p_total * 1000.0), r"'p_total'.*mW"),
+        (lambda lg: R(lg, p_total=lg.p_total / 24.0), r"'p_total'.*currents in A"),
+        (lambda lg: R(lg, t=lg.t * 1000.0), r"'t'.*milliseconds"),
+        (lambda lg: R(lg, v_left=lg.v_left * 3.6, v_right=lg.v_right * 3.6), r"'v_\w+'.*km/h"),
+        (_still, r"too little excitation"),
+    ],
+    ids=["kW", "mW", "amperes", "ms", "km/h", "no motion"],
+)
+def test_wrong_units_and_no_motion_are_one_line_input_errors(change, match) -> None:  # type: ignore[no-untyped-def]
+    logs = [change(lg) for lg in _session()]
+    with pytest.raises(InputError, match=match) as info:
+        diagnose(logs, "auriga-beta-narrow", "asphalt")
+    assert "\n" not in str(info.value)
+
+
+def test_a_log_of_another_vehicle_is_refused() -> None:
+    # a Pioneer 3-AT draws tens of watts where an Auriga-beta draws hundreds (wheeled paper
+    # Fig. 6 vs tracked paper Fig. 7): more than MAX_ENERGY_RATIO apart
+    logs = list(_session("pioneer-3at"))
+    with pytest.raises(InputError, match=r"'p_total'.*lighter vehicle"):
+        diagnose(logs, "auriga-beta-wide", "asphalt")
+
+
+def test_the_energy_ratio_is_measured_against_the_named_vehicle() -> None:
+    logs = list(_session())
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    base = check_logs(logs, params).energy_ratio
+    assert 1.0 / MAX_ENERGY_RATIO < base < MAX_ENERGY_RATIO
+    scaled = check_logs([R(lg, p_total=lg.p_total * 2.0) for lg in logs], params).energy_ratio
+    assert scaled == pytest.approx(2.0 * base, rel=1e-9)  # energy is linear in the power
+
+
+def test_no_turning_is_said_and_none_is_not_fully_confident() -> None:
+    # straight runs only: both sides at the mean speed, power of straight motion
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    logs = []
+    for lg in _session():
+        v = 0.5 * (lg.v_left + lg.v_right)
+        p = np.asarray(params.power(v, v).total_w) + np.random.default_rng(1).normal(0, 5, len(lg))
+        logs.append(Log(t=lg.t, v_left=v, v_right=v, p_total=p, source="straight"))
+    d = diagnose(logs, params)
+    assert d.input_notes and "turning" in d.input_notes[0]
+    assert "too little excitation" in d.summary()
+    assert not (d.verdict == "none" and d.attribution.confidence > 0.5)
+
+
+def test_cli_exit_2_with_one_line_for_power_in_kw(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    paths = []
+    for i, lg in enumerate(_session()):
+        paths.append(str(R(lg, p_total=lg.p_total / 1000.0).to_csv(tmp_path / f"run{i}.csv")))
+    code = main(["diagnose", *paths, "--vehicle", "auriga-beta-narrow", "--terrain", "asphalt"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2
+    assert len(err.splitlines()) == 1 and "p_total" in err and "kW" in err
+
+
+def _fuzz_log(
+    n: int,
+    rate_hz: float,
+    v_scale: float,
+    p_scale: float,
+    turn: float,
+    gain: float,
+    p0: float,
+    seed: int,
+) -> Log:
+    g = np.random.default_rng(seed)
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    t = np.arange(n) / rate_hz
+    v = v_scale * 0.6 * np.tanh(np.cumsum(g.normal(0.0, 0.1, n)))
+    dv = turn * 0.3 * np.sin(2 * np.pi * np.arange(n) / max(n / 3, 1))
+    vl, vr = v - dv, v + dv
+    model = np.asarray(params.power(vl, vr).total_w)
+    p = p_scale * (gain * model + p0 + g.normal(0.0, 10.0, n))
+    return Log(t=t, v_left=vl, v_right=vr, p_total=p)
+
+
+def _diagnose_or_input_error(log_args: tuple[float, ...]) -> None:
+    # the library entry point, not only the reader: a log in any units, of any length, with
+    # any motion either gets a diagnosis with a confidence in [0, 1] or one InputError line
+    try:
+        log = _fuzz_log(*log_args)  # type: ignore[arg-type]
+        d = diagnose(log, "auriga-beta-narrow", "asphalt")
+    except InputError as e:
+        assert str(e) and "\n" not in str(e)
+        event("input error")
+        return
+    event("diagnosed")
+    assert 0.0 <= d.attribution.confidence <= 1.0
+    assert np.isfinite(d.gap_final_w)
+    d.to_json_dict()  # validated JSON shape
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    n=st.integers(2, 300),
+    rate_hz=st.sampled_from([0.2, 5.0, 20.0, 1000.0]),
+    v_scale=st.sampled_from([0.0, 0.01, 1.0, 30.0]),
+    p_scale=st.sampled_from([0.0, 1e-3, 1.0, 1e3]),
+    turn=st.floats(-1.0, 1.0),
+    gain=st.floats(0.5, 2.0),
+    p0=st.floats(-1e3, 1e3),
+    seed=st.integers(0, 2**16),
+)
+def test_fuzzed_units_give_a_diagnosis_or_an_input_error(
+    n: int,
+    rate_hz: float,
+    v_scale: float,
+    p_scale: float,
+    turn: float,
+    gain: float,
+    p0: float,
+    seed: int,
+) -> None:
+    _diagnose_or_input_error((n, rate_hz, v_scale, p_scale, turn, gain, p0, seed))
+
+
+@settings(max_examples=24, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    n=st.integers(40, 600),
+    rate_hz=st.sampled_from([10.0, 20.0, 100.0]),
+    turn=st.floats(-1.0, 1.0),
+    gain=st.floats(0.5, 2.0),
+    p0=st.floats(-200.0, 500.0),
+    seed=st.integers(0, 2**16),
+)
+def test_fuzzed_plausible_logs_give_a_diagnosis_or_an_input_error(
+    n: int, rate_hz: float, turn: float, gain: float, p0: float, seed: int
+) -> None:
+    _diagnose_or_input_error((n, rate_hz, 1.0, 1.0, turn, gain, p0, seed))
