@@ -44,7 +44,7 @@ from typing import Any
 import numpy as np
 from scipy import ndimage
 
-from ecoplan.cost import EnergyCost
+from ecoplan.energy.objective import EnergyCost
 from ecoplan.errors import EcoplanError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions

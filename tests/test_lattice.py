@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from ecoplan.app.scenario.load import load_scenario
-from ecoplan.cost import EnergyCost, LengthCost
+from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap, rasterise_world
 from ecoplan.geometry.world import PointInObstacleError

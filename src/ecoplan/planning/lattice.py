@@ -10,7 +10,7 @@ a node).  Motion primitives from ``(n, h)``:
   five points along the step;
 * **turn left / right** to heading ``h ± 1``: the cheapest feasible execution of the
   heading change ``Δψ`` on the node's terrain at cruise speed ``v`` —
-  :func:`ecoplan.cost.turn_costs`: on the spot where the vehicle can (tracked eq. 20),
+  :func:`ecoplan.energy.turns.turn_costs`: on the spot where the vehicle can (tracked eq. 20),
   else an arc of radius ``r`` feasible in ``(v, r)`` (power limits, wheeled §III-C and
   tracked eq. 5) — followed by ``m`` straight steps on the new heading, with ``m`` the
   smallest number whose length is at least twice the largest fillet tangent
@@ -24,10 +24,12 @@ sampled every quarter of a fine cell.  A query runs Dijkstra (scipy.sparse.csgra
 C) from the start node; Dijkstra is A* with the zero heuristic, which is admissible, so
 the result is optimal on the lattice.  The returned :class:`~ecoplan.planning.base.Plan`
 carries the waypoints (heading changes of the lattice path) and their full evaluation
-by :func:`ecoplan.cost.path_cost` on the grid, like every planner.
+by :func:`ecoplan.energy.path.path_cost` on the grid, like every planner.
 
-The search costs come from the cost object (:class:`~ecoplan.cost.EnergyCost`: joules;
-:class:`~ecoplan.cost.LengthCost`: metres, turns free but only feasible ones), or from
+The search costs come from the cost objective's ``per_metre`` and ``turn_value``
+(:class:`~ecoplan.energy.objective.EnergyCost`: joules;
+:class:`~ecoplan.energy.objective.LengthCost`: metres, turns free but only feasible
+ones), or from
 :class:`PenaltyWeights` — length plus unitless turn and terrain penalties, the way Nav2's
 Smac planners cost paths — for baselines.
 """
@@ -38,7 +40,6 @@ import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import cast
 
 import numpy as np
 import numpy.typing as npt
@@ -46,19 +47,12 @@ from scipy import sparse
 from scipy.sparse import csgraph
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
-from ecoplan.cost import (
-    EnergyCost,
-    LengthCost,
-    PathCost,
-    PathCostModel,
-    choose_turn,
-    fillet_points,
-    path_cost,
-    turn_costs,
-)
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.path import path_cost
+from ecoplan.energy.result import PathCost
+from ecoplan.energy.turns import choose_turn, fillet_points, turn_costs
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap
-from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget
 
@@ -173,7 +167,7 @@ class LatticePlanner:
     ----------
     grid : GridMap
         Inflated occupancy grid with its terrain layer.
-    cost : EnergyCost or LengthCost
+    cost : CostObjective
         Vehicle, cruise speed and turn mode; the objective unless ``weights`` is given.
         Its world must be None or ``grid``.
     options : LatticePlannerOptions, optional
@@ -193,6 +187,7 @@ class LatticePlanner:
     --------
     >>> import numpy as np
     >>> from ecoplan.geometry.maps import GridMap
+    >>> from ecoplan.energy.objective import EnergyCost
     >>> from ecoplan.presets import VehicleSpec
     >>> occ = np.zeros((100, 200), dtype=np.int8); occ[30:70, 90:110] = 100
     >>> grid = GridMap(occ, 0.1, inflation_m=0.3)
@@ -205,7 +200,7 @@ class LatticePlanner:
     def __init__(
         self,
         grid: GridMap,
-        cost: PathCostModel,
+        cost: CostObjective,
         options: LatticePlannerOptions | None = None,
         *,
         weights: PenaltyWeights | None = None,
@@ -214,11 +209,11 @@ class LatticePlanner:
             raise InputError(
                 f"grid must be an ecoplan.geometry.maps.GridMap, got {type(grid).__name__}"
             )
-        if not isinstance(cost, EnergyCost | LengthCost):
+        if not isinstance(cost, CostObjective):
             raise InputError(
-                f"cost must be an EnergyCost or a LengthCost, got {type(cost).__name__}"
+                f"cost must be a CostObjective (e.g. EnergyCost), got {type(cost).__name__}"
             )
-        if cost.world is not None and cost.world is not cast(object, grid):
+        if cost.world is not None and cost.world is not grid:
             raise InputError("the cost object's world differs from the planner's grid")
         self.grid = grid
         self.cost = cost
@@ -291,12 +286,10 @@ class LatticePlanner:
             if self.weights is not None:
                 per_m[t] = 1.0 + float(self.weights.terrain_penalty.get(name, 0.0))
                 turn[t] = np.where(ok, self.weights.turn_per_rad * np.abs(dpsi) + _EPS, np.inf)
-            elif isinstance(self.cost, EnergyCost):
-                per_m[t] = e_m
-                turn[t] = np.where(ok, np.maximum(net, 0.0) + _EPS, np.inf)
             else:
-                per_m[t] = 1.0
-                turn[t] = np.where(ok, _EPS, np.inf)
+                per_m[t] = self.cost.per_metre(e_m)
+                val = np.asarray(self.cost.turn_value(np.where(ok, net, np.nan)), dtype=float)
+                turn[t] = np.where(np.isfinite(val), np.maximum(val, 0.0) + _EPS, np.inf)
         return per_m, turn, m_steps, r_check
 
     def _build(self) -> None:
@@ -471,7 +464,7 @@ class LatticePlanner:
             wps,
             self.cost.vehicle,
             self.cost.speed_mps,
-            world=cast(World, self.grid),
+            world=self.grid,
             initial_heading_rad=heading,
             turn=self.cost.turn,
             ramps=self.cost.ramps,
@@ -503,7 +496,7 @@ class LatticePlanner:
         """Search cost of turning at ``q`` (inf: no feasible, collision-free execution).
 
         The turn may take half of each adjacent segment for its fillet (as in
-        :func:`~ecoplan.cost.path_cost`); arcs are checked against the inflated grid.
+        :func:`~ecoplan.energy.path.path_cost`); arcs are checked against the inflated grid.
         """
         room = 0.5 * min(float(np.hypot(*(q - p))), float(np.hypot(*(r - q))))
         h0 = math.atan2(q[1] - p[1], q[0] - p[0])
@@ -521,14 +514,12 @@ class LatticePlanner:
             return math.inf
         if self.weights is not None:
             return self.weights.turn_per_rad * abs(dpsi)
-        if isinstance(self.cost, LengthCost):
-            return 0.0
-        return max(out[0], 0.0)
+        return max(float(np.asarray(self.cost.turn_value(out[0]))), 0.0)
 
     def _turn_ok(self, pts: FloatArray, prev: int, i: int, j: int) -> bool:
         return i == 0 or math.isfinite(self._vertex_cost(pts[prev], pts[i], pts[j]))
 
-    def _shortcut(self, wps: FloatArray, lookahead: int = 80, densify: bool = True) -> FloatArray:
+    def _shortcut(self, wps: FloatArray, lookahead: int = 48, densify: bool = True) -> FloatArray:
         """Any-angle smoothing of the lattice polyline (string pulling).
 
         The polyline is resampled every node spacing (unless ``densify`` is False: a
@@ -596,7 +587,7 @@ class LatticePlanner:
         Returns
         -------
         PlanResult
-            ``best`` with waypoints, cruise speed and the :func:`~ecoplan.cost.path_cost`
+            ``best`` with waypoints, cruise speed and the :func:`~ecoplan.energy.path.path_cost`
             evaluation on the grid; ``stats`` holds build and search times.
 
         Raises
@@ -652,7 +643,7 @@ class LatticePlanner:
         pts = self._node_xy(nodes // nx, nodes % nx)
         raw = _simplify(np.vstack([[s], pts, [g]]))
         wps = raw
-        for densify in (True, True, True, False):  # smoothing passes while time remains
+        for densify in (True, True, False):  # smoothing passes while time remains
             if deadline.expired:
                 break
             wps = self._shortcut(wps, densify=densify)
@@ -729,7 +720,7 @@ def plan_lattice(
     grid: GridMap,
     start: ArrayLike,
     goal: ArrayLike,
-    cost: PathCostModel,
+    cost: CostObjective,
     *,
     options: LatticePlannerOptions | None = None,
     initial_heading_rad: float | None = None,
