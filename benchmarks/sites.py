@@ -14,8 +14,9 @@ Vehicles: Auriga-β (narrow belts, tracked, 0.5 m/s) and the Pioneer 3-AT (wheel
 concrete as shipped; grass, gravel, sand and snow with more resistance (assumptions):
 for the tracked model ``K`` of tracked eq. (18) times 1.5, 1.3, 2.2, 1.8 and friction
 ``mu`` 0.6, 0.7, 0.5, 0.3; for the wheeled model a rolling-resistance coefficient
-``C_rr`` 0.08, 0.06, 0.15, 0.12 added to ``a_inf`` (see :mod:`ecoplan.models.vehicles`).  The Husky A200 runs when a
-``husky-a200`` vehicle file is shipped (not yet on this branch: the output says so).
+``C_rr`` 0.08, 0.06, 0.15, 0.12 added to ``a_inf`` (see :mod:`ecoplan.models.vehicles`).
+The Husky A200 runs when a ``husky-a200`` vehicle file is shipped (not yet on this
+branch: the output says so).
 
 Per site and vehicle, all on the same lattice (:mod:`ecoplan.planning.lattice`):
 
