@@ -62,6 +62,7 @@ __all__ = ["ORBIT", "ControlledTurns", "Excess", "controlled_turns", "drive_path
 ORBIT = "controller_orbits_goal"
 
 _N_ANGLES = 17  # per sign, 0..pi (11.25 degrees apart)
+_CHUNK = 128  # runs per rollout batch
 _N_LEGS = 7  # leg lengths, geometric from the shortest to the settled one
 _DT_S = 0.04
 
@@ -246,16 +247,24 @@ def controlled_turns(
     for lo in legs:  # and leg + lo
         goals.append(np.array([[leg + lo, 0.0]]))
     n = len(goals)
-    runs = [params] * n
-    icr = IcrArrays.of([p.icr for p in runs], [p.top_track_speed_mps for p in runs])
-    policy = WaypointFollower(
-        goals, [controller] * n, icr, [r_min] * n, [params.accel_max_mps2 * dt_s] * n
-    )
     t_max = 2.5 * 3.0 * leg / v + 30.0
-    rows, end, finished = rollout(runs, policy, starts, dt_s, t_max)
-    stats = np.array([_run_stats(params, rows, i, int(end[i]), dt_s) for i in range(n)])
-    violated = np.array([_run_violation(params, rows, i, int(end[i])) for i in range(n)], object)
-    del rows
+    stats_parts, violated_parts, finished_parts = [], [], []
+    for c0 in range(0, n, _CHUNK):  # chunks keep the recorded rows within memory
+        chunk = goals[c0 : c0 + _CHUNK]
+        k = len(chunk)
+        runs = [params] * k
+        icr = IcrArrays.of([p.icr for p in runs], [p.top_track_speed_mps for p in runs])
+        policy = WaypointFollower(
+            chunk, [controller] * k, icr, [r_min] * k, [params.accel_max_mps2 * dt_s] * k
+        )
+        rows, end, done = rollout(runs, policy, starts[c0 : c0 + k], dt_s, t_max)
+        stats_parts += [_run_stats(params, rows, i, int(end[i]), dt_s) for i in range(k)]
+        violated_parts += [_run_violation(params, rows, i, int(end[i])) for i in range(k)]
+        finished_parts.append(done)
+        del rows
+    stats = np.array(stats_parts)
+    violated = np.array(violated_parts, dtype=object)
+    finished = np.concatenate(finished_parts)
     long_ref = np.tile(stats[4 * m : 4 * m + nl], (na, 1))  # leg + lo + leg per (angle, lo)
     short_ref = np.tile(stats[4 * m + nl :], (na, 1))  # leg + lo
     per_m = float(params.power(v, v).total_w) / v
