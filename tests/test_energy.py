@@ -413,3 +413,20 @@ def test_auto_turn_choice_under_the_papers_step_and_under_the_ramp(v: float) -> 
     net, radius = turn_costs(ramp, math.pi / 2, v, room_m=10.0)
     assert float(radius) > 5.0 and v * 2 * Y_ICR / float(radius) < 0.1
     assert float(net) < 0.0
+
+
+def test_speed_change_between_segments_follows_the_drive_law() -> None:
+    # issue 11, item 6: with ramps, 0.3 m/s then 0.6 m/s on a straight line costs what the
+    # simulator's drive law gives for the same commands (a rate limit at accel_max_mps2)
+    params = TRACKED.on()
+    dt = 0.01
+    n1, n2 = 4000, 3000  # 40 s at 0.3 m/s, then 30 s at 0.6 m/s, then stop
+    cmd = np.concatenate([np.full(n1, 0.3), np.full(n2, 0.6)])
+    sim = simulate_tracks(params, cmd, cmd, config=SimConfig(dt_s=dt))
+    x_switch, x_end = float(sim.x[n1]), float(sim.x[-1])
+    pc = path_cost([(0, 0), (x_switch, 0), (x_end, 0)], params, [0.3, 0.6], ramps=True)
+    assert pc.energy_j == pytest.approx(sim.energy_j, rel=0.005)
+    assert pc.duration_s == pytest.approx(sim.time_s, rel=0.01)
+    # without the speed-change ramp the 0.6 m/s segment would start at full speed
+    steady = path_cost([(0, 0), (x_switch, 0), (x_end, 0)], params, [0.3, 0.6])
+    assert pc.duration_s > steady.duration_s

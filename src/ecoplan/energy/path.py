@@ -44,8 +44,10 @@ Decisions where the issue is silent
   acceleration ``accel_max_mps2`` (the track acceleration limit), energy integrated
   over the ramp, and each on-the-spot turn follows the drive law too
   (:func:`~ecoplan.energy.turns.spot_turn_profile_energy`: tracks ramp at the limit, a
-  triangle yaw-rate profile for short turns).  Ramps are off by default (the paper's
-  model is static).  Changes of speed between segments are not ramped.
+  triangle yaw-rate profile for short turns); a change of speed between segments ramps
+  at the limit on the faster segment, from or to the junction speed (the lower of the
+  two, which an arc between them is driven at).  Ramps are off by default (the paper's
+  model is static).
   With ramps each start also costs the kinetic energy ``M v² / (2 η)``
   (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``); braking returns nothing
   (non-regenerative drivers).
@@ -120,14 +122,16 @@ def _segment_speeds(speed: float | Sequence[float] | FloatArray, n_seg: int) -> 
     return positive_speed("speed", v)
 
 
-def _ramp_power(params: VehicleParams, v: float, accel: float) -> tuple[PowerBreakdown, float]:
-    """Power at the midpoints of a ramp from rest to ``v`` at ``accel``, and its duration.
+def _ramp_power(
+    params: VehicleParams, v: float, accel: float, u0: float = 0.0
+) -> tuple[PowerBreakdown, float]:
+    """Power at the midpoints of a ramp from ``u0`` to ``v`` at ``accel``, and its duration.
 
     The speed is linear in time, so the midpoint rule integrates each component; the same
-    ramp serves for braking to rest (the static model ignores the direction of ``dv/dt``).
+    ramp serves for braking (the static model ignores the direction of ``dv/dt``).
     """
-    duration = v / accel
-    u = accel * duration * (np.arange(_RAMP_SAMPLES) + 0.5) / _RAMP_SAMPLES
+    duration = (v - u0) / accel
+    u = u0 + accel * duration * (np.arange(_RAMP_SAMPLES) + 0.5) / _RAMP_SAMPLES
     return params.power(u, u), duration
 
 
@@ -164,17 +168,26 @@ class _Acc:
         )
 
     def add_ramp(
-        self, params: VehicleParams, v: float, accel: float, accelerating: bool = False
+        self,
+        params: VehicleParams,
+        v: float,
+        accel: float,
+        accelerating: bool = False,
+        u0: float = 0.0,
     ) -> None:
-        p, duration = _ramp_power(params, v, accel)
+        if v <= u0:
+            return
+        p, duration = _ramp_power(params, v, accel, u0)
         for k, val in p.components().items():
             self.energy[k] += float(np.mean(val)) * duration
         if accelerating:  # M a v over the ramp: the kinetic energy, through the drives' eta
             eta = params.eta if isinstance(params, TrackedParams) else 1.0
-            kinetic = float(kinetic_energy_j(params.mass_kg, v)) / eta
-            self.energy["inertial_w"] = self.energy.get("inertial_w", 0.0) + kinetic
+            kinetic = float(
+                kinetic_energy_j(params.mass_kg, v) - kinetic_energy_j(params.mass_kg, u0)
+            )
+            self.energy["inertial_w"] = self.energy.get("inertial_w", 0.0) + kinetic / eta
         self.duration += duration
-        self.length += v * v / (2.0 * accel)
+        self.length += (v * v - u0 * u0) / (2.0 * accel)
         self.peak = max(self.peak, float(np.max(p.total_w)))
 
 
@@ -271,9 +284,14 @@ def path_cost(
         _add_turn(acc, plan, i, turns, violations, count_length=True)
     # ---- straight parts
     for i in range(n_seg):
-        ramp = (bool(stop_at[i]) and ramps, bool(stop_at[i + 1]) and ramps)
+        # with ramps: each end of a segment is at rest (a stop) or at the junction speed,
+        # the lower of the two segments' speeds (arcs are driven at it)
+        ends: list[float | None] = [None, None]
+        if ramps:
+            for e, w in ((0, i), (1, i + 1)):
+                ends[e] = 0.0 if stop_at[w] else float(min(v_seg[w - 1], v_seg[w]))
         seg = (pts[i], pts[i + 1], float(v_seg[i]), tangent[i])
-        _add_segment(acc, vehicle, world, seg, ramp, i, violations)
+        _add_segment(acc, vehicle, world, seg, (ends[0], ends[1]), i, violations)
     return acc.result(sum(abs(tp.dpsi_rad) for tp in turns), violations, turns)
 
 
@@ -346,7 +364,7 @@ def _controlled_path_cost(
             violations.append(Violation(where, index, ex.violated, ctrl.speed_mps, math.nan))
     for i in range(n_seg):
         seg = (pts[i], pts[i + 1], float(v_seg[i]), np.zeros(2))
-        _add_segment(acc, vehicle, world, seg, (False, False), i, violations)
+        _add_segment(acc, vehicle, world, seg, (None, None), i, violations)
     return acc.result(psi, violations, turns)
 
 
@@ -374,10 +392,11 @@ def _add_segment(
     vehicle: Vehicle,
     world: WorldLike | None,
     seg: tuple[FloatArray, FloatArray, float, FloatArray],
-    ramp: tuple[bool, bool],
+    ends: tuple[float | None, float | None],
     index: int,
     violations: list[Violation],
 ) -> None:
+    """Add a straight segment; ``ends``: speed at its start and end [m/s], None = no ramp."""
     p0, p1, v, cut = seg
     total = float(np.hypot(*(p1 - p0)))
     a, b = float(cut[0]), total - float(cut[1])
@@ -390,19 +409,25 @@ def _add_segment(
             pieces.append((s, s + pc.length_m, pc.terrain))
             s += pc.length_m
     straight = max(b - a, 0.0)
-    n_ramps = int(ramp[0]) + int(ramp[1])
     v_cruise = v
     first = params_on(vehicle, pieces[0][2])
     accel = float(first.accel_max_mps2)
-    if n_ramps:
-        v_cruise = min(v, math.sqrt(accel * straight * (2.0 / n_ramps)))
-        d_ramp = v_cruise * v_cruise / (2.0 * accel)
-        if ramp[0]:
-            acc.add_ramp(first, v_cruise, accel, accelerating=True)
-            a += d_ramp
-        if ramp[1]:
-            acc.add_ramp(params_on(vehicle, pieces[-1][2]), v_cruise, accel)
-            b -= d_ramp
+    u0, u1 = ends
+    if u0 is not None or u1 is not None:
+        # ramps from u0 and to u1 at the acceleration limit (the drive law); a segment too
+        # short for both cruises lower: d0 + d1 = L gives v^2 = a L + (u0^2 + u1^2) / 2
+        s0 = v if u0 is None else u0
+        s1 = v if u1 is None else u1
+        v_peak = math.sqrt(accel * straight + 0.5 * (s0 * s0 + s1 * s1))
+        if u0 is None or u1 is None:  # one ramp only: it may take the whole segment
+            v_peak = math.sqrt(accel * 2.0 * straight + min(s0, s1) ** 2)
+        v_cruise = max(min(v, v_peak), s0, s1)
+        if u0 is not None and v_cruise > u0:
+            acc.add_ramp(first, v_cruise, accel, accelerating=True, u0=u0)
+            a += (v_cruise * v_cruise - u0 * u0) / (2.0 * accel)
+        if u1 is not None and v_cruise > u1:
+            acc.add_ramp(params_on(vehicle, pieces[-1][2]), v_cruise, accel, u0=u1)
+            b -= (v_cruise * v_cruise - u1 * u1) / (2.0 * accel)
     checked: set[str | None] = set()
     for s0, s1, terr in pieces:
         length = max(min(s1, b) - max(s0, a), 0.0)
