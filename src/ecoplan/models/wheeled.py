@@ -219,7 +219,8 @@ def wheeled_power(v_left: ArrayLike, v_right: ArrayLike, params: WheeledParams) 
 
     Side speeds map to ``(v, wz)`` by the ICR kinematics (tracked eqs. 1-3) and to
     ``r = |v / wz|``; the side towards the turn centre (at ``y = vx / wz``) is the inner
-    one, also when reversing; in straight motion each side draws the mean of the inner and
+    one, also when reversing; in straight motion, and on the spot (``vx = 0``, where the
+    inner side flips with the sign of ``vx``), each side draws the mean of the inner and
     outer powers.  Battery draw per side is ``|P|``.  The breakdown attributes to
     ``resistance_w`` the straight-line power at the same speed, ``sum (a_inf |v| + b_inf)``,
     to ``braking_w`` the magnitude of a side's negative power, and the rest to
@@ -301,9 +302,11 @@ def _wheeled_block(
     moving = np.take(_MOVING_TABLE, idx)
     p_in *= moving
     p_out *= moving
-    # inner side: the turn centre (y = vx / wz) is on the left when vx and wz share a sign;
-    # on the spot (vx = 0) the turning side decides; straight: each side the mean
-    left_inner = (vx * wz > 0.0) | ((vx == 0.0) & (wz > 0.0))
+    # inner side: the turn centre (y = vx / wz) is on the left when vx and wz share a sign.
+    # On the spot (vx = 0) the inner side flips with the sign of vx (a reversed spot turn is
+    # the mirrored one), so neither side is inner: each gets the mean, as when straight.
+    vxwz = vx * wz
+    left_inner = (vxwz > 0.0) + 0.5 * (vxwz == 0.0)
     diff = p_in - p_out
     np.multiply(diff, left_inner, out=left)
     half = diff * 0.5
