@@ -387,8 +387,8 @@ def test_auto_turn_choice_under_the_papers_step_and_under_the_ramp(v: float) -> 
     import dataclasses
 
     base = TRACKED.on()
-    step = dataclasses.replace(base, nonregen_blend_mps=0.0)  # the paper: a step (Fig. 3)
-    ramp = dataclasses.replace(base, nonregen_blend_mps=0.1)
+    step = dataclasses.replace(base, nonregen_onset_mps=0.0)  # the paper: a step (Fig. 3)
+    ramp = dataclasses.replace(base, nonregen_onset_mps=0.1)
     tight = cheapest_turn(step, math.pi / 2, v, room_m=10.0)
     # with the paper's step: a tight arc (<= 1 m) or on the spot, net energy positive --
     # by hand, a fillet of radius r saves 2 r of straight at P_T(v, v) and drives
