@@ -159,7 +159,9 @@ def test_ramps_by_hand() -> None:
     # P(u) = (2 K u + P_pu) / eta with u = a t: integral over a ramp = (K a T^2 + P_pu T) / eta
     e_ramp = (K * a * t_ramp**2 + P_PU * t_ramp) / ETA
     cruise = length - v * v / a
-    expected = 2 * e_ramp + tracked_straight_power(v) * cruise / v
+    # the start also costs the kinetic energy m v^2 / (2 eta) (m = 286 kg; braking: nothing)
+    kinetic = 286.0 * v * v / 2.0 / ETA
+    expected = 2 * e_ramp + tracked_straight_power(v) * cruise / v + kinetic
     pc = path_cost([(0, 0), (length, 0)], TRACKED, v, ramps=True)
     assert pc.energy_j == pytest.approx(expected, rel=1e-9)
     assert pc.duration_s == pytest.approx(2 * t_ramp + cruise / v)

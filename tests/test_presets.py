@@ -16,7 +16,12 @@ def _t(name: str, terrain: str) -> TrackedParams:
 
 
 def test_names_are_stable() -> None:
-    assert vehicle_names() == ["auriga-beta-narrow", "auriga-beta-wide", "pioneer-3at"]
+    assert vehicle_names() == [
+        "auriga-beta-narrow",
+        "auriga-beta-wide",
+        "husky-a200",
+        "pioneer-3at",
+    ]
     assert terrain_names("auriga-beta-wide") == ["asphalt", "hoisted", "marble"]
     assert terrain_names("pioneer-3at") == ["asphalt", "vinyl"]
     assert default_terrain("pioneer-3at") == "asphalt"

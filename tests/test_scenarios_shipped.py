@@ -72,7 +72,11 @@ def _check_against_library(
     speed = (variant.speed if variant and variant.speed else None) or spec.speed
     wps = np.asarray(case["waypoints"])
     np.testing.assert_allclose(wps[0], spec.start.xy)
-    vehicle = VehicleSpec.of(spec.vehicle.preset, spec.terrain.default, spec.vehicle.overrides)
+    if spec.vehicle.file is not None:  # a vehicle file: the one the scenario loaded
+        assert sc.vehicle.file is not None
+        vehicle = VehicleSpec.of(sc.vehicle.file, spec.terrain.default, spec.vehicle.overrides)
+    else:
+        vehicle = VehicleSpec.of(spec.vehicle.preset, spec.terrain.default, spec.vehicle.overrides)
     # the route's analytic energy is the cost module's
     yaw0 = spec.start.yaw_rad
     v_sp = case["speed_mps"]

@@ -45,6 +45,9 @@ Decisions where the issue is silent
   (:func:`~ecoplan.energy.turns.spot_turn_profile_energy`: tracks ramp at the limit, a
   triangle yaw-rate profile for short turns).  Ramps are off by default (the paper's
   model is static).  Changes of speed between segments are not ramped.
+  With ramps each start also costs the kinetic energy ``M v² / (2 η)``
+  (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``); braking returns nothing
+  (non-regenerative drivers).
 * ``turn=HeadingController(...)``: the path as the tracked paper's heading controller
   (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`):
   the estimate a battery budget should use.
@@ -79,8 +82,10 @@ from ecoplan.energy.result import PathCost, Violation
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
+from ecoplan.models.inertial import kinetic_energy_j
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
+from ecoplan.models.tracked import TrackedParams
 
 __all__ = ["Speed", "path_cost"]
 
@@ -157,10 +162,16 @@ class _Acc:
             turns=tuple(turns),
         )
 
-    def add_ramp(self, params: VehicleParams, v: float, accel: float) -> None:
+    def add_ramp(
+        self, params: VehicleParams, v: float, accel: float, accelerating: bool = False
+    ) -> None:
         p, duration = _ramp_power(params, v, accel)
         for k, val in p.components().items():
             self.energy[k] += float(np.mean(val)) * duration
+        if accelerating:  # M a v over the ramp: the kinetic energy, through the drives' eta
+            eta = params.eta if isinstance(params, TrackedParams) else 1.0
+            kinetic = float(kinetic_energy_j(params.mass_kg, v)) / eta
+            self.energy["inertial_w"] = self.energy.get("inertial_w", 0.0) + kinetic
         self.duration += duration
         self.length += v * v / (2.0 * accel)
         self.peak = max(self.peak, float(np.max(p.total_w)))
@@ -386,7 +397,7 @@ def _add_segment(
         v_cruise = min(v, math.sqrt(accel * straight * (2.0 / n_ramps)))
         d_ramp = v_cruise * v_cruise / (2.0 * accel)
         if ramp[0]:
-            acc.add_ramp(first, v_cruise, accel)
+            acc.add_ramp(first, v_cruise, accel, accelerating=True)
             a += d_ramp
         if ramp[1]:
             acc.add_ramp(params_on(vehicle, pieces[-1][2]), v_cruise, accel)
