@@ -26,18 +26,19 @@ Decisions where the issue is silent
   best feasible yaw rate, or the fillet arc (radius from the smallest feasible one,
   :func:`ecoplan.models.limits.min_radius_for_speed`, up to the largest that fits) that
   minimises the turn's energy **net of the straight driving it saves**.  For Auriga-β
-  the winner depends on the ramp of the non-regenerated term (``nonregen_onset_mps``,
-  issue 11 item 4): with the paper's step (0) or a 0.02 m/s ramp, a 90° corner is
-  turned on a tight arc (``r`` near ``r_min``) at 0.3 and 0.5 m/s and on the spot at
-  0.8 m/s; with a 0.1 m/s ramp, wide arcs win -- their track-speed difference
-  (``v (y_l - y_r) / r``, 0.026 m/s for ``r = 10 m`` at 0.5 m/s) stays inside the ramp,
-  so they escape most of case 2's non-regenerated power and their net energy turns
-  negative (the straight driving they save outweighs them).  That is the ramp's
-  physics, not the paper's (``tests/test_energy.py``).  With the default 0.05 m/s
-  onset (auriga-beta-wide on asphalt, no ramps) the corner takes a 7 m arc at 0.3 m/s
-  (net -245 J), a 10 m arc at 0.5 m/s (net +21 J) and the spot at 0.8 m/s.  The Pioneer takes the
-  tightest fitting arcs.  Slow is not always cheap: driver power-up runs all the time
-  (tracked §IV).
+  the winner depends on the onset of the non-regenerated term (``nonregen_onset_mps``,
+  issue 11 item 4), which the paper does not identify.  For the 90° corner of
+  (0,0)->(10,0)->(10,10): with the paper's step (0) or a 0.02 m/s onset, a tight arc
+  (``r`` near ``r_min``, net about 1 kJ) at 0.3 and 0.5 m/s, on the spot at 0.8 m/s;
+  with the 0.05 m/s default, wide arcs at 0.3 and 0.5 m/s (7 m: -0.25 kJ; 10 m:
+  +0.02 kJ), on the spot at 0.8 m/s; with a 0.1 m/s onset, wide arcs at every speed
+  (10 m at 0.5 m/s: -1.3 kJ).  A wide arc's track-speed difference
+  (``v (y_l - y_r) / r``, 0.026 m/s for 10 m at 0.5 m/s) lies inside the onset, so it
+  escapes most of case 2's non-regenerated power, and the straight driving it saves
+  outweighs it; under the step it pays ``k_nr (|V_l| + |V_r|)`` in full and cannot.
+  The choice follows the onset's physics (``tests/test_energy.py``).  The Pioneer
+  takes the tightest fitting arcs.  Slow is not always cheap: driver power-up runs all
+  the time (tracked §IV).
 * Accelerations (``ramps=True``): the vehicle starts and ends at rest and stops for
   every on-the-spot turn; each stop is approached and left with a constant linear
   acceleration ``accel_max_mps2`` (the track acceleration limit), energy integrated
