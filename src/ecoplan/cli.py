@@ -374,6 +374,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 
 def _cmd_identify(args: argparse.Namespace) -> int:
     from ecoplan.app.identify import identify_from_logs
+    from ecoplan.app.reports.identify import identification_lines, identification_rows
 
     out = _out(args)
     if args.out is not None and args.out.exists() and not args.force:
@@ -388,31 +389,8 @@ def _cmd_identify(args: argparse.Namespace) -> int:
         speed_noise_mps=args.speed_noise,
         bus_voltage_v=args.bus_voltage,
     )
-    rows = []
-    for terrain, fit in sorted(res.fits.items()):
-        out.say(
-            f"{terrain}: {len(fit.run_ids)} log(s), {fit.n_samples} samples, held-out MAE "
-            f"{fit.heldout_mae_w:.1f} W (mean power {fit.mean_power_w:.0f} W), median energy "
-            f"error {100 * fit.median_energy_error:.1f} %"
-        )
-        for key in fit.identified:
-            lo, hi = fit.intervals[key]
-            out.say(f"  {key} = {fit.values[key]:.4g}  [{lo:.4g}, {hi:.4g}]")
-        if fit.unidentified:
-            out.say(f"  not identified (base values kept): {', '.join(fit.unidentified)}")
-        for key, val in fit.clamped.items():
-            out.say(f"  clamped at 0: {key} (the logs give {val:.4g})")
-        rows.append(
-            {
-                "terrain": terrain,
-                "values": dict(fit.values),
-                "intervals": {k: list(v) for k, v in fit.intervals.items()},
-                "unidentified": list(fit.unidentified),
-                "clamped": dict(fit.clamped),
-                "heldout_mae_w": fit.heldout_mae_w,
-                "heldout_energy_error": list(fit.heldout_energy_error),
-            }
-        )
+    for line in identification_lines(res):
+        out.say(line)
     header = f"Identified by: ecoplan identify {' '.join(str(p) for p in args.logs)}"
     text = res.to_yaml(header + f" --base {args.base}")
     if args.out is not None:
@@ -420,7 +398,7 @@ def _cmd_identify(args: argparse.Namespace) -> int:
         out.say(f"vehicle file written to {args.out}")
     elif args.json is None:
         sys.stdout.write(text)
-    out.emit({"vehicle": res.name, "terrains": rows, "file": args.out})
+    out.emit({"vehicle": res.name, "terrains": identification_rows(res), "file": args.out})
     return 0
 
 
