@@ -218,7 +218,7 @@ def _signatures(data: EffectData, names: Sequence[str]) -> dict[str, FloatArray]
         elif name == "power_saturation":
             cap = float(np.quantile(data.base_w, 0.9))
             sig[name] = np.minimum(cap - data.base_w, 0.0)[:, None]
-        elif name == "terrain_patch":
+        elif name in ("terrain_patch", "terrain_change"):
             continue
         else:
             sig[name] = eff.columns(data, None)

@@ -222,8 +222,9 @@ def diagnose(
     train_f, test_f = frame.subset(train_m), frame.subset(test_m)
     cal = calibrate(train_f, params)
     run_ids = [str(getattr(lg, "run_id", "") or f"run{i}") for i, lg in enumerate(log_list)]
-    r_all = frame.p - np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
-    segments = where_time(frame.t, r_all, frame.run, run_ids)
+    p_cal = np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
+    r_all = frame.p - p_cal
+    segments = where_time(frame.t, r_all, frame.run, run_ids, model_w=p_cal)
     train = prepare(train_f, cal.params, prior=params)
     test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
