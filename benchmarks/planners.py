@@ -20,8 +20,9 @@ its lateral displacement, which Dubins paths cannot match; ``--aligned``: free f
   (said in the output and in the CSV's ``reference_kind``).  The lattice charges gross
   turn energies on 16 headings, so a planner can beat it (ratio < 1).
 
-Every path's energy comes from the cost module (:func:`ecoplan.cost.path_cost` for
-waypoint paths, :func:`ecoplan.cost.trajectory_cost` for Dubins curves).  Per row: energy,
+Every path's energy comes from the energy module (:func:`ecoplan.energy.path.path_cost`
+for waypoint paths, :func:`ecoplan.energy.trajectory.trajectory_cost` for Dubins curves).
+Per row: energy,
 length, ψ, planning time, ratio to the reference and energy saved against the
 shortest path (``graph-length``) in %.  Outputs in ``--out`` (default
 ``reports/planners``, git-ignored): ``planners.csv``, ``planners.png`` and one OMPL benchmark
@@ -45,10 +46,10 @@ from typing import Any
 
 import numpy as np
 
-from ecoplan.cost import EnergyCost, LengthCost
+from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import EcoplanError
+from ecoplan.geometry.world import World, circle, rectangle
 from ecoplan.presets import VehicleSpec
-from ecoplan.world import World, circle, rectangle
 
 VEHICLES = {"auriga-beta-narrow": 0.5, "pioneer-3at": 0.4}
 OMPL_PLANNERS = ("BITstar", "RRTstar", "InformedRRTstar")
@@ -175,7 +176,7 @@ def write_csv(rows: list[dict], path: Path) -> None:
 
 
 def write_ompl_logs(rows: list[dict], out: Path, budget: float) -> list[Path]:
-    from ecoplan.planning.ompl import BenchmarkRun, write_benchmark_log
+    from ecoplan.planning.benchlog import BenchmarkRun, write_benchmark_log
 
     paths = []
     for vehicle in VEHICLES:
@@ -194,7 +195,7 @@ def write_ompl_logs(rows: list[dict], out: Path, budget: float) -> list[Path]:
             path = out / f"ompl_{vehicle}.log"
             setup = (
                 f"{MAP_W:g} m x {MAP_H:g} m random maps, speed {VEHICLES[vehicle]} m/s, "
-                "energy objective from ecoplan.cost"
+                "energy objective from ecoplan.energy"
             )
             name = f"ecoplan-random-maps-{vehicle}"
             host = socket.gethostname()

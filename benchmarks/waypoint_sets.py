@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python benchmarks/waypoint_sets.py``
 
-Scenario: the A->B obstacle lot of :mod:`ecoplan.sim.replay` (tracked paper §IV-A),
+Scenario: the A->B obstacle lot of :mod:`ecoplan.experiments.ab_replay` (tracked paper §IV-A),
 Auriga-β with narrow belts on asphalt, heading controller ``G = 0.18``, ``v_sp = 0.5``
 m/s, ``d_th = 1 m``, robot starting at A facing B.  Candidates:
 
@@ -33,10 +33,11 @@ import time
 import numpy as np
 import shapely
 
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import EcoplanError
+from ecoplan.experiments.ab_replay import ab_scenario, replay
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.sim import HeadingController, WaypointRun, simulate_batch
-from ecoplan.sim.replay import ab_scenario, replay
+from ecoplan.sim import WaypointRun, simulate_batch
 
 V_SP, GAIN, BELT = 0.5, 0.18, "narrow"
 
@@ -63,9 +64,9 @@ def arc_height_for_length(a: np.ndarray, b: np.ndarray, length_m: float) -> floa
 def planner_sets(sc) -> tuple[list[tuple[str, np.ndarray]], str]:
     """The graph planner's best energy and length paths, or an explanation why not."""
     try:
-        from ecoplan.cost import EnergyCost, LengthCost
+        from ecoplan.energy.objective import EnergyCost, LengthCost
+        from ecoplan.geometry.world import World, rectangle
         from ecoplan.planning.graph import plan_graph
-        from ecoplan.world import World, rectangle
     except ImportError as exc:  # planner not landed
         return [], f"planner rows left out: {exc}"
     spec = VehicleSpec.of(f"auriga-beta-{BELT}", sc.terrain)

@@ -7,21 +7,19 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ecoplan.errors import InputError
-from ecoplan.models.kinematics import TrackICR, setpoint_to_tracks, tracks_to_twist
-from ecoplan.sim.controller import (
+from ecoplan.dynamics.controller import (
     HeadingController,
-    IcrArrays,
     WaypointFollower,
     heading_error,
-    saturate_setpoint,
-    tracks_from_setpoint,
     wrap_angle,
 )
+from ecoplan.dynamics.drive import IcrArrays, saturate_setpoint, tracks_from_setpoint
+from ecoplan.errors import InputError
+from ecoplan.models.kinematics import TrackICR, setpoint_to_tracks, tracks_to_twist
 
-# Auriga-β (tracked paper §III-B): L = 0.42 m, V_max = 0.86 m/s; χ = 0.86 is the
+# Auriga-β (tracked paper §III-B): L = 0.42 m, V_max = 0.86 m/s; χ = 0.81 is the
 # narrow-belt asphalt preset (Table II is lost; see ecoplan.presets).
-L_M, V_MAX, CHI = 0.42, 0.86, 0.86
+L_M, V_MAX, CHI = 0.42, 0.86, 0.81
 HALF = L_M / (2 * CHI)  # |C_x| of each track ICR, eq. (12)
 ICR = TrackICR(HALF, -HALF)
 

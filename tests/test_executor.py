@@ -7,10 +7,11 @@ from pathlib import Path
 
 import pytest
 
+from ecoplan.app.executor import DaskExecutor, LocalExecutor, make_executor
+from ecoplan.app.run import CaseResult, run_case
+from ecoplan.app.scenario import parse_scenario
 from ecoplan.cli import main
 from ecoplan.errors import InputError
-from ecoplan.executor import DaskExecutor, LocalExecutor, make_executor
-from ecoplan.scenario import CaseResult, parse_scenario, run_case
 
 SWEEP = """
 name: sweep
@@ -72,6 +73,7 @@ def test_unreachable_scheduler_is_input_error() -> None:
         DaskExecutor("tcp://127.0.0.1:1", timeout_s=0.5)
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_numbers_as_local_processes(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -82,7 +84,7 @@ def test_dask_local_cluster_gives_the_same_numbers_as_local_processes(
     scenario = tmp_path / "sweep.yaml"
     scenario.write_text(SWEEP)
     with distributed.LocalCluster(
-        n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None
+        n_workers=1, processes=False, threads_per_worker=1, dashboard_address=":0"
     ) as cluster:
         with make_executor(scheduler=cluster.scheduler_address) as ex:
             assert ex.description.startswith("dask ")

@@ -10,12 +10,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from shapely.geometry import LineString
 
-from ecoplan.cost import EnergyCost, LengthCost
+from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import InputError, PlanningError
-from ecoplan.models.limits import feasible
-from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions, plan_graph
-from ecoplan.presets import VehicleSpec
-from ecoplan.world import (
+from ecoplan.geometry.world import (
     GeometryError,
     OutOfBoundsError,
     PointInObstacleError,
@@ -23,6 +20,9 @@ from ecoplan.world import (
     circle,
     rectangle,
 )
+from ecoplan.models.limits import feasible
+from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions, plan_graph
+from ecoplan.presets import VehicleSpec
 
 TRACKED = VehicleSpec.of("auriga-beta-wide", "asphalt")
 PIONEER = VehicleSpec.of("pioneer-3at", "asphalt")
@@ -202,6 +202,7 @@ PROPERTY_PLANNERS = {
 }
 
 
+@pytest.mark.slow
 @settings(max_examples=12, deadline=None)
 @given(
     sx=st.floats(0.5, 29.5),

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from ecoplan.errors import InputError
-from ecoplan.planning.ompl import STATUS_NAMES, BenchmarkRun, write_benchmark_log
+from ecoplan.planning.benchlog import STATUS_NAMES, BenchmarkRun, write_benchmark_log
 
 SCRIPT = Path(sys.executable).parent / "ompl_benchmark_statistics"
 

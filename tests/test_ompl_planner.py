@@ -20,13 +20,14 @@ import shapely
 from ompl import base as ob
 from shapely.geometry import LineString
 
-from ecoplan.cost import EnergyCost, LengthCost, PathCostModel
+from ecoplan.energy.objective import CostObjective, EnergyCost, LengthCost
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import OutOfBoundsError, PointInObstacleError, World, rectangle
 from ecoplan.models.limits import feasible, min_radius_for_speed, vr_to_tracks
 from ecoplan.planning.base import PlanResult
-from ecoplan.planning.ompl import OmplOptions, OmplPlanner, _CurveMotions
+from ecoplan.planning.ompl import OmplOptions, OmplPlanner
+from ecoplan.planning.ompl_motions import CurveMotions
 from ecoplan.presets import VehicleSpec, vehicle
-from ecoplan.world import OutOfBoundsError, PointInObstacleError, World, rectangle
 
 AURIGA = VehicleSpec.of("auriga-beta-narrow")
 PIONEER = VehicleSpec.of("pioneer-3at")
@@ -41,7 +42,7 @@ def world() -> World:
     return World(rectangle(0, 0, 10, 10), [OBSTACLE], inflation_m=0.4)
 
 
-def _plan(world: World, cost: PathCostModel, seed: int, planner: str = "RRTstar") -> PlanResult:
+def _plan(world: World, cost: CostObjective, seed: int, planner: str = "RRTstar") -> PlanResult:
     opts = OmplOptions(planner, time_budget_s=0.5, seed=seed, max_iterations=400)
     return OmplPlanner(world, cost, opts).plan(START, GOAL, initial_heading_rad=NORTH)
 
@@ -140,7 +141,7 @@ def test_curve_motion_cost_matches_the_power_model() -> None:
     cost = EnergyCost(PIONEER, 0.4, world=world)
     r = 3.0
     space = ob.DubinsStateSpace(r)
-    motion = _CurveMotions(cost, space, r, 0.5)
+    motion = CurveMotions(cost, space, r, 0.5)
     params = vehicle("pioneer-3at")
 
     def st(x: float, y: float, yaw: float) -> object:
@@ -165,7 +166,7 @@ def test_reverse_motion_cost_matches_the_power_model() -> None:
     cost = EnergyCost(PIONEER, 0.4, world=world)
     r = 3.0
     space = ob.ReedsSheppStateSpace(r)
-    motion = _CurveMotions(cost, space, r, 0.5)
+    motion = CurveMotions(cost, space, r, 0.5)
     params = vehicle("pioneer-3at")
 
     def st(x: float, y: float, yaw: float) -> object:
@@ -239,14 +240,15 @@ def test_time_budget_is_honoured_without_an_iteration_cap(world: World) -> None:
     assert res.planning_time_s <= wall and wall < 0.3 + 1.0
 
 
+@pytest.mark.slow
 def test_terminal_stays_clean() -> None:
     # OMPL's log lines and nanobind's leak report at exit must not reach the user
     script = textwrap.dedent(
         """
-        from ecoplan.cost import EnergyCost
+        from ecoplan.energy.objective import EnergyCost
         from ecoplan.presets import VehicleSpec
         from ecoplan.planning.ompl import OmplOptions, OmplPlanner
-        from ecoplan.world import World, rectangle
+        from ecoplan.geometry.world import World, rectangle
         w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
         c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
         for seed in (1, 2):
@@ -277,9 +279,9 @@ def test_terminal_stays_clean() -> None:
 
 def test_free_space_check_matches_shapely(world: World) -> None:
     # the validity function used by OMPL agrees with an independent point-in-polygon test
-    from ecoplan.planning.ompl import _validity
+    from ecoplan.planning.ompl_glue import state_validity
 
-    valid = _validity(world)
+    valid = state_validity(world)
     space = ob.SE2StateSpace()
     rng = np.random.default_rng(0)
     inflated = OBSTACLE.buffer(0.4)

@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from ecoplan.cost import EnergyCost, LengthCost
+from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import PlanningError
+from ecoplan.geometry.world import PointInObstacleError, World, rectangle
 from ecoplan.planning.graph import plan_graph
 from ecoplan.planning.reference import MOVES, LatticeOptions, plan_reference
 from ecoplan.presets import VehicleSpec
-from ecoplan.world import PointInObstacleError, World, rectangle
 
 TRACKED = VehicleSpec.of("auriga-beta-wide", "asphalt")
 PIONEER = VehicleSpec.of("pioneer-3at", "asphalt")

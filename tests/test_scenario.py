@@ -11,15 +11,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ecoplan.app.run import plan_case, simulate_case
+from ecoplan.app.scenario import Case, load_scenario, parse_scenario
 from ecoplan.errors import ScenarioError
-from ecoplan.scenario import (
-    MAX_YAML_NODES,
-    Case,
-    load_scenario,
-    parse_scenario,
-    plan_case,
-    simulate_case,
-)
+from ecoplan.io.yaml import MAX_YAML_NODES
 
 MINIMAL = """\
 name: tiny
@@ -284,11 +279,12 @@ def _short_run() -> object:
     reserve=st.floats(min_value=0.0, max_value=0.9),
 )
 def test_battery_verdict_properties(capacity_wh: float, reserve: float) -> None:
-    from ecoplan.scenario import BatterySection, CaseResult, _battery
+    from ecoplan.app.run import CaseResult, battery_verdict
+    from ecoplan.app.scenario.schema import BatterySection
 
     r = _short_run()
     assert isinstance(r, CaseResult) and r.sim is not None
-    b = _battery(
+    b = battery_verdict(
         BatterySection(capacity_wh=capacity_wh, reserve_fraction=reserve),
         r.sim,
         r.p_total_w,
@@ -307,3 +303,16 @@ def test_battery_verdict_properties(capacity_wh: float, reserve: float) -> None:
         # the first step at which the energy used reaches the usable energy
         assert cum[k] >= usable and (k == 0 or cum[k - 1] < usable)
         assert 0.0 <= b.empty_at[3] <= r.sim.length_m + 1e-9
+
+
+def test_cheapest_skips_cases_without_a_route_and_fails_when_none_has_one() -> None:
+    from ecoplan.app.run import CaseResult, PlanOutcome, cheapest
+    from ecoplan.errors import PlanningError
+
+    ok = _short_run()
+    failed = CaseResult.unsimulated(
+        "no route", PlanOutcome("graph", np.zeros((1, 2)), 0.5), error="budget spent"
+    )
+    assert cheapest([failed, ok]) is ok
+    with pytest.raises(PlanningError, match="budget spent"):
+        cheapest([failed], "x.yaml")

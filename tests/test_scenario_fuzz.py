@@ -9,8 +9,8 @@ import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from ecoplan.app.scenario import Scenario, parse_scenario
 from ecoplan.errors import InputError
-from ecoplan.scenario import Scenario, parse_scenario
 
 VALID: dict[str, Any] = {
     "name": "fuzz",

@@ -8,11 +8,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
 from ecoplan.sim import (
     LOG_COLUMNS,
-    HeadingController,
     SimConfig,
     WaypointRun,
     simulate_batch,
@@ -22,8 +22,8 @@ from ecoplan.sim import (
 
 DT = 0.01
 # Auriga-β, tracked paper §III: V_max = 0.86 m/s reached in a 2.5 s ramp; power-up 58 W;
-# K = 324 N (narrow belts); η = 0.95; L = 0.42 m.  χ = 0.86 is the narrow/asphalt preset.
-K_NARROW, P_UP, ETA, V_MAX, RAMP_S, L_M, CHI = 324.0, 58.0, 0.95, 0.86, 2.5, 0.42, 0.86
+# K = 324 N (narrow belts); η = 0.95; L = 0.42 m.  χ = 0.81 is the narrow/asphalt preset.
+K_NARROW, P_UP, ETA, V_MAX, RAMP_S, L_M, CHI = 324.0, 58.0, 0.95, 0.86, 2.5, 0.42, 0.81
 
 
 def p_total_straight(v: float) -> float:

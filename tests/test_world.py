@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from shapely.geometry import Point
 
 from ecoplan.errors import InputError
-from ecoplan.world import (
+from ecoplan.geometry.world import (
     GeometryError,
     OutOfBoundsError,
     PointInObstacleError,

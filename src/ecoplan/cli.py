@@ -7,18 +7,17 @@ stderr, never a traceback), 1 failure on valid input (no route within the budget
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
-import statistics
 import sys
-import time
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO, Any
 
-from ecoplan.errors import EcoplanError, InputError, PlanningError, ScenarioError
+from ecoplan.errors import EcoplanError, InputError
 
 __all__ = ["main"]
 
@@ -128,9 +127,13 @@ def _progress(
 
 
 def _load(args: argparse.Namespace) -> Any:
-    from ecoplan.scenario import load_scenario
+    from ecoplan.app.scenario import load_scenario
+    from ecoplan.app.scenario.load import with_vehicle
 
-    return load_scenario(args.scenario)
+    sc = load_scenario(args.scenario)
+    if getattr(args, "vehicle", None):
+        sc = with_vehicle(sc, args.vehicle)
+    return sc
 
 
 def _budget(args: argparse.Namespace) -> float | None:
@@ -144,7 +147,7 @@ def _prepare(args: argparse.Namespace) -> Any:
     """The --out folder (checked against the overwrite policy), or None without --out."""
     if not getattr(args, "out", None):
         return None
-    from ecoplan.report import prepare_out_dir
+    from ecoplan.app.outdir import prepare_out_dir
 
     return prepare_out_dir(args.out, force=args.force)
 
@@ -161,7 +164,7 @@ def _report(
     folder = _prepare(args)  # already checked when the command started
     if folder is None:
         return []
-    from ecoplan.report import write_report
+    from ecoplan.app.reports.scenario import write_report
 
     files = write_report(sc, results, folder, force=args.force, **kw)
     if not quiet:
@@ -170,12 +173,12 @@ def _report(
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import plan_case, simulate_case
+    from ecoplan.app.run import plan_case, simulate_case
 
     out = _out(args)
     sc = _load(args)
     _prepare(args)
-    case = _base_case(sc)
+    case = sc.base_case()
     steps = 3 if args.out else 2
     with _progress(args, f"{sc.name}: plan, simulate, report", steps) as tick:
         plan = plan_case(case, time_budget_s=_budget(args))
@@ -195,12 +198,6 @@ def _print_files(out: _Out, args: argparse.Namespace, files: Sequence[Path]) -> 
         out.say(f"report written to {args.out}/ ({len(files)} files):")
         for f in files:
             out.say(f"  {f}")
-
-
-def _base_case(sc: Any) -> Any:
-    from ecoplan.scenario import Case
-
-    return Case(sc.spec.name, sc.spec.model_copy(update={"compare": []}), sc.source)
 
 
 def _print_case(out: _Out, r: Any) -> None:
@@ -223,12 +220,12 @@ def _print_case(out: _Out, r: Any) -> None:
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import CaseResult, plan_case
+    from ecoplan.app.run import CaseResult, plan_case
 
     out = _out(args)
     sc = _load(args)
     _prepare(args)
-    case = _base_case(sc)
+    case = sc.base_case()
     plan = plan_case(case, time_budget_s=_budget(args))
     out.say(
         f"{sc.name}: route from {plan.planner}, {plan.length_m:.1f} m, v_sp {plan.speed_mps} m/s"
@@ -269,27 +266,15 @@ def _parse_points(items: Sequence[str]) -> list[list[float]]:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from ecoplan.scenario import parse_scenario, simulate_case
+    from ecoplan.app.run import simulate_case
+    from ecoplan.app.scenario.load import with_waypoints
 
     out = _out(args)
     sc = _load(args)
     if args.waypoints:
-        import yaml
-
-        data = sc.spec.model_dump(exclude_none=True)
-        data.update(waypoints=_parse_points(args.waypoints), compare=[])
-        data.pop("planner", None)
-        data.pop("goal", None)
-        source = f"{sc.source} (--waypoints)"
-        try:
-            sc = parse_scenario(yaml.safe_dump(data), source=source)
-        except ScenarioError as exc:  # lines of the regenerated YAML would mislead
-            msg = str(exc)
-            if msg.startswith(source + ":"):
-                msg = source + ":" + msg[len(source) + 1 :].split(":", 1)[-1]
-            raise ScenarioError(msg) from None
+        sc = with_waypoints(sc, _parse_points(args.waypoints))
     _prepare(args)
-    case = _base_case(sc)
+    case = sc.base_case()
     if case.planner.type != "none":
         raise InputError(
             f"{sc.source}: simulate needs fixed waypoints (in the file or --waypoints X,Y ...); "
@@ -305,9 +290,9 @@ def _cmd_simulate(args: argparse.Namespace) -> int:
 def _cmd_compare(args: argparse.Namespace) -> int:
     from functools import partial
 
-    from ecoplan.executor import make_executor
-    from ecoplan.report import summary_table
-    from ecoplan.scenario import run_case
+    from ecoplan.app.executor import make_executor
+    from ecoplan.app.reports.tables import summary_table
+    from ecoplan.app.run import cheapest, run_case
 
     out = _out(args)
     sc = _load(args)
@@ -325,10 +310,7 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     out.say()
     out.say(summary_table(results))
     files = _report(args, sc, results, out, title=f"{sc.name}: comparison", executor=where)
-    done = [r for r in results if r.error is None]
-    if not done:
-        raise PlanningError(f"no case of {sc.source} found a route: {results[0].error}")
-    best = min(done, key=lambda r: r.energy_j)
+    best = cheapest(results, sc.source)
     out.emit(
         {
             "scenario": sc.name,
@@ -342,17 +324,10 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 
 def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
-    """Candidate routes of ``--scenario`` as ``(t, v_left, v_right)`` of the diagnosed vehicle.
-
-    Each case of the scenario (its ``compare`` variants, or the scenario itself) is planned
-    (or takes its fixed waypoints), with the planner's alternatives when it returns several;
-    every route is driven turn-on-the-spot then straight at the case's speed
-    (:func:`ecoplan.diagnose.loop.polyline_trajectory`).  The scenario is checked before the
-    diagnosis starts, so a bad file costs no waiting.
-    """
-    from ecoplan.diagnose.loop import polyline_trajectory
-    from ecoplan.presets import vehicle
-    from ecoplan.scenario import load_scenario, plan_case
+    """Candidate routes of ``--scenario``, checked before the diagnosis starts."""
+    from ecoplan.app.run import candidate_routes
+    from ecoplan.app.scenario import load_scenario
+    from ecoplan.presets import VehicleSpec
 
     sc = load_scenario(args.scenario)
     if sc.vehicle.name != args.vehicle:
@@ -360,19 +335,7 @@ def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
             f"--scenario {args.scenario}: its vehicle is {sc.vehicle.name!r} but the logs are "
             f"diagnosed against --vehicle {args.vehicle!r}; rank routes of the same vehicle"
         )
-    params = vehicle(args.vehicle, args.terrain)
-    routes: dict[str, Any] = {}
-    for case in sc.cases():
-        plan = plan_case(case)
-        for i, wps in enumerate((plan.waypoints, *plan.alternatives)):
-            name = case.name if i == 0 else f"{case.name} (alt {i})"
-            routes[name] = polyline_trajectory(wps.tolist(), params, speed_mps=plan.speed_mps)
-    if len(routes) < 2:
-        raise InputError(
-            f"--scenario {args.scenario}: it gives one route; a ranking needs at least two "
-            "(add `compare:` variants or planner.k > 1)"
-        )
-    return routes
+    return candidate_routes(sc, VehicleSpec.of(args.vehicle, args.terrain))
 
 
 def _cmd_diagnose(args: argparse.Namespace) -> int:
@@ -393,157 +356,108 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
             )
     folder = _prepare(args)
     routes = None if args.scenario is None else _scenario_routes(args)
-    started = time.time()
-    code = run_diagnose_cli(
-        [str(p) for p in args.logs],
-        args.vehicle,
-        args.terrain,
-        args.json,
-        None if folder is None else str(folder.path),
-        topics_path=None if args.topics is None else str(args.topics),
-        bus_voltage_v=args.bus_voltage,
-        routes=routes,
-    )
-    if folder is not None:
-        from ecoplan.report import MANIFEST
-
-        # what the diagnosis wrote in this run becomes ecoplan's (replaceable next time)
-        folder.written.extend(
-            p
-            for p in sorted(folder.path.iterdir())
-            if p.is_file() and p.name != MANIFEST and p.stat().st_mtime >= started - 1.0
+    with contextlib.nullcontext() if folder is None else folder.recording():
+        code = run_diagnose_cli(
+            [str(p) for p in args.logs],
+            args.vehicle,
+            args.terrain,
+            args.json,
+            None if folder is None else str(folder.path),
+            topics_path=None if args.topics is None else str(args.topics),
+            bus_voltage_v=args.bus_voltage,
+            routes=routes,
         )
+    if folder is not None:
         folder.finish()
     return int(code)
 
 
-@dataclass(frozen=True)
-class _BenchCase:
-    """One benchmark case; carries the scenario itself, so remote workers need no files."""
+def _cmd_identify(args: argparse.Namespace) -> int:
+    from ecoplan.app.identify import identify_from_logs
 
-    scenario: str
-    case: Any  # ecoplan.scenario.Case with the planner set
-    planner: str
-    seed: int
-
-
-def _bench_one(c: _BenchCase) -> dict[str, Any]:
-    """One benchmark case: plan the scenario with a planner and seed, then simulate."""
-    from ecoplan.scenario import run_case
-
-    t0 = time.perf_counter()
-    r = run_case(c.case)
-    return {
-        "scenario": c.scenario,
-        "planner": c.planner,
-        "seed": c.seed,
-        "planning_time_s": r.plan.planning_time_s,
-        "estimate_energy_j": r.plan.estimate_energy_j,
-        "energy_j": r.energy_j if r.sim else None,
-        "time_s": r.sim.time_s if r.sim else None,
-        "completed": bool(r.sim.completed) if r.sim else False,
-        "error": r.error,
-        "wall_s": time.perf_counter() - t0,
-    }
-
-
-def _bench_cases(args: argparse.Namespace, planners: Sequence[str]) -> list[_BenchCase]:
-    from ecoplan.scenario import Case, PlannerSection, load_scenario
-
-    out = []
-    for path in args.scenarios:
-        sc = load_scenario(path)  # validate up front: bad input fails before any work
-        if sc.spec.goal is None:
-            raise InputError(f"{path}: bench needs a scenario with a goal (it plans the route)")
-        for label in planners:
-            kind, _, name = label.partition(":")
-            for seed in range(args.seeds) if kind == "ompl" else range(1):
-                planner = PlannerSection(
-                    type="graph" if kind == "graph" else "ompl",
-                    name=name or None,
-                    seed=seed,
-                    time_s=args.time,
-                )
-                update = {"compare": [], "planner": planner, "waypoints": None}
-                spec = sc.spec.model_copy(update=update)
-                out.append(
-                    _BenchCase(sc.name, Case(f"{label}#{seed}", spec, sc.source), label, seed)
-                )
-    return out
+    out = _out(args)
+    if args.out is not None and args.out.exists() and not args.force:
+        raise InputError(f"{args.out} exists; give --force to overwrite it")
+    res = identify_from_logs(
+        [str(p) for p in args.logs],
+        args.base,
+        terrain=args.terrain,
+        name=args.name,
+        clamp=args.clamp,
+        n_boot=args.boot,
+        speed_noise_mps=args.speed_noise,
+        bus_voltage_v=args.bus_voltage,
+    )
+    rows = []
+    for terrain, fit in sorted(res.fits.items()):
+        out.say(
+            f"{terrain}: {len(fit.run_ids)} log(s), {fit.n_samples} samples, held-out MAE "
+            f"{fit.heldout_mae_w:.1f} W (mean power {fit.mean_power_w:.0f} W), median energy "
+            f"error {100 * fit.median_energy_error:.1f} %"
+        )
+        for key in fit.identified:
+            lo, hi = fit.intervals[key]
+            out.say(f"  {key} = {fit.values[key]:.4g}  [{lo:.4g}, {hi:.4g}]")
+        if fit.unidentified:
+            out.say(f"  not identified (base values kept): {', '.join(fit.unidentified)}")
+        for key, val in fit.clamped.items():
+            out.say(f"  clamped at 0: {key} (the logs give {val:.4g})")
+        rows.append(
+            {
+                "terrain": terrain,
+                "values": dict(fit.values),
+                "intervals": {k: list(v) for k, v in fit.intervals.items()},
+                "unidentified": list(fit.unidentified),
+                "clamped": dict(fit.clamped),
+                "heldout_mae_w": fit.heldout_mae_w,
+                "heldout_energy_error": list(fit.heldout_energy_error),
+            }
+        )
+    header = f"Identified by: ecoplan identify {' '.join(str(p) for p in args.logs)}"
+    text = res.to_yaml(header + f" --base {args.base}")
+    if args.out is not None:
+        args.out.write_text(text, encoding="utf-8")
+        out.say(f"vehicle file written to {args.out}")
+    elif args.json is None:
+        sys.stdout.write(text)
+    out.emit({"vehicle": res.name, "terrains": rows, "file": args.out})
+    return 0
 
 
 def _cmd_bench(args: argparse.Namespace) -> int:
-    from ecoplan.executor import make_executor
+    from ecoplan.app.bench import (
+        bench_cases,
+        parse_planners,
+        run_bench_case,
+        summarise,
+        write_bench,
+    )
+    from ecoplan.app.executor import make_executor
 
     out = _out(args)
-    planners = [p.strip() for p in args.planners.split(",") if p.strip()]
-    for p in planners:
-        kind, _, name = p.partition(":")
-        if kind not in ("graph", "ompl") or (kind == "ompl" and not name):
-            raise InputError(f"--planners {p!r}: expected graph or ompl:<name> (e.g. ompl:RRTstar)")
-    if args.seeds < 1 or args.seeds > 10_000:
-        raise InputError(f"--seeds {args.seeds}: expected 1..10000")
-    if not (0.0 < args.time <= 3600.0):
-        raise InputError(f"--time {args.time}: expected seconds in (0, 3600]")
-    cases = _bench_cases(args, planners)
+    planners = parse_planners(args.planners)
+    cases = bench_cases(args.scenarios, planners, args.seeds, args.time)
     folder = _prepare(args)
     with make_executor(args.scheduler, args.workers) as ex:
         with _progress(args, f"{len(cases)} cases on {ex.description}", len(cases)) as tick:
-            rows = ex.map(_bench_one, cases, on_done=tick)
+            runs = ex.map(run_bench_case, cases, on_done=tick)
         where = ex.description
-    groups: dict[tuple[str, str], list[dict[str, Any]]] = {}
-    for row in rows:
-        groups.setdefault((row["scenario"], row["planner"]), []).append(row)
-    table = [
-        "| scenario | planner | runs | median energy [kJ] | median planning [s] |",
-        "|---|---|---|---|---|",
-    ]
-    summary = []
-    for (scn, pl), all_rs in groups.items():
-        rs = [r for r in all_rs if r["error"] is None]
-        if not rs:
-            table.append(f"| {scn} | {pl} | 0 of {len(all_rs)} found a route | – | – |")
-            continue
-        e = statistics.median(r["energy_j"] for r in rs)
-        t = statistics.median(r["planning_time_s"] for r in rs)
-        table.append(f"| {scn} | {pl} | {len(rs)} | {e / 1e3:.2f} | {t:.3f} |")
-        summary.append(
-            {
-                "scenario": scn,
-                "planner": pl,
-                "runs": len(rs),
-                "median_energy_j": e,
-                "median_planning_time_s": t,
-            }
-        )
+    summary = summarise(runs)
     out.say(f"bench: {len(cases)} cases on {where}")
-    out.say("\n".join(table))
+    out.say(summary.table)
     files: list[Path] = []
     if folder is not None:
-        import csv
-
-        folder.claim(["bench.csv", "bench.md"], force=args.force)
-        with folder.file("bench.csv").open("w", newline="") as fh:
-            w = csv.DictWriter(fh, fieldnames=list(rows[0]))
-            w.writeheader()
-            w.writerows(rows)
-        folder.file("bench.md").write_text(
-            f"# ecoplan bench ({where})\n\n" + "\n".join(table) + "\n"
-        )
-        files = folder.finish()
+        files = write_bench(folder, runs, summary, where, force=args.force)
         out.say(f"bench written to {folder.path}/")
-    out.emit({"executor": where, "summary": summary, "runs": rows, "files": files})
+    out.emit({"executor": where, "summary": summary.rows, "runs": runs, "files": files})
     return 0
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    out = _out(args)
-    try:
-        from ecoplan.sim.replay import run_demo
-    except ImportError:
-        return _fig3_cases(out)
-    from ecoplan.report import prepare_out_dir
+    from ecoplan.app.outdir import prepare_out_dir
+    from ecoplan.experiments.ab_replay import run_demo
 
+    out = _out(args)
     folder = prepare_out_dir(args.out, force=args.force)
     files = [Path(p) for p in run_demo(folder.path)]
     folder.written.extend(files)
@@ -552,24 +466,6 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     for f in files:
         out.say(f"  {f}")
     out.emit({"files": files})
-    return 0
-
-
-def _fig3_cases(out: _Out) -> int:
-    from ecoplan.presets import vehicle
-
-    params = vehicle("auriga-beta-wide", "marble")
-    cases = {
-        "1 straight": (0.4, 0.4),
-        "2 same sign": (0.8, 0.4),
-        "3 one zero": (0.0, 0.4),
-        "4 opposite": (-0.4, 0.4),
-    }
-    for label, (vl, vr) in cases.items():
-        p = params.power(vl, vr)
-        parts = ", ".join(f"{k[:-2]} {float(v):.0f}" for k, v in p.components().items())
-        total = float(p.total_w)
-        out.say(f"case {label:12s} V=({vl:+.1f},{vr:+.1f}) m/s  P_T {total:6.0f} W  [{parts}]")
     return 0
 
 
@@ -594,6 +490,14 @@ def _common(p: argparse.ArgumentParser, *, out: bool = True) -> None:
             help="write into a non-empty folder ecoplan did not create",
         )
     p.add_argument("-q", "--quiet", action="store_true", help="no human-readable output")
+
+
+def _vehicle_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--vehicle",
+        metavar="FILE",
+        help="drive this vehicle file (or preset) instead of the scenario's vehicle",
+    )
 
 
 def _sweep(p: argparse.ArgumentParser) -> None:
@@ -630,6 +534,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_argument("scenario", type=Path, help="scenario YAML file")
     run.add_argument("--time-budget", type=float, metavar="S", help="cap the planner's time [s]")
     _common(run)
+    _vehicle_option(run)
     run.set_defaults(func=_cmd_run)
 
     plan = sub.add_parser(
@@ -641,6 +546,7 @@ def build_parser() -> argparse.ArgumentParser:
     plan.add_argument("scenario", type=Path)
     plan.add_argument("--time-budget", type=float, metavar="S")
     _common(plan)
+    _vehicle_option(plan)
     plan.set_defaults(func=_cmd_plan)
 
     sim = sub.add_parser(
@@ -655,6 +561,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--waypoints", nargs="+", metavar="X,Y", help="replace the waypoints (after the start)"
     )
     _common(sim)
+    _vehicle_option(sim)
     sim.set_defaults(func=_cmd_simulate)
 
     cmp_ = sub.add_parser(
@@ -668,6 +575,7 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--time-budget", type=float, metavar="S")
     _sweep(cmp_)
     _common(cmp_)
+    _vehicle_option(cmp_)
     cmp_.set_defaults(func=_cmd_compare)
 
     diag = sub.add_parser(
@@ -708,6 +616,44 @@ def build_parser() -> argparse.ArgumentParser:
         "--force", action="store_true", help="write into a non-empty folder ecoplan did not create"
     )
     diag.set_defaults(func=_cmd_diagnose)
+
+    ident = sub.add_parser(
+        "identify",
+        help="identify a vehicle file from your logs (per terrain)",
+        formatter_class=fmt,
+        epilog="examples:\n  ecoplan identify borealtc:ASPHALT borealtc:SNOW --base husky-a200 "
+        "--clamp --out husky.yaml\n"
+        "  ecoplan identify run*.csv --base robot.yaml --terrain gravel --out robot.yaml\n\n"
+        "LOG is a CSV in the ecoplan log format (with a terrain column, or one terrain\n"
+        "given by --terrain), borealtc:TERRAIN[/RUN], or a ROS 2 bag.",
+    )
+    ident.add_argument("logs", nargs="+", type=Path, metavar="LOG")
+    ident.add_argument(
+        "--base", required=True, help="vehicle file or preset: geometry, mass, fixed values"
+    )
+    ident.add_argument("--out", type=Path, metavar="FILE", help="write the vehicle file here")
+    ident.add_argument("--force", action="store_true", help="overwrite --out")
+    ident.add_argument("--name", help="name of the identified vehicle (default: the base's)")
+    ident.add_argument("--terrain", help="terrain of logs without a terrain column")
+    ident.add_argument(
+        "--clamp",
+        action="store_true",
+        help="hold parameters the logs drive negative at 0 instead of refusing",
+    )
+    ident.add_argument("--boot", type=int, default=200, help="bootstrap resamples (default 200)")
+    ident.add_argument(
+        "--speed-noise",
+        type=float,
+        default=0.005,
+        metavar="MPS",
+        help="encoder noise of the side speeds [m/s] (default 0.005; 0 = no correction)",
+    )
+    ident.add_argument(
+        "--bus-voltage", type=float, default=24.0, metavar="V", help="for borealtc: sources"
+    )
+    ident.add_argument("--json", nargs="?", const="-", metavar="FILE")
+    ident.add_argument("-q", "--quiet", action="store_true")
+    ident.set_defaults(func=_cmd_identify)
 
     bench = sub.add_parser(
         "bench",

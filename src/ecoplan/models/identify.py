@@ -27,13 +27,12 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal, Self
+from typing import Literal, Protocol, Self
 
 import numpy as np
 from scipy.optimize import least_squares, minimize
 
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray, RngLike
-from ecoplan.datasets.borealtc import BorealRun
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array
 from ecoplan.models.power import MotionCase, PowerBreakdown, motion_case
@@ -273,8 +272,9 @@ class TrackedIdentifier:
         case = motion_case(vl, vr, self.base.case_tol_mps)
         braking = ((case == MotionCase.ONE_ZERO) | (case == MotionCase.OPPOSITE)).astype(float)
         ramp = np.ones_like(vl)
-        if self.base.nonregen_blend_mps > 0.0:
-            ramp = np.minimum(np.abs(vl - vr) / self.base.nonregen_blend_mps, 1.0)
+        if self.base.nonregen_onset_mps > 0.0:  # the onset of TrackedParams
+            dv = np.abs(vl - vr) - self.base.case_tol_mps
+            ramp = np.clip(dv / self.base.nonregen_onset_mps, 0.0, 1.0)
         nonregen = np.where(case == MotionCase.SAME_SIGN, travel * ramp, 0.0)
         p_m_model = mu * s_unit + k * travel
         p_d = self.base.eta * data.p_total_w - p_m_model  # measured driver power
@@ -490,6 +490,45 @@ HUSKY_TRACK_GAUGE_M = 0.555
 HUSKY_CHI = 1.0 / 1.875
 
 YawSource = Literal["sides", "imu"]
+
+
+class BorealRun(Protocol):
+    """What the static fit reads from a run (e.g. ``ecoplan.datasets.borealtc.BorealRun``).
+
+    Models do not import the data loaders: any object with these attributes will do.
+    """
+
+    @property
+    def v_left(self) -> FloatArray:
+        """Left side speed [m/s]."""
+
+    @property
+    def v_right(self) -> FloatArray:
+        """Right side speed [m/s]."""
+
+    @property
+    def p_total(self) -> FloatArray:
+        """Electrical locomotion power [W]."""
+
+    @property
+    def wz(self) -> FloatArray | None:
+        """IMU yaw rate [rad/s] or None."""
+
+    @property
+    def wz_valid(self) -> BoolArray | None:
+        """True where ``wz`` is measured (not held)."""
+
+    @property
+    def has_imu(self) -> bool:
+        """True when ``wz`` is an array."""
+
+    @property
+    def terrain(self) -> str:
+        """Terrain name."""
+
+    @property
+    def run_id(self) -> str:
+        """Run identifier."""
 
 
 def _features(run: BorealRun, yaw: YawSource, spread_m: float) -> tuple[FloatArray, FloatArray]:

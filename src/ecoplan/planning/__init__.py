@@ -6,10 +6,10 @@ the lattice reference and the speed choice.  The OMPL planner is imported from
 """
 
 from ecoplan.planning.base import (
+    CostObjective,
     Deadline,
     EnergyCost,
     LengthCost,
-    PathCostModel,
     Plan,
     PlanResult,
     check_endpoints,
@@ -19,13 +19,13 @@ from ecoplan.planning.reference import LatticeOptions, plan_reference
 from ecoplan.planning.speed import SpeedChoice, best_speed, energy_vs_speed
 
 __all__ = [
+    "CostObjective",
     "Deadline",
     "EnergyCost",
     "GraphPlanner",
     "GraphPlannerOptions",
     "LatticeOptions",
     "LengthCost",
-    "PathCostModel",
     "Plan",
     "PlanResult",
     "SpeedChoice",

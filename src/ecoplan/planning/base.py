@@ -1,9 +1,10 @@
 """Types shared by every planner: results, the cost objects, input checks and the deadline.
 
-A planner takes a :class:`~ecoplan.world.World`, a start and a goal, and a cost object
-(:class:`~ecoplan.cost.EnergyCost` or :class:`~ecoplan.cost.LengthCost`: the baseline is
-one argument) and returns a :class:`PlanResult`.  Every returned :class:`Plan` carries the
-full evaluation of its waypoints by :func:`ecoplan.cost.path_cost` (energy, ψ, breakdown,
+A planner takes a :class:`~ecoplan.geometry.world.World`, a start and a goal, and a cost object
+(:class:`~ecoplan.energy.objective.EnergyCost` or
+:class:`~ecoplan.energy.objective.LengthCost`: the baseline is one argument) and returns a
+:class:`PlanResult`.  Every returned :class:`Plan` carries the full evaluation of its
+waypoints by :func:`ecoplan.energy.path.path_cost` (energy, ψ, breakdown,
 feasibility), whatever the objective was.
 """
 
@@ -16,15 +17,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
-from ecoplan.cost import EnergyCost, LengthCost, PathCost, PathCostModel
+from ecoplan.energy.objective import CostObjective, EnergyCost, LengthCost
+from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError, PlanningError
-from ecoplan.world import World
+from ecoplan.geometry.world import World
 
 __all__ = [
+    "CostObjective",
     "Deadline",
     "EnergyCost",
     "LengthCost",
-    "PathCostModel",
     "Plan",
     "PlanResult",
     "as_waypoints",
@@ -42,7 +44,7 @@ class Plan:
     waypoints : ndarray, shape (N, 2)
         Waypoints from start to goal [m].
     cost : PathCost
-        :func:`ecoplan.cost.path_cost` of the waypoints (energy, ψ, feasibility, ...).
+        :func:`ecoplan.energy.path.path_cost` of the waypoints (energy, ψ, feasibility, ...).
     objective : str
         Name of the objective the planner minimised (``"energy"``, ``"length"``).
     objective_value : float
@@ -100,7 +102,7 @@ def check_endpoints(
 
     Raises
     ------
-    ecoplan.world.GeometryError
+    ecoplan.geometry.world.GeometryError
         ``OutOfBoundsError`` or ``PointInObstacleError`` naming the point; an
         :class:`~ecoplan.errors.InputError` when start and goal coincide.
     """
@@ -143,8 +145,9 @@ class Deadline:
         """Raise :class:`~ecoplan.errors.PlanningError` if the budget is spent."""
         if self.expired:
             raise PlanningError(
-                f"time budget of {self.budget_s:g} s exhausted while {what}; "
-                "give a larger time_budget_s or a simpler map"
+                f"time budget of {self.budget_s:g} s exhausted while {what}; raise it "
+                "with planner.time_s in the scenario, --time-budget on the command line "
+                "or time_budget_s in the planner options"
             )
 
 

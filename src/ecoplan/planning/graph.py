@@ -16,12 +16,13 @@
 3. **Search over (node, incoming heading)**: a directed graph whose nodes are the
    directed visibility edges ``(i, j)``; the edge ``(i, j) -> (j, k)`` weighs the cost of
    turning at ``j`` plus the cost of the segment ``j -> k``, from the cost object
-   (:class:`~ecoplan.cost.EnergyCost` or :class:`~ecoplan.cost.LengthCost`).
+   (:class:`~ecoplan.energy.objective.EnergyCost` or
+   :class:`~ecoplan.energy.objective.LengthCost`).
    Infeasible turns -- no feasible on-the-spot turn and no feasible fillet arc that fits
    and is collision-free -- are pruned, as a networkx weight returning ``None`` would.
    Energy turn costs are net of the straight driving a fillet saves; the rare negative
    sums are clipped at 0 so that Dijkstra stays exact for everything else (every
-   returned plan is re-evaluated exactly by :func:`ecoplan.cost.path_cost`).
+   returned plan is re-evaluated exactly by :func:`ecoplan.energy.path.path_cost`).
 4. **k best**: ``networkx.shortest_simple_paths`` (Yen) on that graph; paths that revisit
    a waypoint are skipped, so the alternatives are distinct waypoint sequences.
 
@@ -41,18 +42,13 @@ import numpy as np
 import shapely
 
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray
-from ecoplan.cost import (
-    EnergyCost,
-    LengthCost,
-    PathCostModel,
-    best_spot_yaw_rate,
-    fillet_points_many,
-    turn_candidates,
-)
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.primitives import best_spot_yaw_rate
+from ecoplan.energy.turns import fillet_points_many, turn_candidates
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
 
 __all__ = ["GraphPlanner", "GraphPlannerOptions", "plan_graph"]
 
@@ -182,7 +178,7 @@ def _convex_corners(poly: shapely.Polygon) -> FloatArray:
     return np.stack([pts[convex], prev[convex], nxt[convex]], axis=1)
 
 
-def _auto_rings(cost: PathCostModel, offset_m: float) -> tuple[float, ...]:
+def _auto_rings(cost: CostObjective, offset_m: float) -> tuple[float, ...]:
     params = cost.params(None)
     if math.isfinite(best_spot_yaw_rate(params)[1]) and cost.turn != "arc":
         return ()
@@ -200,7 +196,7 @@ class GraphPlanner:
     ----------
     world : World
         Map (obstacles, bounds, footprint, terrain).
-    cost : EnergyCost or LengthCost or PathCostModel
+    cost : EnergyCost or LengthCost or CostObjective
         Objective and feasibility (the length baseline is ``LengthCost``); its world
         must be ``world`` (or None, then terrain regions are ignored by the costs).
     options : GraphPlannerOptions, optional
@@ -213,8 +209,9 @@ class GraphPlanner:
 
     Examples
     --------
+    >>> from ecoplan.energy.objective import EnergyCost
     >>> from ecoplan.presets import VehicleSpec
-    >>> from ecoplan.world import World, rectangle
+    >>> from ecoplan.geometry.world import World, rectangle
     >>> w = World(rectangle(0, 0, 20, 10), [rectangle(8, 3, 12, 7)], inflation_m=0.3)
     >>> cost = EnergyCost(VehicleSpec.of("auriga-beta-wide"), 0.5, world=w)
     >>> res = GraphPlanner(w, cost).plan((2, 5), (18, 5))
@@ -225,11 +222,13 @@ class GraphPlanner:
     def __init__(
         self,
         world: World,
-        cost: PathCostModel,
+        cost: CostObjective,
         options: GraphPlannerOptions | None = None,
     ) -> None:
         if not isinstance(world, World):
-            raise InputError(f"world must be an ecoplan.world.World, got {type(world).__name__}")
+            raise InputError(
+                f"world must be an ecoplan.geometry.world.World, got {type(world).__name__}"
+            )
         if cost.world is not None and cost.world is not world:
             raise InputError("the cost object's world differs from the planner's world")
         self.world = world
@@ -292,7 +291,7 @@ class GraphPlanner:
 
         Raises
         ------
-        ecoplan.world.GeometryError
+        ecoplan.geometry.world.GeometryError
             Start or goal out of bounds or inside an obstacle.
         PlanningError
             No feasible path, or the time budget ran out before a first path.
@@ -405,7 +404,7 @@ class GraphPlanner:
         finite = net[np.isfinite(net)]
         if finite.size == 0:
             return None
-        return float(np.min(finite)) if isinstance(self.cost, EnergyCost) else 0.0
+        return float(self.cost.turn_value(np.min(finite)))
 
     def _turn_costs(
         self,
@@ -424,11 +423,6 @@ class GraphPlanner:
         room = np.minimum(
             l_in * np.where(ii == _START, 1.0, 0.5), l_out * np.where(kk == _GOAL, 1.0, 0.5)
         )
-        if not isinstance(cost, EnergyCost | LengthCost):
-            return [
-                cost.turn_cost(pts[a], p, pts[b], float(r))
-                for (a, b), r in zip(pairs, room, strict=True)
-            ]
         d_in = p - pts[ii]
         d_out = pts[kk] - p
         dpsi = _wrap(np.arctan2(d_out[:, 1], d_out[:, 0]) - np.arctan2(d_in[:, 1], d_in[:, 0]))
@@ -456,8 +450,7 @@ class GraphPlanner:
                 ok[need] = self.world.polylines_free(arcs)
             chosen[idx[ok]] = e[ok]
             pending[idx[ok]] = False
-        if isinstance(cost, LengthCost):
-            chosen = np.where(np.isnan(chosen), np.nan, 0.0)
+        chosen = cost.turn_value(chosen)
         return [None if math.isnan(x) else float(x) for x in chosen]
 
     def _clearance(self, p: FloatArray) -> float:
@@ -503,7 +496,7 @@ def plan_graph(
     world: World,
     start: ArrayLike,
     goal: ArrayLike,
-    cost: PathCostModel,
+    cost: CostObjective,
     *,
     options: GraphPlannerOptions | None = None,
     initial_heading_rad: float | None = None,

@@ -1,8 +1,8 @@
 """OMPL sampling-based planners with ecoplan's energy objective (issue 3, deliverable 4).
 
 The OMPL glue is one :class:`ompl.base.OptimizationObjective` subclass and one state
-validity function; everything about the vehicle lives in :mod:`ecoplan.cost` and
-everything about the map in :class:`ecoplan.world.World`.
+validity function; everything about the vehicle lives in :mod:`ecoplan.energy` and
+everything about the map in :class:`ecoplan.geometry.world.World`.
 
 State spaces and what a motion costs
 ------------------------------------
@@ -11,14 +11,14 @@ State spaces and what a motion costs
     the segment direction ``theta``, the straight segment, and a turn from ``theta`` to
     ``yaw2``.  Its cost is ``h(theta - yaw1) + c L + h(yaw2 - theta)`` where ``c L`` is
     the straight segment's cost and ``h`` the net cost of a turn by the cost module
-    (:func:`ecoplan.cost.turn_costs`, on the spot or a fillet arc, with room for a fillet
+    (:func:`ecoplan.energy.turns.turn_costs`, on the spot or a fillet arc, with room for a fillet
     of half the segment).  Splitting the turn at a waypoint in two costs the same as the
     whole turn whenever the waypoint's yaw lies between the incoming and outgoing
     directions (on-the-spot energy is proportional to the angle, tracked paper eq. 11),
     so the optimum aligns the yaws.  The turn out of the start (when no initial heading
     is given) and the turn into the goal are free: the cost module does the same
     (a path starts aligned with its first segment and has no goal heading).  The
-    returned path is evaluated by :func:`ecoplan.cost.path_cost` on its waypoints.
+    returned path is evaluated by :func:`ecoplan.energy.path.path_cost` on its waypoints.
 ``"dubins"`` / ``"reeds_shepp"``
     For vehicles with a minimum turning radius at the cruise speed (the Pioneer 3-AT:
     on-the-spot turns exceed its side power limit, wheeled paper Fig. 10).  The radius
@@ -27,12 +27,14 @@ State spaces and what a motion costs
     radius ``r`` and straights (Reeds-Shepp: forward or reverse); its cost is the sum of
     per-metre costs of each piece, the pieces found by sampling the curve with OMPL's
     own interpolation.  The returned path is turned into a timed track-speed trajectory
-    and evaluated by :func:`ecoplan.cost.trajectory_cost`.
+    and evaluated by :func:`ecoplan.energy.trajectory.trajectory_cost`.
 
-Benchmark logs
---------------
-:func:`write_benchmark_log` writes runs in OMPL's benchmark log format, which OMPL's own
-``ompl_benchmark_statistics LOG -d out.db`` turns into the database of Planner Arena.
+Files
+-----
+This module runs the search (:class:`OmplPlanner`); the OMPL objective and validity
+checks are :mod:`ecoplan.planning.ompl_glue`, the motion costs
+:mod:`ecoplan.planning.ompl_motions`, and OMPL's benchmark log format (for Planner
+Arena) :mod:`ecoplan.planning.benchlog`.
 
 Decisions where the issue is silent
 -----------------------------------
@@ -63,42 +65,40 @@ from __future__ import annotations
 
 import itertools
 import math
-import time
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
-import shapely
 from ompl import base as ob
 from ompl import geometric as og
 from ompl import util as ou
 
 from ecoplan._typing import ArrayLike, FloatArray
-from ecoplan.cost import (
-    PathCost,
-    PathCostModel,
-    TrackTrajectory,
-    Violation,
-    trajectory_cost,
-    turn_costs,
-)
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.result import PathCost, Violation
+from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
+from ecoplan.energy.turns import turn_costs
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.kinematics import setpoint_to_tracks
-from ecoplan.models.limits import check_tracks, min_radius_for_speed, vr_to_tracks
+from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
+from ecoplan.planning.ompl_glue import (
+    OmplObjective,
+    SegmentValidator,
+    quiet_ompl,
+    state_validity,
+    termination,
+)
+from ecoplan.planning.ompl_motions import CurveMotions, StraightMotions, objective_kind, wrap_angle
 
 __all__ = [
     "PLANNERS",
     "STATE_SPACES",
-    "STATUS_NAMES",
-    "BenchmarkRun",
     "OmplOptions",
     "OmplPlanner",
     "plan_ompl",
-    "write_benchmark_log",
 ]
 
 StateSpaceName = Literal["auto", "se2", "dubins", "reeds_shepp"]
@@ -146,8 +146,6 @@ _SOLVE_SHARE = 0.75  # share of the time budget given to the search
 _SIMPLIFY_SHARE = 0.85  # OMPL's simplifier runs until this share of the budget
 _PRUNE_SHARE = 0.95  # greedy waypoint removal stops at this share
 _SIMPLIFY_STEPS = 200  # cap on OMPL simplifier termination checks (determinism)
-_N_TURN_ANGLES = 91
-_ROOMS = np.geomspace(0.01, 100.0, 41)
 _EPS_T = 1e-9
 
 
@@ -228,275 +226,6 @@ class OmplOptions:
             )
 
 
-# ---------------------------------------------------------------------------- motion models
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
-
-
-def _objective_kind(cost: PathCostModel) -> str:
-    if cost.name not in ("energy", "length"):
-        raise InputError(
-            f"the OMPL planner supports the 'energy' and 'length' cost objects, got {cost.name!r}"
-        )
-    return str(cost.name)
-
-
-class _TurnTable:
-    """Net cost of a turn by ``|dpsi|`` with fillet room ``room`` (bilinear lookup).
-
-    Built once per plan from :func:`ecoplan.cost.turn_costs` so that the objective's
-    inner loop stays pure-Python scalar arithmetic.  Infeasible turns cost ``inf``;
-    net costs are clamped at 0 so that motion costs stay above the straight-line bound.
-    """
-
-    def __init__(self, cost: PathCostModel) -> None:
-        params = cost.params()
-        a = np.linspace(0.0, math.pi, _N_TURN_ANGLES)
-        self.da = float(a[1] - a[0])
-        self.log_r0 = math.log(float(_ROOMS[0]))
-        self.dlog = math.log(float(_ROOMS[1] / _ROOMS[0]))
-        tables = []
-        aa, rooms = np.broadcast_arrays(a[:, None], _ROOMS[None, :])
-        for sign in (1.0, -1.0):
-            net, _ = turn_costs(params, sign * aa, cost.speed_mps, rooms, cost.turn)
-            if cost.name == "length":
-                net = np.where(np.isnan(net), np.nan, 0.0)
-            tables.append(np.where(np.isnan(net), np.inf, np.maximum(net, 0.0)).tolist())
-        self.left: list[list[float]] = tables[0]
-        self.right: list[list[float]] = tables[1]
-
-    def __call__(self, dpsi: float, room: float) -> float:
-        tab = self.left if dpsi >= 0.0 else self.right
-        fa = min(abs(dpsi) / self.da, _N_TURN_ANGLES - 1.000001)
-        ia = int(fa)
-        wa = fa - ia
-        fr = (math.log(max(room, 1e-12)) - self.log_r0) / self.dlog
-        fr = min(max(fr, 0.0), len(_ROOMS) - 1.000001)
-        ir = int(fr)
-        wr = fr - ir
-        r0, r1 = tab[ia], tab[ia + 1]
-        c00, c01, c10, c11 = r0[ir], r0[ir + 1], r1[ir], r1[ir + 1]
-        if math.isinf(c00 + c01 + c10 + c11):
-            # pessimistic where any neighbour is infeasible
-            return math.inf
-        return (1 - wa) * ((1 - wr) * c00 + wr * c01) + wa * ((1 - wr) * c10 + wr * c11)
-
-
-class _StraightMotions:
-    """SE2 motions: turn, straight segment, turn (module doc)."""
-
-    def __init__(
-        self,
-        cost: PathCostModel,
-        start: tuple[float, float],
-        goal: tuple[float, float],
-        free_start_turn: bool,
-    ) -> None:
-        self.cost = cost
-        self.start = start if free_start_turn else None
-        self.goal = goal
-        self.fast = cost.world is None or not (
-            cost.world.has_regions or cost.world.default_terrain is not None
-        )
-        per_m = cost.segment_cost((0.0, 0.0), (1.0, 0.0))
-        if per_m is None:
-            raise InputError(
-                f"straight driving at {cost.speed_mps:g} m/s is infeasible for this vehicle"
-            )
-        self.per_m = float(per_m)
-        self.table = _TurnTable(cost) if self.fast else None
-
-    def heuristic_per_m(self) -> float:
-        return self.per_m if self.fast else 0.0
-
-    def _turn(self, p: tuple[float, float], yaw_in: float, yaw_out: float, room: float) -> float:
-        dpsi = _wrap(yaw_out - yaw_in)
-        if abs(dpsi) < 1e-12:
-            return 0.0
-        if self.table is not None:
-            return self.table(dpsi, room)
-        u_in = (math.cos(yaw_in), math.sin(yaw_in))
-        u_out = (math.cos(yaw_out), math.sin(yaw_out))
-        prev = (p[0] - room * u_in[0], p[1] - room * u_in[1])
-        nxt = (p[0] + room * u_out[0], p[1] + room * u_out[1])
-        c = self.cost.turn_cost(prev, p, nxt, room)
-        return math.inf if c is None else max(float(c), 0.0)
-
-    def __call__(self, s1: Any, s2: Any) -> float:
-        x1, y1, yaw1 = s1.getX(), s1.getY(), s1.getYaw()
-        x2, y2, yaw2 = s2.getX(), s2.getY(), s2.getYaw()
-        dx, dy = x2 - x1, y2 - y1
-        length = math.hypot(dx, dy)
-        if length < 1e-9:
-            return self._turn((x1, y1), yaw1, yaw2, 0.0)
-        theta = math.atan2(dy, dx)
-        if self.fast:
-            c = self.per_m * length
-        else:
-            seg = self.cost.segment_cost((x1, y1), (x2, y2))
-            if seg is None:
-                return math.inf
-            c = float(seg)
-        room = 0.5 * length
-        if self.start is None or (x1, y1) != self.start:
-            c += self._turn((x1, y1), yaw1, theta, room)
-        if (x2, y2) != self.goal:
-            c += self._turn((x2, y2), theta, yaw2, room)
-        return c
-
-
-class _CurveMotions:
-    """Dubins / Reeds-Shepp motions: per-metre costs of arcs and straights (module doc)."""
-
-    def __init__(self, cost: PathCostModel, space: Any, radius_m: float, step_m: float) -> None:
-        self.space = space
-        self.radius = radius_m
-        self.step = step_m
-        self.scratch = space.allocState()
-        self.world = cost.world
-        self.regions = cost.world is not None and (
-            cost.world.has_regions or cost.world.default_terrain is not None
-        )
-        terrains: list[str | None] = [None]
-        if self.regions and cost.world is not None:
-            terrains = list(
-                dict.fromkeys(
-                    [cost.world.default_terrain] + [r.terrain for r in cost.world.regions]
-                )
-            )
-        self.coef = {t: self._coefficients(cost, t) for t in terrains}
-        self.default = terrains[0]
-
-    def _coefficients(
-        self, cost: PathCostModel, terrain: str | None
-    ) -> dict[tuple[int, int], float]:
-        """Cost per metre of ``(direction, turn)``: direction +-1, turn = sign of the yaw rate."""
-        params = cost.params(terrain)
-        v = cost.speed_mps
-        out: dict[tuple[int, int], float] = {}
-        for d in (1, -1):
-            for k in (-1, 0, 1):
-                if k == 0:
-                    vl, vr = np.asarray(d * v), np.asarray(d * v)
-                else:
-                    # yaw rate w = (d v) / (d k r) has the sign of k, forwards or backwards
-                    vl, vr = vr_to_tracks(params, d * v, d * k * self.radius)
-                if not check_tracks(params, vl, vr).ok.all():
-                    out[(d, k)] = math.inf
-                elif cost.name == "length":
-                    out[(d, k)] = 1.0
-                else:
-                    out[(d, k)] = float(params.power(vl, vr).total_w) / v
-        return out
-
-    def heuristic_per_m(self) -> float:
-        return min(min(c.values()) for c in self.coef.values())
-
-    def pieces(self, s1: Any, s2: Any, step_m: float) -> list[tuple[float, ...]]:
-        """Pieces ``(x, y, yaw, ds, dyaw, direction)`` of the curve ``s1 -> s2`` (starts)."""
-        length = float(self.space.distance(s1, s2))
-        n = max(2, math.ceil(length / step_m))
-        ds = length / n
-        x0, y0, yaw0 = s1.getX(), s1.getY(), s1.getYaw()
-        out: list[tuple[float, ...]] = []
-        st = self.scratch
-        for i in range(1, n + 1):
-            self.space.interpolate(s1, s2, i / n, st)
-            x, y, yaw = st.getX(), st.getY(), st.getYaw()
-            fwd = (x - x0) * math.cos(yaw0) + (y - y0) * math.sin(yaw0)
-            out.append((x0, y0, yaw0, ds, _wrap(yaw - yaw0), 1.0 if fwd >= -1e-12 else -1.0))
-            x0, y0, yaw0 = x, y, yaw
-        return out
-
-    def __call__(self, s1: Any, s2: Any) -> float:
-        pieces = self.pieces(s1, s2, self.step)
-        if self.regions and self.world is not None:
-            names = self.world.terrain_at([(p[0], p[1]) for p in pieces])
-        else:
-            names = [self.default] * len(pieces)
-        total = 0.0
-        for (_, _, _, ds, dyaw, d), terr in zip(pieces, names, strict=True):
-            coef = self.coef.get(terr, self.coef[self.default])
-            arc = min(self.radius * abs(dyaw), ds)
-            if arc > 0.0:
-                total += coef[(int(d), 1 if dyaw > 0 else -1)] * arc
-            total += coef[(int(d), 0)] * (ds - arc)
-        return total
-
-
-# ---------------------------------------------------------------------------- OMPL glue
-class _Objective(ob.OptimizationObjective):  # type: ignore[misc]
-    """OMPL objective whose motion cost is ecoplan's cost of the motion (energy or length)."""
-
-    def __init__(self, si: Any, motion: Callable[[Any, Any], float], heuristic_per_m: float):
-        super().__init__(si)
-        self.motion = motion
-        self.h = heuristic_per_m
-        self.calls = 0
-
-    def stateCost(self, s: Any) -> Any:
-        return ob.Cost(0.0)
-
-    def motionCost(self, s1: Any, s2: Any) -> Any:
-        self.calls += 1
-        return ob.Cost(self.motion(s1, s2))
-
-    def motionCostHeuristic(self, s1: Any, s2: Any) -> Any:
-        return ob.Cost(self.h * math.hypot(s2.getX() - s1.getX(), s2.getY() - s1.getY()))
-
-    def isSymmetric(self) -> bool:
-        return False
-
-
-class _SegmentValidator(ob.MotionValidator):  # type: ignore[misc]
-    """Exact check of SE2 motions: the straight segment lies in the free space (shapely).
-
-    On-the-spot turns at the ends sweep nothing beyond the footprint disc, so the
-    segment decides validity.
-    """
-
-    def __init__(self, si: Any, world: World):
-        super().__init__(si)
-        self.world = world
-
-    def checkMotion(self, s1: Any, s2: Any) -> bool:
-        return self.world.segment_free((s1.getX(), s1.getY()), (s2.getX(), s2.getY()))
-
-
-def _validity(world: World) -> Callable[[Any], bool]:
-    """State validity from the world's free space (inflated obstacles and bounds)."""
-    free = world.free_space
-
-    def valid(state: Any) -> bool:
-        return bool(shapely.intersects_xy(free, state.getX(), state.getY()))
-
-    return valid
-
-
-@contextmanager
-def _quiet_ompl() -> Iterator[None]:
-    """Silence OMPL's console output (it reports through exceptions and results here)."""
-    ou.noOutputHandler()
-    try:
-        yield
-    finally:
-        ou.restorePreviousOutputHandler()
-
-
-def _termination(
-    deadline: Deadline, until_s: float, max_checks: int | None
-) -> tuple[Any, list[int]]:
-    count = [0]
-
-    def done() -> bool:
-        count[0] += 1
-        if max_checks is not None and count[0] > max_checks:
-            return True
-        return deadline.elapsed_s >= until_s
-
-    return ob.PlannerTerminationCondition(done), count
-
-
 # ---------------------------------------------------------------------------- planner
 class OmplPlanner:
     """OMPL planner minimising ecoplan's energy (or length) objective.
@@ -512,8 +241,8 @@ class OmplPlanner:
 
     Examples
     --------
-    >>> from ecoplan.world import World, rectangle
-    >>> from ecoplan.cost import EnergyCost
+    >>> from ecoplan.geometry.world import World, rectangle
+    >>> from ecoplan.energy.objective import EnergyCost
     >>> from ecoplan.presets import VehicleSpec
     >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
     >>> c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
@@ -523,17 +252,19 @@ class OmplPlanner:
     (True, 'ompl:RRTstar/se2')
     """
 
-    def __init__(self, world: World, cost: PathCostModel, options: OmplOptions | None = None):
+    def __init__(self, world: World, cost: CostObjective, options: OmplOptions | None = None):
         if not isinstance(world, World):
-            raise InputError(f"world must be an ecoplan.world.World, got {type(world).__name__}")
-        if not isinstance(cost, PathCostModel):
+            raise InputError(
+                f"world must be an ecoplan.geometry.world.World, got {type(world).__name__}"
+            )
+        if not isinstance(cost, CostObjective):
             raise InputError(f"cost must be an EnergyCost or LengthCost, got {type(cost).__name__}")
         if cost.world is not None and cost.world is not world:
             raise InputError("the cost object was built for a different world")
         self.world = world
         self.cost = cost
         self.options = options or OmplOptions()
-        self.kind = _objective_kind(cost)
+        self.kind = objective_kind(cost)
 
     # -- configuration ----------------------------------------------------------------
     def state_space(self) -> tuple[str, float]:
@@ -608,7 +339,7 @@ class OmplPlanner:
             raise InputError(
                 f"straight driving at {self.cost.speed_mps:g} m/s is infeasible for this vehicle"
             )
-        with _quiet_ompl():
+        with quiet_ompl():
             raw, simplified, stats = self._search(
                 s, g, initial_heading_rad, space_name, radius, deadline
             )
@@ -660,19 +391,19 @@ class OmplPlanner:
         space.setBounds(bounds)
         ss = og.SimpleSetup(space)
         si = ss.getSpaceInformation()
-        ss.setStateValidityChecker(_validity(self.world))
+        ss.setStateValidityChecker(state_validity(self.world))
         si.setStateValidityCheckingResolution(
             min(1.0, opts.resolution_m / space.getMaximumExtent())
         )
         direct = math.atan2(g[1] - s[1], g[0] - s[0])
         if space_name == "se2":
-            validator = _SegmentValidator(si, self.world)
+            validator = SegmentValidator(si, self.world)
             si.setMotionValidator(validator)
-            motion: Any = _StraightMotions(self.cost, s, g, heading is None)
+            motion: Any = StraightMotions(self.cost, s, g, heading is None)
             ss.setStartState(_state(space, s, direct if heading is None else heading))
             ss.setGoalState(_state(space, g, direct), 1e-9)
         else:
-            motion = _CurveMotions(self.cost, space, radius, max(radius / 4.0, 0.05))
+            motion = CurveMotions(self.cost, space, radius, max(radius / 4.0, 0.05))
             k = opts.goal_headings
             yaws = [direct + 2.0 * math.pi * i / k for i in range(k)]
             for yaw in [heading] if heading is not None else yaws:
@@ -681,11 +412,11 @@ class OmplPlanner:
             for yaw in yaws:
                 goals.addState(_state(space, g, yaw))
             ss.setGoal(goals)
-        objective = _Objective(si, motion, motion.heuristic_per_m())
+        objective = OmplObjective(si, motion, motion.heuristic_per_m())
         ss.setOptimizationObjective(objective)
         ss.setPlanner(PLANNERS[opts.planner](si))
         ss.setup()
-        ptc, count = _termination(deadline, _SOLVE_SHARE * opts.time_budget_s, opts.max_iterations)
+        ptc, count = termination(deadline, _SOLVE_SHARE * opts.time_budget_s, opts.max_iterations)
         ss.solve(ptc)
         solve_time = deadline.elapsed_s
         stats = {
@@ -704,7 +435,7 @@ class OmplPlanner:
         candidates: list[FloatArray] = []
         if opts.simplify:
             simplifier = og.PathSimplifier(si, ss.getGoal(), objective)
-            ptc2, _ = _termination(deadline, _SIMPLIFY_SHARE * opts.time_budget_s, _SIMPLIFY_STEPS)
+            ptc2, _ = termination(deadline, _SIMPLIFY_SHARE * opts.time_budget_s, _SIMPLIFY_STEPS)
             simplifier.simplify(path, ptc2)
             candidates.append(_poses(path))
         if space_name != "se2":
@@ -712,7 +443,7 @@ class OmplPlanner:
             candidates = [self._densify(motion, c) for c in candidates]
         return raw, candidates, stats
 
-    def _densify(self, motion: _CurveMotions, poses: FloatArray) -> FloatArray:
+    def _densify(self, motion: CurveMotions, poses: FloatArray) -> FloatArray:
         """Pieces of a curve path as rows ``(x, y, yaw, ds, dyaw, direction)``.
 
         The last row is the end pose with ``ds = 0``.
@@ -813,174 +544,39 @@ class OmplPlanner:
 
 def plan_ompl(
     world: World,
-    cost: PathCostModel,
     start: ArrayLike,
     goal: ArrayLike,
+    cost: CostObjective,
     options: OmplOptions | None = None,
     *,
     initial_heading_rad: float | None = None,
 ) -> PlanResult:
-    """Functional form of :meth:`OmplPlanner.plan`."""
-    return OmplPlanner(world, cost, options).plan(
-        start, goal, initial_heading_rad=initial_heading_rad
-    )
+    """Plan with an OMPL planner: the functional form of :meth:`OmplPlanner.plan`.
 
-
-# ---------------------------------------------------------------------------- benchmark log
-#: Planner status names in OMPL's order (``ompl::base::PlannerStatus::StatusType``).
-STATUS_NAMES = (
-    "Unknown status",
-    "Invalid start",
-    "Invalid goal",
-    "Unrecognized goal type",
-    "Timeout",
-    "Approximate solution",
-    "Exact solution",
-    "Crash",
-    "Abort",
-    "Infeasible",
-)
-
-
-@dataclass(frozen=True, slots=True)
-class BenchmarkRun:
-    """One planner run of a benchmark, for :func:`write_benchmark_log`.
-
-    Attributes
-    ----------
-    planner : str
-        Planner configuration name (Planner Arena groups runs by it), e.g.
-        ``"geometric_BITstar"``.
-    time_s : float
-        Planning time [s].
-    solved : bool
-        True when an exact solution was found.
-    status : str
-        One of :data:`STATUS_NAMES`.
-    best_cost : float
-        Objective value of the solution (``nan`` when unsolved).
-    length_m : float
-        Length of the solution [m] (``nan`` when unsolved).
-    properties : tuple of (str, float)
-        Further per-run values (e.g. ``("energy_j", 812.0)``); names are letters,
-        digits and underscores.  Every run of one planner must have the same names.
-    """
-
-    planner: str
-    time_s: float
-    solved: bool
-    status: str = "Exact solution"
-    best_cost: float = math.nan
-    length_m: float = math.nan
-    properties: tuple[tuple[str, float], ...] = ()
-
-    def __post_init__(self) -> None:
-        if self.status not in STATUS_NAMES:
-            raise InputError(f"status must be one of {STATUS_NAMES}, got {self.status!r}")
-        if not self.planner or any(ch.isspace() for ch in self.planner):
-            raise InputError(f"planner name must be non-empty without spaces: {self.planner!r}")
-        for name, _ in self.properties:
-            if not name.replace("_", "").isalnum():
-                raise InputError(f"property name must be letters, digits, '_': {name!r}")
-
-
-def _fmt(x: float) -> str:
-    return "nan" if not math.isfinite(x) else repr(float(x))
-
-
-def write_benchmark_log(
-    path: str | Any,
-    experiment: str,
-    runs: Sequence[BenchmarkRun],
-    *,
-    time_limit_s: float,
-    seed: int = 0,
-    host: str = "localhost",
-    setup: str = "",
-    total_time_s: float | None = None,
-    start_time: str | None = None,
-) -> None:
-    """Write runs in OMPL's benchmark log format (``ompl::tools::Benchmark``).
-
-    ``ompl_benchmark_statistics LOG -d out.db`` (shipped with the ompl wheel) turns the
-    log into the SQLite database that Planner Arena reads.  Runs are grouped by planner
-    name in order of first appearance; the run columns are ``time``, ``solved``,
-    ``status`` (OMPL's enum), ``best cost``, ``solution length`` and the runs'
-    ``properties``.
+    The argument order is that of every planner function
+    (:func:`ecoplan.planning.graph.plan_graph`, :func:`ecoplan.planning.reference.plan_reference`).
 
     Parameters
     ----------
-    path : str or path-like
-        Output file.
-    experiment : str
-        Experiment name (one token: OMPL's parser keeps the last word).
-    runs : sequence of BenchmarkRun
-        The runs.
-    time_limit_s : float
-        Time limit of each run [s].
-    seed : int
-        Random seed reported for the experiment.
-    host, setup : str
-        Host name and a free-text description of the setup.
-    total_time_s : float, optional
-        Time spent collecting the data [s] (default: the sum of run times).
-    start_time : str, optional
-        Start date text (default: now, UTC).
+    world : World
+        The map.
+    start, goal : array_like
+        ``(x, y)`` [m].
+    cost : CostObjective
+        The objective (energy or length).
+    options : OmplOptions, optional
+        Planner, budget, seed, state space.
+    initial_heading_rad : float, optional
+        Heading at the start [rad]; free when None.
 
-    Raises
-    ------
-    InputError
-        No runs, an experiment name with spaces, or runs of one planner with different
-        property names.
+    Returns
+    -------
+    PlanResult
+        The plan and its statistics.
     """
-    if not runs:
-        raise InputError("a benchmark log needs at least one run")
-    if not experiment or any(ch.isspace() for ch in experiment):
-        raise InputError(
-            f"experiment name must be non-empty without spaces (OMPL reads one token): "
-            f"{experiment!r}"
-        )
-    by_planner: dict[str, list[BenchmarkRun]] = {}
-    for run in runs:
-        by_planner.setdefault(run.planner, []).append(run)
-    total = sum(r.time_s for r in runs) if total_time_s is None else total_time_s
-    started = start_time or time.strftime("%Y-%m-%d %H:%M:%S", time.gmtime())
-    lines = [
-        "OMPL version 2.0.1",
-        f"Experiment {experiment}",
-        "0 experiment properties",
-        f"Running on {host or 'UNKNOWN'}",
-        f"Starting at {started}",
-        "<<<|",
-        *setup.splitlines(),
-        "|>>>",
-        "<<<|",
-        "|>>>",
-        f"{int(seed)} is the random seed",
-        f"{_fmt(time_limit_s)} seconds per run",
-        "4096 MB per run",
-        f"{max(len(v) for v in by_planner.values())} runs per planner",
-        f"{_fmt(total)} seconds spent to collect the data",
-        "1 enum type",
-        "status|" + "|".join(STATUS_NAMES),
-        f"{len(by_planner)} planners",
-    ]
-    for name, group in by_planner.items():
-        extra = [k for k, _ in group[0].properties]
-        if any([k for k, _ in r.properties] != extra for r in group):
-            raise InputError(f"runs of planner {name!r} have different property names")
-        columns = ["time REAL", "solved BOOLEAN", "status ENUM", "best cost REAL"]
-        columns += ["solution length REAL", *(f"{k} REAL" for k in extra)]
-        lines += [name, "0 common properties", f"{len(columns)} properties for each run"]
-        lines += columns
-        lines.append(f"{len(group)} runs")
-        for r in group:
-            vals = [_fmt(r.time_s), str(int(r.solved)), str(STATUS_NAMES.index(r.status))]
-            vals += [_fmt(r.best_cost), _fmt(r.length_m), *(_fmt(v) for _, v in r.properties)]
-            lines.append("".join(f"{v}; " for v in vals))
-        lines.append(".")
-    with open(path, "w", encoding="utf-8") as fh:
-        fh.write("\n".join(lines) + "\n")
+    return OmplPlanner(world, cost, options).plan(
+        start, goal, initial_heading_rad=initial_heading_rad
+    )
 
 
 # ---------------------------------------------------------------------------- helpers
@@ -988,7 +584,7 @@ def _state(space: Any, xy: tuple[float, float], yaw: float) -> Any:
     st = space.allocState()
     st.setX(float(xy[0]))
     st.setY(float(xy[1]))
-    st.setYaw(float(_wrap(yaw)))
+    st.setYaw(float(wrap_angle(yaw)))
     return st
 
 

@@ -8,7 +8,7 @@ from that heading to a move's heading at the cell and drives the move.  Every st
 and transition is generated and the whole graph is searched with Dijkstra
 (``scipy.sparse.csgraph``), so the result is the optimum of the lattice.
 
-Costs come from :mod:`ecoplan.cost`:
+Costs come from :mod:`ecoplan.energy`:
 
 * a move costs ``segment energy per metre x length`` on the terrain at its midpoint
   (``LengthCost``: its length); moves leaving free space do not exist;
@@ -21,7 +21,7 @@ Costs come from :mod:`ecoplan.cost`:
 
 The goal is joined from every state within ``2 h`` whose straight segment to it is free.
 The lattice path is then reduced to its corners (collinear moves merged) and evaluated
-exactly with :func:`ecoplan.cost.path_cost`, like every planner's output; that exact value
+exactly with :func:`ecoplan.energy.path.path_cost`, like every planner's output; that exact value
 is what benchmarks compare.  It can be infeasible for arc-only vehicles when two lattice
 corners are too close for their fillets: the plan then reports the violation.
 """
@@ -36,18 +36,13 @@ from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from ecoplan._typing import ArrayLike, FloatArray
-from ecoplan.cost import (
-    LengthCost,
-    PathCost,
-    PathCostModel,
-    arc_turn_energy,
-    best_spot_yaw_rate,
-    spot_turn_energy,
-)
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.primitives import arc_turn_energy, best_spot_yaw_rate, spot_turn_energy
+from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
-from ecoplan.world import World
 
 __all__ = ["MOVES", "LatticeOptions", "plan_reference"]
 
@@ -98,7 +93,7 @@ def _wrap(x: FloatArray) -> FloatArray:
     return np.asarray((x + np.pi) % (2.0 * np.pi) - np.pi, dtype=np.float64)
 
 
-def _turn_table(cost: PathCostModel, terrain: str | None, dpsi: FloatArray) -> FloatArray:
+def _turn_table(cost: CostObjective, terrain: str | None, dpsi: FloatArray) -> FloatArray:
     """Gross cost of turning by each ``dpsi`` the tightest feasible way (NaN: infeasible)."""
     params = cost.params(terrain)
     v = cost.speed_mps
@@ -113,16 +108,14 @@ def _turn_table(cost: PathCostModel, terrain: str | None, dpsi: FloatArray) -> F
         arc = np.where(a <= _MAX_ARC_TURN, arc, np.inf)
         best = np.minimum(best, arc)
     best = np.where(a < 1e-12, 0.0, best)
-    if isinstance(cost, LengthCost):
-        best = np.where(np.isfinite(best), 0.0, np.inf)
-    return np.where(np.isfinite(best), best, np.nan)
+    return cost.turn_value(best)
 
 
 def plan_reference(
     world: World,
     start: ArrayLike,
     goal: ArrayLike,
-    cost: PathCostModel,
+    cost: CostObjective,
     *,
     options: LatticeOptions | None = None,
     initial_heading_rad: float | None = None,
@@ -295,19 +288,19 @@ def plan_reference(
     )
 
 
-def _per_m(cost: PathCostModel, terrain: str | None) -> float:
+def _per_m(cost: CostObjective, terrain: str | None) -> float:
     """Cost of one metre of straight driving on ``terrain`` (NaN: infeasible there)."""
     probe = type(cost)(cost.params(terrain), cost.speed_mps, turn=cost.turn)
     e = probe.segment_cost((0.0, 0.0), (1.0, 0.0))
     return math.nan if e is None else float(e)
 
 
-def _segment(cost: PathCostModel, a: FloatArray, b: FloatArray) -> float:
+def _segment(cost: CostObjective, a: FloatArray, b: FloatArray) -> float:
     e = cost.segment_cost(a, b)
     return math.nan if e is None else float(e)
 
 
-def _gross_start_turn(cost: PathCostModel, terrain: str | None, dpsi: FloatArray) -> FloatArray:
+def _gross_start_turn(cost: CostObjective, terrain: str | None, dpsi: FloatArray) -> FloatArray:
     return _turn_table(cost, terrain, dpsi)
 
 
@@ -320,7 +313,7 @@ def _midpoint_terrain(
 
 def _refine(
     world: World,
-    cost: PathCostModel,
+    cost: CostObjective,
     wps: FloatArray,
     pc: PathCost,
     heading: float | None,

@@ -9,7 +9,7 @@ more time").  Upper limits come from the top track speed (eq. 5) and the power l
 minimum radius growing with speed (:func:`ecoplan.models.limits.min_radius_for_speed`):
 a faster Pioneer needs wider fillets that may not fit the path's segments.
 
-Method: a dense scan of :func:`ecoplan.cost.path_cost` over ``[v_min, v_max]``, infeasible
+Method: a dense scan of :func:`ecoplan.energy.path.path_cost` over ``[v_min, v_max]``, infeasible
 speeds excluded, then a bounded scalar minimisation (``scipy.optimize.minimize_scalar``)
 inside the bracket around the best feasible scan point; the refined speed is kept only
 if it is feasible and cheaper.  Per-segment speeds are improved by coordinate descent
@@ -25,9 +25,11 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from ecoplan._typing import ArrayLike, FloatArray
-from ecoplan.cost import PathCost, TurnMode, Vehicle, params_on, path_cost
+from ecoplan.energy.path import path_cost
+from ecoplan.energy.primitives import TurnMode, Vehicle, params_on
+from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError, PlanningError
-from ecoplan.world import World
+from ecoplan.geometry.world import World
 
 __all__ = ["SpeedChoice", "best_speed", "energy_vs_speed"]
 
@@ -112,7 +114,7 @@ def best_speed(
     initial_heading_rad : float, optional
         Heading at the start.
     turn : {"auto", "spot", "arc"}
-        Turn execution (see :func:`ecoplan.cost.cheapest_turn`).
+        Turn execution (see :func:`ecoplan.energy.turns.cheapest_turn`).
     ramps : bool
         Account for accelerations from and to rest.
     v_min_mps, v_max_mps : float

@@ -8,18 +8,19 @@ its breakdown by component.
 Step ``k`` (time ``t_k = k dt``):
 
 1. a command policy gives track-speed commands from the pose at ``t_k`` (the heading
-   controller of :mod:`ecoplan.sim.controller`, or a fixed schedule);
+   controller of :mod:`ecoplan.dynamics.controller`, or a fixed schedule; the step loop is
+   :func:`ecoplan.dynamics.rollout.rollout`);
 2. commands beyond the top track speed are saturated as eq. (5) says: the commanded
    yaw rate (eq. 3) is kept -- clipped to eq. (6) -- and the forward speed reduced
-   (:func:`~ecoplan.sim.controller.saturate_setpoint`); the result is what the log
+   (:func:`~ecoplan.dynamics.drive.saturate_tracks`); the result is what the log
    records as ``v_left_cmd``/``v_right_cmd`` (the heading controller's commands are
    already saturated);
 3. each actual track speed moves towards its command by at most ``accel_max_mps2 * dt``
-   (the paper reaches top speed in a 2.5 s ramp, §III-C);
+   (the drive law, :func:`~ecoplan.dynamics.drive.drive_step`; the paper reaches top
+   speed in a 2.5 s ramp, §III-C);
 4. the speeds are held over ``[t_k, t_k + dt)``: the body twist is constant, and the
-   pose is advanced by the exact arc (midpoint heading times the chord factor
-   ``sinc(w dt / 2)``), so a piecewise-constant speed profile is integrated without
-   discretisation error;
+   pose is advanced by the exact arc (:func:`~ecoplan.dynamics.integrate.arc_step`), so
+   a piecewise-constant speed profile is integrated without discretisation error;
 5. the power of the step is the model's power at those speeds, so the energy
    ``sum_k P_T(V_k) dt`` is exact for the same profile.
 
@@ -47,32 +48,32 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
 import numpy as np
 
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray, IntArray
+from ecoplan.dynamics.controller import (
+    DEFAULT_CONTROLLER,
+    HeadingController,
+    WaypointFollower,
+    power_limited_radius,
+    wrap_angle,
+)
+from ecoplan.dynamics.drive import IcrArrays
+from ecoplan.dynamics.rollout import ROLLOUT_STATE, CommandPolicy, rollout
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range
+from ecoplan.models.inertial import inertial_battery_power
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.power import COMPONENTS
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
-from ecoplan.sim.controller import (
-    DEFAULT_CONTROLLER,
-    HeadingController,
-    IcrArrays,
-    WaypointFollower,
-    saturate_setpoint,
-    tracks_from_setpoint,
-    wrap_angle,
-)
 
 __all__ = [
     "DEFAULT_CONFIG",
     "EXTRA_COLUMNS",
     "LOG_COLUMNS",
-    "CommandPolicy",
     "SimConfig",
     "SimResult",
     "TrackSchedule",
@@ -117,10 +118,15 @@ class SimConfig:
         Time limit of every run [s]; None = derived from the task (waypoint runs: three
         times the polyline's travel time at ``v_sp`` plus 60 s; schedules: their length
         plus the time to stop plus 1 s).
+    inertial : bool
+        Add the mass terms of :mod:`ecoplan.models.inertial` (``M a v + I α ω`` through
+        the drives' η, non-regenerative) to the static model's power, as the component
+        ``inertial_w`` (default False: the papers' static models only).
     """
 
     dt_s: float = 0.01
     t_max_s: float | None = None
+    inertial: bool = False
 
     def __post_init__(self) -> None:
         check_range("SimConfig", "dt_s", self.dt_s, 0.0, 1.0, lo_open=True)
@@ -242,25 +248,6 @@ class SimResult:
         return fig
 
 
-class CommandPolicy(Protocol):
-    """Gives track-speed commands for a batch of runs, one call per step.
-
-    ``stopped`` marks runs whose task is over: their commands must be zero, and a run
-    ends once it is stopped and its tracks stand still.
-    """
-
-    @property
-    def stopped(self) -> BoolArray:
-        """Runs whose task is over."""
-        ...
-
-    def command(
-        self, x_m: FloatArray, y_m: FloatArray, yaw_rad: FloatArray
-    ) -> tuple[FloatArray, FloatArray]:
-        """``(v_left_cmd, v_right_cmd)`` [m/s] for the poses at the current step."""
-        ...
-
-
 class TrackSchedule:
     """Open-loop policy: track-speed commands given per step, then zero.
 
@@ -377,12 +364,21 @@ def simulate_batch(
         raise InputError("simulate_batch needs at least one run")
     params = [r.params for r in runs]
     icr = IcrArrays.of([p.icr for p in params], [p.top_track_speed_mps for p in params])
-    policy = WaypointFollower([r.waypoints[1:] for r in runs], [r.controller for r in runs], icr)
+    r_min = [
+        power_limited_radius(r.params, r.controller.speed_mps)
+        if r.controller.power_limited
+        else 0.0
+        for r in runs
+    ]
+    stop_step = [p.accel_max_mps2 * config.dt_s for p in params]
+    policy = WaypointFollower(
+        [r.waypoints[1:] for r in runs], [r.controller for r in runs], icr, r_min, stop_step
+    )
     t_max = config.t_max_s
     if t_max is None:
         t_max = max(3.0 * r.polyline_length_m / r.controller.speed_mps + 60.0 for r in runs)
     start = np.array([[r.waypoints[0, 0], r.waypoints[0, 1], r.yaw0] for r in runs])
-    return simulate_policy(params, policy, start, SimConfig(config.dt_s, t_max))
+    return simulate_policy(params, policy, start, SimConfig(config.dt_s, t_max, config.inertial))
 
 
 def simulate_waypoints(
@@ -452,7 +448,8 @@ def simulate_tracks(
         top = float(np.max(np.abs(np.concatenate([sched.v_left, sched.v_right]))))
         t_max = sched.v_left.shape[0] * config.dt_s + top / params.accel_max_mps2 + 1.0
     start = np.array([start_pose], dtype=np.float64)
-    return simulate_policy([params], sched, start, SimConfig(config.dt_s, t_max))[0]
+    cfg = SimConfig(config.dt_s, t_max, config.inertial)
+    return simulate_policy([params], sched, start, cfg)[0]
 
 
 def simulate_policy(
@@ -484,106 +481,34 @@ def simulate_policy(
     pose0 = np.asarray(start, dtype=np.float64)
     if pose0.shape != (len(params), 3) or not np.all(np.isfinite(pose0)):
         raise InputError(f"start must be finite with shape ({len(params)}, 3), got {pose0.shape}")
-    raw, end, finished = _integrate(params, policy, pose0, config.dt_s, config.t_max_s)
+    raw, end, finished = rollout(params, policy, pose0, config.dt_s, config.t_max_s)
     return [
-        _result(p, raw, i, int(end[i]), bool(finished[i]), config.dt_s)
+        _result(p, raw, i, int(end[i]), bool(finished[i]), config.dt_s, config.inertial)
         for i, p in enumerate(params)
     ]
 
 
-_STATE = ("x", "y", "yaw", "v_left_cmd", "v_right_cmd", "v_left", "v_right", "wz")
-
-
-def _integrate(
-    params: Sequence[VehicleParams],
-    policy: CommandPolicy,
-    pose0: FloatArray,
-    dt: float,
-    t_max: float,
-) -> tuple[FloatArray, IntArray, BoolArray]:
-    """The step loop: rows ``(n_rows, len(_STATE), n_runs)``, each run's last row, stopped."""
-    n = len(params)
-    icr = IcrArrays.of([p.icr for p in params], [p.top_track_speed_mps for p in params])
-    inv_spread = 1.0 / icr.spread_m
-    mid = 0.5 * (icr.y_left_m + icr.y_right_m)
-    centred = not np.any(mid) and not np.any(icr.x_m)
-    dv = np.array([p.accel_max_mps2 for p in params]) * dt
-    vmax = icr.top_speed_mps * (1.0 + 1e-12)
-    # chord factor sin(h)/h of the arc, h = w dt / 2: its series to h^4 is exact to
-    # 2e-10 for |h| <= 0.1; saturated track speeds bound |w| by 2 V_max / spread
-    h_top = float(np.max(1.1 * icr.top_speed_mps * inv_spread)) * dt
-    series = h_top <= 0.1
-    n_max = max(math.ceil(t_max / dt - 1e-9), 1)
-    cap = min(n_max + 1, 4096)
-    buf = np.empty((cap, len(_STATE), n))
-    x, y, yaw = pose0[:, 0].copy(), pose0[:, 1].copy(), pose0[:, 2].copy()
-    vl = np.zeros(n)
-    vr = np.zeros(n)
-    end = np.full(n, -1, dtype=np.int64)
-    k = 0
-    while True:
-        if k == cap:
-            cap = min(2 * cap, n_max + 1)
-            buf = np.concatenate([buf, np.empty((cap - buf.shape[0], len(_STATE), n))])
-        vlc, vrc = policy.command(x, y, yaw)
-        if np.count_nonzero(np.maximum(np.abs(vlc), np.abs(vrc)) > vmax):
-            vlc, vrc = _saturate_tracks(vlc, vrc, icr, mid)
-        vl = vl + np.minimum(np.maximum(vlc - vl, -dv), dv)
-        vr = vr + np.minimum(np.maximum(vrc - vr, -dv), dv)
-        wz = (vr - vl) * inv_spread
-        row = buf[k]
-        row[0], row[1], row[2] = x, y, yaw
-        row[3], row[4], row[5], row[6], row[7] = vlc, vrc, vl, vr, wz
-        stopped = policy.stopped
-        if np.count_nonzero(stopped):
-            done = stopped & (vl == 0.0) & (vr == 0.0) & (end < 0)
-            if np.count_nonzero(done):
-                end[done] = k
-                if np.all(end >= 0):
-                    break
-        if k == n_max:
-            finished = end >= 0
-            end[~finished] = k
-            return buf[: k + 1], end, finished
-        # exact arc over the step: heading at mid-step, chord factor sin(h)/h
-        half = (0.5 * dt) * wz
-        heading = yaw + half
-        if series:
-            h2 = half * half
-            chord = dt * (1.0 - h2 * (1.0 / 6.0 - h2 / 120.0))
-        else:
-            chord = dt * np.sinc(half / math.pi)
-        c, s = np.cos(heading), np.sin(heading)
-        if centred:
-            vx = 0.5 * (vr + vl) * chord
-            x = x + vx * c
-            y = y + vx * s
-        else:
-            vx = (0.5 * (vr + vl) + wz * mid) * chord
-            vy = -wz * icr.x_m * chord
-            x = x + (vx * c - vy * s)
-            y = y + (vx * s + vy * c)
-        yaw = heading + half
-        k += 1
-    return buf[: k + 1], end, np.ones(n, dtype=bool)
-
-
-def _saturate_tracks(
-    v_left: FloatArray, v_right: FloatArray, icr: IcrArrays, mid: FloatArray
-) -> tuple[FloatArray, FloatArray]:
-    """Eq. (5) on track commands: back to ``(v, w)`` (eqs. 2-3), saturate, eq. (4)."""
-    w = (v_right - v_left) / icr.spread_m
-    v, w = saturate_setpoint(0.5 * (v_left + v_right) + w * mid, w, icr, icr.top_speed_mps)
-    return tracks_from_setpoint(v, w, icr)
-
-
 def _result(
-    params: VehicleParams, raw: FloatArray, i: int, end: int, completed: bool, dt: float
+    params: VehicleParams,
+    raw: FloatArray,
+    i: int,
+    end: int,
+    completed: bool,
+    dt: float,
+    inertial: bool = False,
 ) -> SimResult:
-    cols = {name: np.ascontiguousarray(raw[: end + 1, j, i]) for j, name in enumerate(_STATE)}
+    cols = {
+        name: np.ascontiguousarray(raw[: end + 1, j, i]) for j, name in enumerate(ROLLOUT_STATE)
+    }
     vl, vr = cols["v_left"], cols["v_right"]
     pw = params.power(vl, vr)
     comps = {c: np.asarray(v, dtype=np.float64) for c, v in pw.components().items()}
+    p_total = np.asarray(pw.total_w, dtype=np.float64)
+    if inertial and vl.size >= 2:
+        comps["inertial_w"] = inertial_battery_power(
+            np.arange(vl.size, dtype=np.float64) * dt, vl, vr, params
+        )
+        p_total = p_total + comps["inertial_w"]
     body = tracks_to_twist(vl[:end], vr[:end], params.icr)
     return SimResult(
         t=np.arange(end + 1, dtype=np.float64) * dt,
@@ -595,12 +520,12 @@ def _result(
         v_left=vl,
         v_right=vr,
         wz=cols["wz"],
-        p_total=np.asarray(pw.total_w, dtype=np.float64),
+        p_total=p_total,
         p_left=np.asarray(pw.left_w, dtype=np.float64),
         p_right=np.asarray(pw.right_w, dtype=np.float64),
         case=np.asarray(pw.case, dtype=np.int64),
         components_w=comps,
-        energy_j=float(np.sum(pw.total_w[:end]) * dt),
+        energy_j=float(np.sum(p_total[:end]) * dt),
         breakdown_j={c: float(np.sum(v[:end]) * dt) for c, v in comps.items()},
         psi_rad=float(np.sum(np.abs(cols["wz"][:end])) * dt),
         length_m=float(np.sum(np.hypot(body.vx, body.vy)) * dt),

@@ -22,30 +22,44 @@ The set point ``(v_sp, w_sp)`` becomes track speeds by eq. (4), after saturation
 Functions are vectorised over runs: ICR coordinates and top speeds may be arrays of
 shape ``(n_runs,)`` (see :class:`IcrArrays`), so that one integrator step serves a batch
 of vehicles.  :class:`WaypointFollower` holds the only state (the goal index per run).
+
+Power-limited turning (wheeled vehicles)
+----------------------------------------
+A wheeled robot whose saturated turn (eqs. 5-6) breaks its side power limit is
+immobilised (wheeled paper §III: the Pioneer 3-AT cannot turn on the spot and leaves its
+path at ``cmd(0.4, 2.0)``).  With ``HeadingController(power_limited=True)`` such a vehicle
+(:func:`power_limited_radius` > 0) turns no tighter than the smallest radius ``r_min`` its
+limit allows at the set point (:func:`~ecoplan.models.limits.min_radius_for_speed`):
+``|w| <= v / r_min`` before and after the forward speed is reduced; it takes a way point
+within ``max(d_th, 1.5 r_min)`` (circling a goal at ``r_min`` keeps it at exactly that
+distance), and it stops along its last arc, both sides decelerating in proportion (the
+faster at the acceleration limit) instead of pivoting on the slower one.  Judged on the
+vehicle's nominal geometry (``icr_offset_m = 0``), which is what an operator knows.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
 
 import numpy as np
 
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray, IntArray
+from ecoplan.dynamics.drive import IcrArrays
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range
-from ecoplan.models.kinematics import TrackICR
+from ecoplan.models.limits import check_tracks, min_radius_for_speed
+from ecoplan.models.tracked import TrackedParams
+from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
     "DEFAULT_CONTROLLER",
     "HeadingController",
-    "IcrArrays",
     "WaypointFollower",
     "heading_error",
-    "saturate_setpoint",
-    "tracks_from_setpoint",
+    "power_limited_radius",
     "wrap_angle",
     "yaw_rate_setpoint",
 ]
@@ -63,11 +77,15 @@ class HeadingController:
         Longitudinal set point ``v_sp`` [m/s] (paper: 0.3 and 0.5).
     switch_radius_m : float
         Distance ``d_th`` below which the next way point becomes the goal [m] (paper: 1).
+    power_limited : bool
+        Hold a wheeled vehicle's turns to the radius its power limit allows (module
+        docstring); False = the paper's law, whatever the power.
     """
 
     gain: float = 0.18
     speed_mps: float = 0.5
     switch_radius_m: float = 1.0
+    power_limited: bool = False
 
     def __post_init__(self) -> None:
         check_range("HeadingController", "gain", self.gain, 0.0, 100.0, lo_open=True)
@@ -81,37 +99,41 @@ class HeadingController:
 DEFAULT_CONTROLLER = HeadingController()
 
 
-class IcrArrays(NamedTuple):
-    """Track ICRs and top track speeds of a batch of vehicles, one entry per run.
+def power_limited_radius(params: TrackedParams | WheeledParams, speed_mps: float) -> float:
+    """Smallest turn radius a power-limited wheeled vehicle keeps at a set point [m].
 
-    Attributes
+    0 when the turns need no limit: tracked vehicles (their ``p_total_max_w`` is a
+    budget, not an immobilisation), a zero set point, a saturated turn (eqs. 5-6) that
+    respects every limit, or no finite radius at that speed.
+
+    Parameters
     ----------
-    y_left_m, y_right_m, x_m : ndarray
-        ICR coordinates as in :class:`~ecoplan.models.kinematics.TrackICR` [m].
-    top_speed_mps : ndarray
-        Top track speed ``V_max`` of each run [m/s].
+    params : TrackedParams or WheeledParams
+        The vehicle (its ICR offset is ignored: the nominal geometry is used).
+    speed_mps : float
+        Forward set point ``v_sp`` [m/s].
+
+    Returns
+    -------
+    float
+        ``r_min`` [m] (:func:`~ecoplan.models.limits.min_radius_for_speed`), or 0.
     """
-
-    y_left_m: FloatArray
-    y_right_m: FloatArray
-    x_m: FloatArray
-    top_speed_mps: FloatArray
-
-    @classmethod
-    def of(cls, icrs: Sequence[TrackICR], top_speeds_mps: ArrayLike) -> IcrArrays:
-        """Stack scalar ICRs and top speeds into per-run arrays."""
-        top = np.broadcast_to(np.asarray(top_speeds_mps, dtype=np.float64), (len(icrs),))
-        return cls(
-            np.array([c.y_left_m for c in icrs], dtype=np.float64),
-            np.array([c.y_right_m for c in icrs], dtype=np.float64),
-            np.array([c.x_m for c in icrs], dtype=np.float64),
-            top.copy(),
-        )
-
-    @property
-    def spread_m(self) -> FloatArray:
-        """Distance between the track ICRs ``y_l - y_r`` [m]."""
-        return self.y_left_m - self.y_right_m
+    if not isinstance(params, WheeledParams) or not speed_mps > 0.0:
+        return 0.0
+    nominal = dataclasses.replace(params, icr_offset_m=0.0)
+    icr = nominal.icr
+    vmax = nominal.top_track_speed_mps
+    w_max = vmax / max(icr.y_left_m, -icr.y_right_m)
+    vl, vr = [], []
+    for w in (w_max, -w_max):
+        lever = -icr.y_right_m if w > 0.0 else icr.y_left_m
+        v = max(0.0, vmax - lever * abs(w))
+        vl.append(v - icr.y_left_m * w)
+        vr.append(v - icr.y_right_m * w)
+    if bool(np.all(check_tracks(nominal, np.array(vl), np.array(vr)).ok)):
+        return 0.0
+    r = float(min_radius_for_speed(nominal, speed_mps))
+    return r if 0.0 < r < math.inf else 0.0
 
 
 def wrap_angle(angle_rad: ArrayLike) -> FloatArray:
@@ -139,59 +161,6 @@ def yaw_rate_setpoint(phi_e_rad: ArrayLike, gain: ArrayLike) -> FloatArray:
     return np.asarray(gain, dtype=np.float64) * np.asarray(phi_e_rad, dtype=np.float64)
 
 
-def saturate_setpoint(
-    v_sp: ArrayLike, wz_sp: ArrayLike, icr: TrackICR | IcrArrays, top_speed_mps: ArrayLike
-) -> tuple[FloatArray, FloatArray]:
-    """Saturate a ``(v, w)`` set point to the track-speed limit, eqs. (5)-(6).
-
-    The yaw rate is clipped to the on-the-spot top rate (eq. 6, generalised to
-    asymmetric ICRs as ``V_max / max(y_l, -y_r)``); then the yaw rate is kept and
-    ``|v|`` reduced to ``V_max - lever |w|`` (eq. 5), with ``lever`` the ICR distance of
-    the track that runs faster: ``-y_r`` for ``w v > 0`` (forward left turn: the right
-    track) and ``y_l`` otherwise.  Eq. (5) is written for forward motion; reversing
-    swaps the faster track, which matters only for asymmetric ICRs.
-
-    Parameters
-    ----------
-    v_sp : array_like
-        Longitudinal set point [m/s] (sign = direction).
-    wz_sp : array_like
-        Yaw-rate set point [rad/s].
-    icr : TrackICR or IcrArrays
-        Track ICRs (scalars, or one entry per run).
-    top_speed_mps : array_like
-        Top track speed ``V_max`` [m/s].
-
-    Returns
-    -------
-    tuple of ndarray
-        Saturated ``(v, wz)``.
-    """
-    v = np.asarray(v_sp, dtype=np.float64)
-    w = np.asarray(wz_sp, dtype=np.float64)
-    vmax = np.asarray(top_speed_mps, dtype=np.float64)
-    yl = np.asarray(icr.y_left_m, dtype=np.float64)
-    yr = np.asarray(icr.y_right_m, dtype=np.float64)
-    w_top = vmax / np.maximum(yl, -yr)
-    w = np.clip(w, -w_top, w_top)
-    lever = np.where(w * np.where(v < 0.0, -1.0, 1.0) > 0.0, -yr, yl)
-    v_lim = np.maximum(vmax - lever * np.abs(w), 0.0)
-    return np.clip(v, -v_lim, v_lim), w
-
-
-def tracks_from_setpoint(
-    v: ArrayLike, wz: ArrayLike, icr: TrackICR | IcrArrays
-) -> tuple[FloatArray, FloatArray]:
-    """Track speeds ``V^{l,r} = v - y_{l,r} w`` for a set point, tracked paper eq. (4).
-
-    Same formula as :func:`ecoplan.models.kinematics.setpoint_to_tracks`, but the ICR may
-    hold one entry per run.
-    """
-    vv = np.asarray(v, dtype=np.float64)
-    ww = np.asarray(wz, dtype=np.float64)
-    return vv - icr.y_left_m * ww, vv - icr.y_right_m * ww
-
-
 class WaypointFollower:
     """Heading controller following way-point lists, vectorised over runs (eq. 23).
 
@@ -208,6 +177,12 @@ class WaypointFollower:
         Per run, the gains.
     icr : IcrArrays
         Per-run ICRs and top track speeds.
+    min_radius_m : array_like, optional
+        Per run, the power-limited turn radius (:func:`power_limited_radius`); 0 = none.
+    stop_step_mps : array_like, optional
+        Per run, the speed change of one step at the acceleration limit,
+        ``accel_max_mps2 * dt`` [m/s]: a power-limited run stops along its arc by this
+        much per step (needed when some ``min_radius_m > 0``).
     """
 
     def __init__(
@@ -215,6 +190,8 @@ class WaypointFollower:
         goals: Sequence[ArrayLike],
         controllers: Sequence[HeadingController],
         icr: IcrArrays,
+        min_radius_m: ArrayLike | None = None,
+        stop_step_mps: ArrayLike | None = None,
     ) -> None:
         n = len(goals)
         if n == 0 or len(controllers) != n or icr.y_left_m.shape != (n,):
@@ -229,6 +206,21 @@ class WaypointFollower:
         self.gain = np.array([c.gain for c in controllers], dtype=np.float64)
         self.speed_mps = np.array([c.speed_mps for c in controllers], dtype=np.float64)
         self.switch_radius_m = np.array([c.switch_radius_m for c in controllers])
+        r_min = np.zeros(n) if min_radius_m is None else np.asarray(min_radius_m, np.float64)
+        if r_min.shape != (n,) or np.any(~(r_min >= 0.0)):
+            raise InputError(f"min_radius_m must be (n_runs,) = ({n},) values >= 0")
+        self.min_radius_m: FloatArray = r_min
+        self._limited = r_min > 0.0
+        self._any_limited = bool(self._limited.any())
+        if self._any_limited:
+            if stop_step_mps is None:
+                raise InputError("power-limited runs need stop_step_mps (accel_max_mps2 * dt)")
+            self._stop_step = np.broadcast_to(np.asarray(stop_step_mps, np.float64), (n,))
+            self.switch_radius_m = np.where(
+                self._limited, np.maximum(self.switch_radius_m, 1.5 * r_min), self.switch_radius_m
+            )
+            self._inv_r = np.where(self._limited, 1.0 / np.where(self._limited, r_min, 1.0), np.inf)
+            self._last = (np.zeros(n), np.zeros(n))
         self.icr = icr
         self.index: IntArray = np.zeros(n, dtype=np.int64)
         self.stopped: BoolArray = np.zeros(n, dtype=bool)
@@ -254,7 +246,8 @@ class WaypointFollower:
         """Track-speed commands for the current poses; advances goals and stops runs.
 
         Same arithmetic as :func:`heading_error`, :func:`yaw_rate_setpoint`,
-        :func:`saturate_setpoint` and :func:`tracks_from_setpoint`, with the constants
+        :func:`~ecoplan.dynamics.drive.saturate_setpoint` and
+        :func:`~ecoplan.dynamics.drive.tracks_from_setpoint`, with the constants
         hoisted (this runs once per integration step).
 
         Returns
@@ -268,12 +261,31 @@ class WaypointFollower:
             dx, dy = self._gx - x_m, self._gy - y_m
         phi = np.mod(np.arctan2(dy, dx) - yaw_rad + math.pi, 2.0 * math.pi) - math.pi
         w = np.minimum(np.maximum(self._gain_eff * phi, -self._w_top), self._w_top)
+        if self._any_limited:
+            w_lim = self._v_eff * self._inv_r
+            w = np.minimum(np.maximum(w, -w_lim), w_lim)
         if self._symmetric:
             lever = self._lever_right_turn
         else:
             lever = np.where(w > 0.0, self._lever_left_turn, self._lever_right_turn)
         v = np.minimum(self._v_eff, self.icr.top_speed_mps - lever * np.abs(w))
-        return v - self.icr.y_left_m * w, v - self.icr.y_right_m * w
+        if not self._any_limited:
+            return v - self.icr.y_left_m * w, v - self.icr.y_right_m * w
+        w_lim = v * self._inv_r
+        w = np.minimum(np.maximum(w, -w_lim), w_lim)
+        cl, cr = v - self.icr.y_left_m * w, v - self.icr.y_right_m * w
+        # stopped power-limited runs decelerate along their last arc, sides in proportion
+        arc_stop = self.stopped & self._limited
+        if arc_stop.any():
+            pl, pr = self._last
+            top = np.maximum(np.abs(pl), np.abs(pr))
+            k = np.where(
+                top > self._stop_step, 1.0 - self._stop_step / np.where(top > 0, top, 1.0), 0.0
+            )
+            cl = np.where(arc_stop, pl * k, cl)
+            cr = np.where(arc_stop, pr * k, cr)
+        self._last = (cl, cr)
+        return cl, cr
 
     def _advance(self, x_m: FloatArray, y_m: FloatArray) -> None:
         """Switch to the next goal while within ``d_th``; stop at the last one."""

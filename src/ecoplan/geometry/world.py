@@ -15,7 +15,7 @@ marble floor); points outside every region are on ``default_terrain``.  Where re
 overlap, the **last** one listed wins (like layers of paint).  ``None`` as a terrain means
 "the vehicle's own default terrain" (see :class:`ecoplan.presets.VehicleSpec`).
 
->>> from ecoplan.world import World, rectangle
+>>> from ecoplan.geometry.world import World, rectangle
 >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 4, 6, 6)], inflation_m=0.5)
 >>> bool(w.is_free(1.0, 1.0)), bool(w.is_free(5.0, 5.0))
 (True, False)

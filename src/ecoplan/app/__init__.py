@@ -1,0 +1,1 @@
+"""The application layer: scenario files, running them, output folders, reports, benches."""

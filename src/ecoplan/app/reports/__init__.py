@@ -1,0 +1,1 @@
+"""Reports: the scenario-run report (:mod:`.scenario`) with its figures, tables and CSV logs."""

@@ -1,0 +1,1 @@
+"""Reading and writing files: YAML documents with line numbers, logs, datasets, maps."""

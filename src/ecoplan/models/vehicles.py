@@ -1,0 +1,626 @@
+"""Vehicle files: any skid-steer robot, tracked or wheeled, described as data.
+
+A vehicle file is a YAML document validated by :class:`VehicleFile` (pydantic, unknown keys
+rejected).  The shipped presets are vehicle files in the package data
+(``ecoplan/models/vehicle_files/*.yaml``) read by the same schema, so adding a robot needs no
+Python.  Reading a user's file with line numbers in the error messages is
+:func:`ecoplan.io.vehicles.load_vehicle`; this module holds the schema, the physics-facing
+object :class:`Vehicle` and the shipped files (models are pure: no user file I/O here).
+
+Schema (every length in m, mass in kg, power in W, speed in m/s)::
+
+    name: husky-a200
+    kind: wheeled                  # the robot body: tracked | wheeled
+    power_model: contact-friction  # contact-friction (tracked paper eqs. 7-20, punctual
+                                   #   contacts: rollers of a track or wheels) |
+                                   # radius-fit (wheeled paper eqs. 12-15, per-side fits)
+    description: ...
+    geometry: {track_gauge_m, wheelbase_m, n_contact_points, wheel_radius_m, chi,
+               icr_x_m, icr_offset_m}
+    inertia: {mass_kg, yaw_inertia_kgm2}
+    limits: {top_speed_mps, accel_max_mps2, p_side_max_w, p_motor_max_w, p_total_max_w}
+    drivers: {p_powerup_w, p_braking_w, k_nonregen_n, eta, regen_efficiency}
+    default_terrain: asphalt
+    terrains:
+      asphalt:                     # a name a field user recognises
+        mu: {value: 0.81, source: paper, ref: "tracked §III-C"}
+        rolling_resistance: {value: 0.02, source: assumption, ref: "..."}
+        ...
+    assumptions: ["24 V bus", ...]
+
+Terrain coefficients always carry a ``source``: ``identified`` (fitted from logs, with the
+``interval`` and ``heldout_mae_w`` of the fit), ``paper`` (with ``ref``) or ``assumption``.
+
+Terrain resistance (straight-line energy per terrain):
+
+* contact-friction: ``K`` of tracked eq. (18) ``P_R = K (|V_l| + |V_r|)``, given directly
+  (``k_resistance_n``) or as a rolling-resistance coefficient ``C_rr`` of the weight,
+  ``K = C_rr M g / 2`` (the two sides share the rolling force ``C_rr M g``);
+* radius-fit: the paper's straight slope ``a_inf`` already holds the resistance of the
+  terrain it was measured on; ``rolling_resistance`` adds ``C_rr M g / 2`` [W s/m] to
+  ``a_inf`` of each side (a force ``C_rr M g`` at the centre speed).
+
+>>> v = shipped_vehicle("auriga-beta-wide")
+>>> p = v.params("marble")
+>>> round(p.mu, 2), p.k_resistance_n
+(0.63, 342.0)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import importlib.resources
+import re
+from collections.abc import Mapping
+from typing import Annotated, Any, Literal
+
+import yaml
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from ecoplan.errors import InputError
+from ecoplan.models.tracked import GRAVITY_MPS2, TrackedParams
+from ecoplan.models.wheeled import SideCoefficients, WheeledParams
+
+__all__ = [
+    "SOURCES",
+    "TERRAIN_VOCABULARY",
+    "Drivers",
+    "Geometry",
+    "Inertia",
+    "Limits",
+    "Sourced",
+    "SourcedSides",
+    "TerrainEntry",
+    "Vehicle",
+    "VehicleFile",
+    "limit_problem",
+    "shipped_names",
+    "shipped_vehicle",
+    "vehicle_from_mapping",
+]
+
+#: Accepted provenance of a terrain coefficient.
+SOURCES: tuple[str, ...] = ("identified", "paper", "assumption")
+
+#: Terrain names a field user recognises (vehicle files may add others, lower-case).
+TERRAIN_VOCABULARY: tuple[str, ...] = (
+    "asphalt", "concrete", "flooring", "gravel", "grass", "hoisted", "ice", "marble",
+    "mud", "sand", "sandy_loam", "snow", "vinyl",
+)  # fmt: skip
+
+_TERRAIN_NAME = re.compile(r"^[a-z][a-z0-9_]*$")
+_PACKAGE_DIR = "vehicle_files"
+
+
+class _Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Sourced(_Section):
+    """A coefficient with its provenance.
+
+    Attributes
+    ----------
+    value : float
+        The coefficient, in the unit of the field it fills.
+    source : {"identified", "paper", "assumption"}
+        Where the value comes from.
+    ref : str
+        Equation, table or log set it comes from, or the assumption in words.
+    interval : (float, float) or None
+        Confidence interval of an identified value (same unit).
+    """
+
+    value: float = Field(allow_inf_nan=False)
+    source: Literal["identified", "paper", "assumption"]
+    ref: str = ""
+    interval: tuple[float, float] | None = None
+
+
+class SourcedSides(_Section):
+    """Wheeled paper eqs. (14)-(15) coefficients of the inner and outer sides, with provenance.
+
+    Attributes
+    ----------
+    inner, outer : list of 6 floats
+        ``a_inf [W s/m], a_alpha [W s/m], a_beta, b_inf [W], b_alpha [W], b_beta`` (a row of
+        wheeled Tables I-II).
+    source, ref
+        As in :class:`Sourced`.
+    """
+
+    inner: Annotated[list[float], Field(min_length=6, max_length=6)]
+    outer: Annotated[list[float], Field(min_length=6, max_length=6)]
+    source: Literal["identified", "paper", "assumption"]
+    ref: str = ""
+
+
+def _nonneg(v: Sourced | None, field: str) -> None:
+    if v is not None and v.value < 0.0:
+        raise ValueError(f"{field} must be >= 0 (a resistance or a power); got {v.value:g}")
+
+
+class TerrainEntry(_Section):
+    """The model's coefficients on one terrain, each with its source.
+
+    Contact-friction vehicles need ``mu`` and one of ``k_resistance_n`` / ``rolling_resistance``;
+    radius-fit vehicles need ``sides`` and may add ``rolling_resistance``.  ``chi`` and the
+    driver terms override the vehicle-wide values on this terrain.
+
+    Attributes
+    ----------
+    mu : Sourced, optional
+        Dynamic friction coefficient µ (tracked eq. 8), in [0, 5].
+    k_resistance_n : Sourced, optional
+        Traction-resistance constant K of tracked eq. (18) [N], >= 0.
+    rolling_resistance : Sourced, optional
+        Rolling-resistance coefficient ``C_rr`` of the weight [-], >= 0.
+    sides : SourcedSides, optional
+        Wheeled paper side coefficients (radius-fit).
+    chi : Sourced, optional
+        Efficiency index χ on this terrain, in (0, 1).
+    p_powerup_w, p_braking_w, k_nonregen_n : Sourced, optional
+        Driver terms on this terrain (tracked §III-C), >= 0.
+    heldout_mae_w : float, optional
+        Held-out mean absolute power error of an identified model on this terrain [W].
+    """
+
+    mu: Sourced | None = None
+    k_resistance_n: Sourced | None = None
+    rolling_resistance: Sourced | None = None
+    sides: SourcedSides | None = None
+    chi: Sourced | None = None
+    p_powerup_w: Sourced | None = None
+    p_braking_w: Sourced | None = None
+    k_nonregen_n: Sourced | None = None
+    heldout_mae_w: float | None = Field(default=None, ge=0.0)
+
+    @model_validator(mode="after")
+    def _ranges(self) -> TerrainEntry:
+        if self.mu is not None and not 0.0 <= self.mu.value <= 5.0:
+            raise ValueError(f"mu must be in [0, 5]; got {self.mu.value:g}")
+        if self.chi is not None and not 0.0 < self.chi.value < 1.0:
+            raise ValueError(f"chi must be in (0, 1) (skid-steer); got {self.chi.value:g}")
+        for name in ("k_resistance_n", "rolling_resistance", "p_powerup_w", "p_braking_w"):
+            _nonneg(getattr(self, name), name)
+        _nonneg(self.k_nonregen_n, "k_nonregen_n")
+        if self.k_resistance_n is not None and self.rolling_resistance is not None:
+            raise ValueError("give k_resistance_n or rolling_resistance, not both")
+        return self
+
+
+class Geometry(_Section):
+    """Geometry of the running gear (REP-103 body frame).
+
+    Attributes
+    ----------
+    track_gauge_m : float
+        Distance between the centrelines of the two sides [m], > 0.
+    wheelbase_m : float
+        Length of the ground contact along x: track contact length or front-to-rear wheel
+        distance [m], >= 0.
+    n_contact_points : int
+        Punctual contacts per side (tracked §III-C: sprocket, rollers, idler; wheels: 2).
+    wheel_radius_m : float or None
+        Wheel or sprocket radius [m] (for motor-level limits; not used by the power models).
+    chi : float
+        Efficiency index χ (tracked eq. 12), in (0, 1); terrains may override it.
+    icr_x_m, icr_offset_m : float
+        Longitudinal ICR coordinate and lateral shift of both ICRs [m].
+    """
+
+    track_gauge_m: float = Field(gt=0.0, le=20.0)
+    wheelbase_m: float = Field(default=0.0, ge=0.0, le=20.0)
+    n_contact_points: int = Field(default=2, ge=1, le=1000)
+    wheel_radius_m: float | None = Field(default=None, gt=0.0, le=5.0)
+    chi: float = Field(gt=0.0, lt=1.0)
+    icr_x_m: float = Field(default=0.0, ge=-1.0, le=1.0)
+    icr_offset_m: float = 0.0
+
+
+class Inertia(_Section):
+    """Mass properties (wheeled paper eqs. 1-4: ``M q̈`` and ``G(q)``).
+
+    Attributes
+    ----------
+    mass_kg : float
+        Mass [kg], > 0.
+    yaw_inertia_kgm2 : float or None
+        Moment of inertia about the vertical axis [kg m²]; None = a uniform box over the
+        footprint, ``M (L² + W²) / 12`` (an assumption).
+    """
+
+    mass_kg: float = Field(gt=0.0, le=1e5)
+    yaw_inertia_kgm2: float | None = Field(default=None, gt=0.0)
+
+
+class Limits(_Section):
+    """Speed, acceleration and power limits.
+
+    Attributes
+    ----------
+    top_speed_mps : float
+        Top side (track) speed [m/s], > 0.
+    accel_max_mps2 : float
+        Side-speed acceleration limit [m/s²], > 0.
+    p_side_max_w, p_motor_max_w, p_total_max_w : float or None
+        Power limit of each side (radius-fit ``|P_side|``), of each motor's mechanical power
+        (contact-friction) and of the total electrical power [W]; None = unlimited.
+    """
+
+    top_speed_mps: float = Field(gt=0.0, le=50.0)
+    accel_max_mps2: float = Field(gt=0.0, le=100.0)
+    p_side_max_w: float | None = Field(default=None, gt=0.0)
+    p_motor_max_w: float | None = Field(default=None, gt=0.0)
+    p_total_max_w: float | None = Field(default=None, gt=0.0)
+
+
+class Drivers(_Section):
+    """Motor-driver terms (tracked §II-C, §III-C) and drive efficiency.
+
+    Attributes
+    ----------
+    p_powerup_w : float
+        Constant power while the robot is on [W], >= 0 (the idle power).
+    p_braking_w : float
+        Braking effort when one side is stopped or opposed (tracked cases 3, 4) [W], >= 0.
+    k_nonregen_n : float
+        Non-regenerated power per ``|V_l| + |V_r|`` in case 2 [N], >= 0.
+    eta : float
+        Electrical efficiency η of the driver-motor sets (tracked eq. 20), in (0, 1].
+    regen_efficiency : float
+        Fraction of negative mechanical power (braking, descending) returned to the battery,
+        in [0, 1); 0 = non-regenerative drivers.
+    """
+
+    p_powerup_w: float = Field(default=0.0, ge=0.0)
+    p_braking_w: float = Field(default=0.0, ge=0.0)
+    k_nonregen_n: float = Field(default=0.0, ge=0.0)
+    eta: float = Field(default=1.0, gt=0.0, le=1.0)
+    regen_efficiency: float = Field(default=0.0, ge=0.0, lt=1.0)
+
+
+class VehicleFile(_Section):
+    """A vehicle file (see the module docstring for the layout).
+
+    Attributes
+    ----------
+    name : str
+        Stable name (lower case, ``-`` allowed), e.g. ``husky-a200``.
+    kind : {"tracked", "wheeled"}
+        The robot body.
+    power_model : {"contact-friction", "radius-fit"}
+        Tracked paper model with punctual contacts, or wheeled paper per-side fits.
+    description : str
+        Free text.
+    geometry, inertia, limits, drivers
+        Vehicle-wide sections.
+    default_terrain : str
+        Terrain used when none is given; a key of ``terrains``.
+    terrains : mapping of str to TerrainEntry
+        Per-terrain coefficients.
+    assumptions : list of str
+        Assumptions the values rest on, in words.
+    """
+
+    name: str = Field(pattern=r"^[a-z0-9][a-z0-9_.-]*$", max_length=64)
+    kind: Literal["tracked", "wheeled"]
+    power_model: Literal["contact-friction", "radius-fit"]
+    description: str = ""
+    geometry: Geometry
+    inertia: Inertia
+    limits: Limits
+    drivers: Drivers = Drivers()
+    default_terrain: str
+    terrains: Annotated[dict[str, TerrainEntry], Field(min_length=1)]
+    assumptions: list[str] = []
+
+    @model_validator(mode="after")
+    def _consistent(self) -> VehicleFile:
+        for name, entry in self.terrains.items():
+            if not _TERRAIN_NAME.match(name):
+                raise ValueError(f"terrain name {name!r} must be lower case (a-z, 0-9, _)")
+            _check_terrain(self, name, entry)
+        if self.default_terrain not in self.terrains:
+            raise ValueError(
+                f"default_terrain {self.default_terrain!r} is not in terrains "
+                f"({', '.join(sorted(self.terrains))})"
+            )
+        half = self.geometry.track_gauge_m / (2.0 * self.geometry.chi)
+        if not -half < self.geometry.icr_offset_m < half:
+            raise ValueError(f"geometry.icr_offset_m must be in (-{half:g}, {half:g})")
+        return self
+
+
+def _check_terrain(vf: VehicleFile, name: str, e: TerrainEntry) -> None:
+    """Model-specific completeness of a terrain entry."""
+    if vf.power_model == "contact-friction":
+        if e.mu is None:
+            raise ValueError(f"terrains.{name}.mu is required by the contact-friction model")
+        if e.k_resistance_n is None and e.rolling_resistance is None:
+            raise ValueError(
+                f"terrains.{name} needs k_resistance_n or rolling_resistance "
+                "(the straight-line resistance of the terrain)"
+            )
+        if e.sides is not None:
+            raise ValueError(f"terrains.{name}.sides belongs to the radius-fit model")
+    else:
+        if e.sides is None:
+            raise ValueError(f"terrains.{name}.sides is required by the radius-fit model")
+        for field in ("mu", "k_resistance_n", "p_braking_w", "k_nonregen_n"):
+            if getattr(e, field) is not None:
+                raise ValueError(f"terrains.{name}.{field} belongs to the contact-friction model")
+
+
+def limit_problem(vf: VehicleFile) -> tuple[tuple[str, str], str] | None:
+    """A power limit at or below the idle (power-up) power on some terrain, if any.
+
+    Returns
+    -------
+    ((section, field), message) or None
+        The offending field's key path and a one-line message naming the accepted range.
+    """
+    lim = vf.limits
+    for name, e in vf.terrains.items():
+        idle = e.p_powerup_w.value if e.p_powerup_w is not None else vf.drivers.p_powerup_w
+        for field, limit, share in (
+            ("p_total_max_w", lim.p_total_max_w, 1.0),
+            ("p_side_max_w", lim.p_side_max_w, 0.5),
+            ("p_motor_max_w", lim.p_motor_max_w, 0.5),
+        ):
+            if limit is not None and limit <= idle * share:
+                return ("limits", field), (
+                    f"{limit:g} W is at or below the idle power on {name} "
+                    f"({idle * share:g} W); accepted: > {idle * share:g}"
+                )
+    return None
+
+
+def _value(v: Sourced | None, default: float) -> float:
+    return default if v is None else v.value
+
+
+@dataclasses.dataclass(frozen=True, slots=True, eq=False)
+class Vehicle:
+    """A validated vehicle file: model parameters per terrain plus mass properties.
+
+    Compared and hashed by identity (it keys a cache of parameter sets).
+
+    Attributes
+    ----------
+    spec : VehicleFile
+        The validated document.
+    source : str
+        Where it was read from (a path, ``package:<name>.yaml`` or ``<mapping>``).
+    """
+
+    spec: VehicleFile
+    source: str = "<mapping>"
+
+    @property
+    def name(self) -> str:
+        """The vehicle's stable name."""
+        return self.spec.name
+
+    @property
+    def kind(self) -> str:
+        """``"tracked"`` or ``"wheeled"`` (the robot body)."""
+        return self.spec.kind
+
+    @property
+    def terrains(self) -> list[str]:
+        """Terrain names the file describes, sorted."""
+        return sorted(self.spec.terrains)
+
+    @property
+    def default_terrain(self) -> str:
+        """Terrain used when none is given."""
+        return self.spec.default_terrain
+
+    @property
+    def mass_kg(self) -> float:
+        """Mass [kg]."""
+        return self.spec.inertia.mass_kg
+
+    @property
+    def yaw_inertia_kgm2(self) -> float:
+        """Yaw moment of inertia [kg m²]; default a uniform box ``M (L² + W²) / 12``."""
+        i = self.spec.inertia
+        if i.yaw_inertia_kgm2 is not None:
+            return i.yaw_inertia_kgm2
+        g = self.spec.geometry
+        return i.mass_kg * (g.wheelbase_m**2 + g.track_gauge_m**2) / 12.0
+
+    @property
+    def eta(self) -> float:
+        """Drive efficiency η."""
+        return self.spec.drivers.eta
+
+    @property
+    def regen_efficiency(self) -> float:
+        """Fraction of negative mechanical power returned to the battery."""
+        return self.spec.drivers.regen_efficiency
+
+    def terrain(self, name: str | None = None) -> TerrainEntry:
+        """The terrain entry ``name`` (default terrain if None); InputError if unknown."""
+        key = self.default_terrain if name is None else name.lower()
+        try:
+            return self.spec.terrains[key]
+        except KeyError:
+            raise InputError(
+                f"unknown terrain preset {name!r} for {self.name}; "
+                f"accepted: {', '.join(self.terrains)}"
+            ) from None
+
+    def resistance_force_n(self, terrain: str | None = None) -> float:
+        """Straight-line resistance force of a terrain [N].
+
+        ``F = 2 K`` (contact-friction) or ``C_rr M g`` (radius-fit: the part added to the
+        paper's fit).
+        """
+        e = self.terrain(terrain)
+        if self.spec.power_model == "contact-friction":
+            return 2.0 * self._k_resistance(e)
+        return _value(e.rolling_resistance, 0.0) * self.mass_kg * GRAVITY_MPS2
+
+    def _k_resistance(self, e: TerrainEntry) -> float:
+        if e.k_resistance_n is not None:
+            return e.k_resistance_n.value
+        return _value(e.rolling_resistance, 0.0) * self.mass_kg * GRAVITY_MPS2 / 2.0
+
+    def params(
+        self, terrain: str | None = None, overrides: Mapping[str, Any] | None = None
+    ) -> TrackedParams | WheeledParams:
+        """Model parameters on a terrain, with optional field overrides.
+
+        Parameters
+        ----------
+        terrain : str, optional
+            A key of the file's ``terrains`` (case-insensitive); default ``default_terrain``.
+        overrides : mapping, optional
+            Field name -> value of :class:`~ecoplan.models.tracked.TrackedParams`
+            (contact-friction) or :class:`~ecoplan.models.wheeled.WheeledParams`
+            (radius-fit); side coefficients as mappings.
+
+        Returns
+        -------
+        TrackedParams or WheeledParams
+            Frozen, validated parameters named ``<vehicle>/<terrain>``.
+
+        Raises
+        ------
+        InputError
+            Unknown terrain or field, or a value out of range.
+        """
+        key = self.default_terrain if terrain is None else terrain.lower()
+        items = tuple(sorted((overrides or {}).items()))
+        try:
+            hash(items)
+        except TypeError:  # mapping-valued overrides (side coefficients): not cached
+            return _build_params(self, key, items)
+        return _cached_params(self, key, items)
+
+    def _values(self, key: str) -> tuple[type[TrackedParams] | type[WheeledParams], dict[str, Any]]:
+        s = self.spec
+        e = self.terrain(key)
+        g, lim, d = s.geometry, s.limits, s.drivers
+        values: dict[str, Any] = {
+            "name": f"{s.name}/{key}",
+            "mass_kg": s.inertia.mass_kg,
+            "track_gauge_m": g.track_gauge_m,
+            "chi": _value(e.chi, g.chi),
+            "top_track_speed_mps": lim.top_speed_mps,
+            "accel_max_mps2": lim.accel_max_mps2,
+            "p_powerup_w": _value(e.p_powerup_w, d.p_powerup_w),
+            "icr_x_m": g.icr_x_m,
+            "icr_offset_m": g.icr_offset_m,
+        }
+        if s.power_model == "contact-friction":
+            values.update(
+                contact_length_m=g.wheelbase_m,
+                n_contact_points=g.n_contact_points,
+                mu=_value(e.mu, 0.0),
+                k_resistance_n=self._k_resistance(e),
+                p_braking_w=_value(e.p_braking_w, d.p_braking_w),
+                k_nonregen_n=_value(e.k_nonregen_n, d.k_nonregen_n),
+                eta=d.eta,
+                p_total_max_w=lim.p_total_max_w,
+                p_motor_max_w=lim.p_motor_max_w,
+            )
+            return TrackedParams, values
+        assert e.sides is not None  # guaranteed by VehicleFile validation
+        extra = _value(e.rolling_resistance, 0.0) * s.inertia.mass_kg * GRAVITY_MPS2 / 2.0
+        inner, outer = (SideCoefficients(*c) for c in (e.sides.inner, e.sides.outer))
+        values.update(
+            inner=dataclasses.replace(inner, a_inf=inner.a_inf + extra),
+            outer=dataclasses.replace(outer, a_inf=outer.a_inf + extra),
+            p_side_max_w=lim.p_side_max_w,
+        )
+        return WheeledParams, values
+
+
+@functools.lru_cache(maxsize=512)
+def _cached_params(
+    vehicle: Vehicle, key: str, overrides: tuple[tuple[str, Any], ...]
+) -> TrackedParams | WheeledParams:
+    return _build_params(vehicle, key, overrides)
+
+
+def _build_params(
+    vehicle: Vehicle, key: str, overrides: tuple[tuple[str, Any], ...]
+) -> TrackedParams | WheeledParams:
+    cls, values = vehicle._values(key)
+    allowed = {f.name for f in dataclasses.fields(cls) if f.init}
+    for name, val in overrides:
+        if name not in allowed:
+            raise InputError(
+                f"unknown parameter {name!r} for {vehicle.name}; "
+                f"accepted: {', '.join(sorted(allowed))}"
+            )
+        if name in ("inner", "outer") and isinstance(val, Mapping):
+            base = dataclasses.asdict(values[name])
+            unknown = set(val) - set(base)
+            if unknown:
+                raise InputError(
+                    f"unknown coefficient(s) {sorted(unknown)} in {name}; accepted: {sorted(base)}"
+                )
+            val = SideCoefficients(**{**base, **val})
+        values[name] = val
+    try:
+        return cls(**values)
+    except TypeError as exc:  # wrong type for a field
+        raise InputError(f"invalid parameter for {vehicle.name}: {exc}") from None
+
+
+def vehicle_from_mapping(data: Any, source: str = "<mapping>") -> Vehicle:
+    """Validate a parsed vehicle document and wrap it.
+
+    Parameters
+    ----------
+    data : mapping
+        The document (as parsed from YAML).
+    source : str
+        Where it came from, kept for messages.
+
+    Returns
+    -------
+    Vehicle
+
+    Raises
+    ------
+    pydantic.ValidationError
+        The document does not follow :class:`VehicleFile`.  Readers of user files turn it
+        into a one-line :class:`~ecoplan.errors.InputError`
+        (:func:`ecoplan.io.vehicles.load_vehicle`).
+    InputError
+        A power limit at or below the idle power (:func:`limit_problem`).
+    """
+    spec = VehicleFile.model_validate(data)
+    problem = limit_problem(spec)
+    if problem is not None:
+        (section, field), msg = problem
+        raise InputError(f"{source}: {section}.{field}: {msg}")
+    return Vehicle(spec, source)
+
+
+def shipped_names() -> list[str]:
+    """Names of the vehicle files shipped in the package, sorted."""
+    root = importlib.resources.files("ecoplan.models").joinpath(_PACKAGE_DIR)
+    return sorted(p.name[:-5] for p in root.iterdir() if p.name.endswith(".yaml"))
+
+
+@functools.cache
+def shipped_vehicle(name: str) -> Vehicle:
+    """A vehicle file shipped with the package, by name.
+
+    Raises
+    ------
+    InputError
+        No shipped file has that name (the message lists the accepted names).
+    """
+    if not isinstance(name, str) or name not in shipped_names():
+        raise InputError(f"unknown vehicle preset {name!r}; accepted: {', '.join(shipped_names())}")
+    res = importlib.resources.files("ecoplan.models").joinpath(_PACKAGE_DIR, f"{name}.yaml")
+    data = yaml.safe_load(res.read_text(encoding="utf-8"))
+    return vehicle_from_mapping(data, f"package:{name}.yaml")
