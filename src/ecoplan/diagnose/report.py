@@ -41,6 +41,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ecoplan.errors import InputError
+
 if TYPE_CHECKING:
     from ecoplan.diagnose.pipeline import Diagnosis
 
@@ -139,11 +141,11 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
 
 
 def validate_json(obj: Any) -> None:
-    """Raise ``ValueError`` naming the first field that breaks the stable JSON shape."""
+    """Raise :class:`~ecoplan.errors.InputError` naming the first field that breaks the shape."""
 
     def need(cond: bool, what: str) -> None:
         if not cond:
-            raise ValueError(f"diagnosis JSON: {what}")
+            raise InputError(f"diagnosis JSON: {what}")
 
     def is_num(x: Any) -> bool:
         return isinstance(x, int | float) and not isinstance(x, bool)
@@ -190,7 +192,7 @@ def json_report(d: Diagnosis, extra: dict[str, Any] | None = None) -> dict[str, 
     if extra:
         clash = set(extra) & set(obj)
         if clash:
-            raise ValueError(f"diagnosis JSON: extra keys {sorted(clash)} clash with report keys")
+            raise InputError(f"diagnosis JSON: extra keys {sorted(clash)} clash with report keys")
         obj.update(extra)
     validate_json(obj)
     return obj
