@@ -345,7 +345,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
         raise EcoplanError(
             "diagnosis is not available in this build (ecoplan.diagnose.pipeline)"
         ) from None
-    if args.json is not None:
+    if args.json is not None and args.json != "-":
         target = Path(args.json)
         if target.suffix.lower() != ".json" or any(
             target.resolve() == Path(str(log)).resolve() for log in args.logs
@@ -572,7 +572,9 @@ def build_parser() -> argparse.ArgumentParser:
     diag.add_argument("logs", nargs="+", type=Path, metavar="LOG")
     diag.add_argument("--vehicle", required=True, help="vehicle preset (e.g. auriga-beta-wide)")
     diag.add_argument("--terrain", help="terrain preset")
-    diag.add_argument("--json", metavar="FILE", help="write the diagnosis JSON here")
+    diag.add_argument(
+        "--json", metavar="FILE", help="write the diagnosis JSON here ('-': on stdout)"
+    )
     diag.add_argument("--out", metavar="DIR", help="write plots and the summary here")
     diag.add_argument(
         "--scenario",
