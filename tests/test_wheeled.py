@@ -174,3 +174,19 @@ def test_blocked_evaluation_is_independent_of_the_block_boundaries() -> None:
         one = p.power(vl[i], vr[i])
         assert float(out.left_w[i]) == float(one.left_w)
         assert float(out.total_w[i]) == float(one.total_w)
+
+
+@pytest.mark.parametrize("terrain", ["asphalt", "vinyl"])
+def test_spot_turn_splits_the_two_fits_evenly(terrain: str) -> None:
+    # On the spot vx = 0: reversing (v, -v) gives (-v, v), the mirrored turn, so no side can
+    # be the inner one for both; each side draws the mean of b(0) inner and outer
+    # (eqs. 12, 15 at r = 0: b(0) = b_inf + b_alpha; a(r) v vanishes with v = 0).
+    inner, outer = {
+        "asphalt": ((0.006, 500.0), (0.03397, 300.0)),  # Table I: (b_inf, b_alpha)
+        "vinyl": ((-0.004, 250.0), (0.01263, 35.32)),  # Table II
+    }[terrain]
+    mean = 0.5 * ((inner[0] + inner[1]) + (outer[0] + outer[1]))
+    p = _p(terrain).power(0.5, -0.5)
+    q = _p(terrain).power(-0.5, 0.5)
+    for side in (p.left_w, p.right_w, q.left_w, q.right_w):
+        assert float(side) == pytest.approx(mean, rel=1e-9)

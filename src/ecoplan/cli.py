@@ -455,7 +455,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     from ecoplan.app.outdir import prepare_out_dir
-    from ecoplan.sim.replay import run_demo
+    from ecoplan.experiments.ab_replay import run_demo
 
     out = _out(args)
     folder = prepare_out_dir(args.out, force=args.force)

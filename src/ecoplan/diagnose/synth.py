@@ -87,7 +87,7 @@ Measured by :func:`magnitude_survey` (min / median / max over seeds 0-11, W)::
     terrain_patch                5.7 / 14 / 40    17 / 31 / 118    34 / 55 / 258
     slope                        18 / 27 / 34     40 / 55 / 69     79 / 103 / 127
     speed_dependent_resistance   19 / 25 / 36     37 / 45 / 68     110 / 136 / 204
-    regeneration                 12 / 18 / 24     37 / 56 / 74     106 / 143 / 185
+    regeneration                 3.8 / 5.3 / 8.8  22 / 30 / 50     50 / 68 / 113
     power_saturation             1.7 / 7.4 / 23   24 / 40 / 82     97 / 147 / 216
     sensor_delay                 6.1 / 9.3 / 11   18 / 28 / 34     43 / 66 / 79
     efficiency_drift             12 / 16 / 21     44 / 55 / 72     65 / 82 / 107
@@ -259,10 +259,13 @@ MAGNITUDES: dict[str, dict[str, dict[str, _Range]]] = {
         "moderate": {"c_per_kg": (0.30, 0.40)},
         "large": {"c_per_kg": (0.90, 1.20)},
     },
+    # ranges doubled (were 0.15-0.25 / 0.45-0.60) when the dragged motor's negative power
+    # stopped jumping at the first speed difference (issue #11 item 3): the heading
+    # controller's small corrections no longer generate ~500 W each
     "regeneration": {
         "small": {"fraction": (0.05, 0.08)},
-        "moderate": {"fraction": (0.15, 0.25)},
-        "large": {"fraction": (0.45, 0.60)},
+        "moderate": {"fraction": (0.30, 0.45)},
+        "large": {"fraction": (0.75, 1.00)},
     },
     # the limit: 98 % of a quantile of the session's base power while moving
     "power_saturation": {
