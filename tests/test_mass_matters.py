@@ -53,3 +53,27 @@ def test_shipped_preset_masses_enter_the_terms() -> None:
     p = shipped_vehicle("pioneer-3at").params()
     ramped = path_cost([[0, 0], [5, 0]], p, 0.4, ramps=True)
     assert ramped.breakdown_j["inertial_w"] == pytest.approx(30.0 * 0.16 / 2, rel=1e-12)
+
+
+def test_scenario_simulation_inertial_adds_the_mass_term(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    from pathlib import Path
+
+    from ecoplan.app.run import run_case
+    from ecoplan.app.scenario import load_scenario
+
+    scenarios = Path(__file__).resolve().parents[1] / "scenarios"
+    text = (
+        (scenarios / "own_robot.yaml")
+        .read_text()
+        .replace("file: vehicles/robot50.yaml", f"file: {scenarios / 'vehicles' / 'robot50.yaml'}")
+    )
+    results = {}
+    for flag in (False, True):
+        path = tmp_path / f"s{flag}.yaml"
+        path.write_text(text + f"simulation: {{inertial: {str(flag).lower()}}}\n")
+        results[flag] = run_case(load_scenario(path).base_case())
+    plain, inertial = results[False], results[True]
+    extra = inertial.energy_j - plain.energy_j
+    assert extra == pytest.approx(inertial.breakdown_j["inertial_w"], rel=1e-9)
+    # at least one start from rest to the cruise speed 0.6 m/s: M v^2 / (2 eta)
+    assert extra >= 50.0 * 0.6**2 / 2 / 0.9 * 0.95
