@@ -79,7 +79,7 @@ from ecoplan.energy.result import PathCost, Violation
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
-from ecoplan.models.inertial import kinetic_energy_j
+from ecoplan.models.inertial import Elevation, climb_energy_along_j, kinetic_energy_j
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
 from ecoplan.models.tracked import TrackedParams
@@ -183,6 +183,7 @@ def path_cost(
     initial_heading_rad: float | None = None,
     turn: TurnMode | float | HeadingController = "auto",
     ramps: bool = False,
+    elevation: Elevation | None = None,
 ) -> PathCost:
     """Energy and feasibility of a waypoint path executed by the vehicle (module doc).
 
@@ -210,6 +211,11 @@ def path_cost(
         and ``ramps`` is implied).
     ramps : bool
         Account for acceleration from and to rest (module doc).
+    elevation : callable, optional
+        Ground elevation ``z(x, y)`` [m]: the climbs along the waypoint polyline cost
+        ``M g Δz / η`` (:func:`~ecoplan.models.inertial.climb_energy_along_j`; breakdown
+        key ``grade_w``; descents not credited).  Not used with a trajectory speed or a
+        heading-controller ``turn``.
 
     Returns
     -------
@@ -270,6 +276,14 @@ def path_cost(
         ramp = (bool(stop_at[i]) and ramps, bool(stop_at[i + 1]) and ramps)
         seg = (pts[i], pts[i + 1], float(v_seg[i]), tangent[i])
         _add_segment(acc, vehicle, world, seg, ramp, i, violations)
+    if elevation is not None:  # G(q) of wheeled eqs. 1-4: the climbs of every segment
+        p = params_on(vehicle, terrains[0])
+        eta = p.eta if isinstance(p, TrackedParams) else 1.0
+        climb = sum(
+            climb_energy_along_j(elevation, pts[i], pts[i + 1], p.mass_kg, eta)
+            for i in range(n_seg)
+        )
+        acc.energy["grade_w"] = acc.energy.get("grade_w", 0.0) + climb
     return acc.result(sum(abs(tp.dpsi_rad) for tp in turns), violations, turns)
 
 
