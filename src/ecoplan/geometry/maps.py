@@ -24,7 +24,7 @@ The terrain layer is an integer label per cell indexing :attr:`GridMap.terrain_n
 (``None``: the vehicle's default terrain).  :class:`GridMap` answers the same queries as
 :class:`~ecoplan.geometry.world.World` (``is_free``, ``segment_free``, ``polyline_free``,
 ``terrain_at``, ``split_by_terrain``, ``check_point``), so the cost functions of
-:mod:`ecoplan.cost` evaluate paths on it.  Segments are checked by sampling at a quarter
+:mod:`ecoplan.energy` evaluate paths on it.  Segments are checked by sampling at a quarter
 of a cell, so a segment is "free" when every sample lies in a free cell.
 
 >>> import numpy as np

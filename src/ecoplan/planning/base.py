@@ -145,8 +145,9 @@ class Deadline:
         """Raise :class:`~ecoplan.errors.PlanningError` if the budget is spent."""
         if self.expired:
             raise PlanningError(
-                f"time budget of {self.budget_s:g} s exhausted while {what}; "
-                "give a larger time_budget_s or a simpler map"
+                f"time budget of {self.budget_s:g} s exhausted while {what}; raise it "
+                "with planner.time_s in the scenario, --time-budget on the command line "
+                "or time_budget_s in the planner options"
             )
 
 

@@ -1,0 +1,260 @@
+"""How the energy lattice planner scales with map size and obstacle count.
+
+Run: ``.venv/bin/python benchmarks/lattice_scale.py [--seeds 10] [--sizes 50 100 200]
+[--obstacles 50 200 400] [--out DIR] [--quick]``
+
+Maps: square sites of ``size`` metres at 0.1 m resolution (a 200 m site is 2000 x 2000
+cells), ``n`` random obstacles (rectangles 1-10 m a side and discs 0.5-3 m in radius,
+rasterised), four terrain bands (labels 0-3 across x), footprint inflation 0.5 m (the
+inflation is part of the map preparation, timed apart), start (3, 3) and goal
+(size-3, size-3) with 4 m clear around each.  Terrain presets per label: Auriga-β
+(narrow belts, tracked, 0.5 m/s) alternates marble and asphalt; the Pioneer 3-AT
+(wheeled, 0.4 m/s) asphalt and vinyl -- the only presets the vehicles have today, so the
+four labels carry two distinct terrains each.  The Husky is run when a ``husky`` preset
+exists (it does not on this branch; the output says so).
+
+Per run: map preparation (inflation) time, lattice build time (costing every primitive
+of every node), query time (Dijkstra + smoothing + full evaluation), energy, feasibility.
+On the largest size and obstacle count the planner's energy is compared with a finer
+reference: the same lattice at half the node spacing (``cell_m / 2``) and a 60 s budget.
+
+Targets (issue #14 item 3), printed met or not per vehicle: on the 200 m site with >= 200
+obstacles, planning time (build + query) <= 1 s median and <= 3 s at the 95th
+percentile; energy within 2 % of the finer reference on the median.  Both the query-only
+and the build + query times are printed: the build is per map and vehicle, a query per
+start/goal.  Timing is wall clock on a shared machine: ratios within one run are
+comparable, absolute times depend on the load.
+
+Outputs in ``--out`` (default ``reports/lattice_scale``): ``lattice_scale.csv`` and
+``lattice_scale.png`` (query and build + query time against map size, one line per
+obstacle count and vehicle).
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from scipy import ndimage
+
+from ecoplan.energy.objective import EnergyCost
+from ecoplan.errors import EcoplanError
+from ecoplan.geometry.maps import GridMap
+from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions
+from ecoplan.presets import VehicleSpec, vehicle_names
+
+RES_M = 0.1
+INFLATION_M = 0.5
+VEHICLES: dict[str, tuple[float, tuple[str, str, str, str]]] = {
+    "auriga-beta-narrow": (0.5, ("marble", "asphalt", "marble", "asphalt")),
+    "pioneer-3at": (0.4, ("asphalt", "vinyl", "asphalt", "vinyl")),
+    "husky": (0.5, ("asphalt", "grass", "gravel", "sand")),
+}
+
+
+def make_site(size_m: float, n_obstacles: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Occupancy (0/100) and terrain labels of a random site (module doc)."""
+    rng = np.random.default_rng(seed)
+    n = round(size_m / RES_M)
+    occ = np.zeros((n, n), dtype=np.int8)
+    yy, xx = np.ogrid[:n, :n]
+    for k in range(n_obstacles):
+        cx, cy = rng.uniform(0.0, size_m, 2)
+        if k % 2 == 0:
+            w, h = rng.uniform(1.0, 10.0, 2)
+            c0, c1 = int((cx - w / 2) / RES_M), int((cx + w / 2) / RES_M)
+            r0, r1 = int((cy - h / 2) / RES_M), int((cy + h / 2) / RES_M)
+            occ[max(r0, 0) : max(r1, 0), max(c0, 0) : max(c1, 0)] = 100
+        else:
+            r = rng.uniform(0.5, 3.0) / RES_M
+            i0, i1 = max(int(cy / RES_M - r) - 1, 0), min(int(cy / RES_M + r) + 2, n)
+            j0, j1 = max(int(cx / RES_M - r) - 1, 0), min(int(cx / RES_M + r) + 2, n)
+            sub = (yy[i0:i1] - cy / RES_M) ** 2 + (xx[:, j0:j1] - cx / RES_M) ** 2 <= r * r
+            occ[i0:i1, j0:j1][sub] = 100
+    clear = round(4.0 / RES_M)
+    c = round(3.0 / RES_M)
+    occ[max(c - clear, 0) : c + clear, max(c - clear, 0) : c + clear] = 0
+    occ[n - c - clear : n - c + clear, n - c - clear : n - c + clear] = 0
+    labels = np.minimum(np.arange(n) * 4 // n, 3).astype(np.uint8)[None, :].repeat(n, axis=0)
+    return occ, labels
+
+
+def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) -> dict[str, Any]:
+    speed, terrains = VEHICLES[name]
+    occ, labels = make_site(size_m, n_obs, seed)
+    t0 = time.perf_counter()
+    grid = GridMap(occ, RES_M, inflation_m=INFLATION_M, terrain=labels, terrain_names=terrains)
+    prep = time.perf_counter() - t0
+    cost = EnergyCost(VehicleSpec.of(name), speed)
+    start, goal = (3.0, 3.0), (size_m - 3.0, size_m - 3.0)
+    row: dict[str, Any] = {
+        "vehicle": name, "size_m": size_m, "obstacles": n_obs, "seed": seed,
+        "prep_s": prep,
+    }  # fmt: skip
+    comp, _ = ndimage.label(~grid.blocked)
+    (si, sj), (gi, gj) = (grid.cell_of(*start), grid.cell_of(*goal))
+    if comp[si, sj] == 0 or comp[si, sj] != comp[gi, gj]:
+        row.update(disconnected=True)  # no path exists on the inflated grid: not a failure
+        return row
+    try:
+        planner = LatticePlanner(grid, cost, LatticePlannerOptions(time_budget_s=30.0))
+        res = planner.plan(start, goal)
+    except EcoplanError as exc:
+        row.update(error=str(exc))
+        return row
+    row.update(
+        cell_m=planner.cell_m_,
+        build_s=planner.build_time_s_,
+        query_s=res.planning_time_s,
+        total_s=planner.build_time_s_ + res.planning_time_s,
+        energy_j=res.best.energy_j,
+        feasible=res.best.cost.feasible,
+        length_m=res.best.cost.length_m,
+    )
+    if reference:
+        opts = LatticePlannerOptions(cell_m=planner.cell_m_ / 2.0, time_budget_s=60.0)
+        try:
+            ref = LatticePlanner(grid, cost, opts).plan(start, goal)
+            row.update(ref_energy_j=ref.best.energy_j, ratio=res.best.energy_j / ref.best.energy_j)
+        except EcoplanError as exc:
+            row.update(ref_error=str(exc))
+    return row
+
+
+def _pct(values: list[float], q: float) -> float:
+    return float(np.percentile(values, q)) if values else math.nan
+
+
+def plot(rows: list[dict[str, Any]], path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    for ax, key, title in zip(
+        axes, ("query_s", "total_s"), ("query (map prepared)", "build + query"), strict=True
+    ):
+        for (veh, n_obs), style in zip(
+            sorted({(r["vehicle"], r["obstacles"]) for r in rows}),
+            [f"{m}-" for m in "os^vD<>"] * 4,
+            strict=False,
+        ):
+            sizes = sorted({r["size_m"] for r in rows})
+            med = [
+                statistics.median(
+                    [r[key] for r in rows if r["vehicle"] == veh and r["obstacles"] == n_obs
+                     and r["size_m"] == s and key in r]
+                    or [math.nan]
+                )
+                for s in sizes
+            ]  # fmt: skip
+            ax.plot(sizes, med, style, label=f"{veh}, {n_obs} obstacles")
+        ax.axhline(1.0, color="k", lw=0.8, ls="--")
+        ax.set_title(f"lattice planner: {title}")
+        ax.set_xlabel("site size [m] (square, 0.1 m cells)")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("median time [s]")
+    axes[1].legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--sizes", type=float, nargs="+", default=[50.0, 100.0, 200.0])
+    ap.add_argument("--obstacles", type=int, nargs="+", default=[50, 200, 400])
+    ap.add_argument("--out", type=Path, default=Path("reports/lattice_scale"))
+    ap.add_argument("--quick", action="store_true", help="2 seeds, sizes 30 and 60 m")
+    args = ap.parse_args(argv)
+    if args.quick:
+        args.seeds, args.sizes, args.obstacles = 2, [30.0, 60.0], [20, 60]
+    args.out.mkdir(parents=True, exist_ok=True)
+    names = [n for n in VEHICLES if n in vehicle_names()]
+    missing = [n for n in VEHICLES if n not in names]
+    if missing:
+        print(f"not run (no preset on this branch): {', '.join(missing)}")
+    big = (max(args.sizes), max(args.obstacles))
+    rows: list[dict[str, Any]] = []
+    for name in names:
+        for size in args.sizes:
+            for n_obs in args.obstacles:
+                for seed in range(args.seeds):
+                    ref = (size, n_obs) == big
+                    rows.append(run_one(name, size, n_obs, seed, ref))
+    keys = sorted({k for r in rows for k in r})
+    with open(args.out / "lattice_scale.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
+    head = ("vehicle", "size", "obst", "cell", "prep", "build", "query", "total", "p95")
+    print(f"{head[0]:20s} " + " ".join(f"{h:>6s}" for h in head[1:]) + " feasible fails")
+    for name in names:
+        for size in args.sizes:
+            for n_obs in args.obstacles:
+                key = (name, size, n_obs)
+                sel = [
+                    r
+                    for r in rows
+                    if (r["vehicle"], r["size_m"], r["obstacles"]) == key
+                    and not r.get("disconnected")
+                ]
+                ok = [r for r in sel if "error" not in r]
+                if not ok:
+                    why = sel[0].get("error") if sel else "every map disconnected"
+                    print(f"{name:20s} {size:5.0f} {n_obs:5d}  no result: {why}")
+                    continue
+                med = {
+                    k: statistics.median(r[k] for r in ok)
+                    for k in ("prep_s", "build_s", "query_s", "total_s")
+                }
+                p95 = _pct([r["total_s"] for r in ok], 95)
+                n_feas = sum(bool(r["feasible"]) for r in ok)
+                print(
+                    f"{name:20s} {size:6.0f} {n_obs:6d} {ok[0]['cell_m']:6.2f} "
+                    f"{med['prep_s']:6.2f} {med['build_s']:6.2f} {med['query_s']:6.2f} "
+                    f"{med['total_s']:6.2f} {p95:6.2f} {n_feas:4d}/{len(ok):<3d} "
+                    f"{len(sel) - len(ok):5d}"
+                )
+    n_disc = sum(bool(r.get("disconnected")) for r in rows)
+    print(f"({n_disc} maps skipped: start and goal not connected on the inflated grid)")
+    print(
+        f"\ntargets ({big[0]:g} m site, {big[1]} obstacles; issue #14 item 3 asks 200 m, >= 200):"
+    )
+    for name in names:
+        sel = [r for r in rows if r["vehicle"] == name and r["size_m"] == big[0]
+               and r["obstacles"] == big[1] and "error" not in r
+               and not r.get("disconnected")]  # fmt: skip
+        if not sel:
+            print(f"  {name}: no successful run")
+            continue
+        tot = [r["total_s"] for r in sel]
+        qry = [r["query_s"] for r in sel]
+        ratios = [r["ratio"] for r in sel if "ratio" in r]
+        med_t, p95_t = statistics.median(tot), _pct(tot, 95)
+        med_r = statistics.median(ratios) if ratios else math.nan
+        ok_med = "met" if med_t <= 1 else "NOT met"
+        ok_p95 = "met" if p95_t <= 3 else "NOT met"
+        print(
+            f"  {name}: build+query median {med_t:.2f} s (<= 1 s: {ok_med}), "
+            f"p95 {p95_t:.2f} s (<= 3 s: {ok_p95}); "
+            f"query only median {statistics.median(qry):.2f} s, p95 {_pct(qry, 95):.2f} s; "
+            f"energy / finer reference median {med_r:.4f} "
+            f"(within 2 %: {'met' if abs(med_r - 1) <= 0.02 else 'NOT met'}; n={len(ratios)})"
+        )  # fmt: skip
+    plot(rows, args.out / "lattice_scale.png")
+    print(f"wrote {args.out / 'lattice_scale.csv'} and {args.out / 'lattice_scale.png'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,160 @@
+"""Energy lattice planner on occupancy grids (ecoplan.planning.lattice).
+
+Collision checks are recomputed here from the grid arrays (our own cell index
+arithmetic, dense sampling); (v, r) feasibility by ecoplan.models.limits (wheeled paper
+§III-C power limits, tracked eq. 5); the straight-line energy bound from the power model
+``P_T(v, v) / v`` per metre (tracked eq. 9 with w = 0) written out here.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ecoplan.app.scenario.load import load_scenario
+from ecoplan.energy.objective import EnergyCost, LengthCost
+from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.maps import GridMap, rasterise_world
+from ecoplan.geometry.world import PointInObstacleError
+from ecoplan.models.limits import feasible
+from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
+from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions, PenaltyWeights
+from ecoplan.presets import VehicleSpec
+
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
+VEHICLES = [("auriga-beta-narrow", 0.5), ("pioneer-3at", 0.4)]
+
+
+def _random_rects(seed: int, n: int = 300) -> list[tuple[int, int, int, int]]:
+    """Obstacle rectangles (x0, y0, x1, y1) in cells, clear of the two corners."""
+    rng = np.random.default_rng(seed)
+    rects = []
+    for _ in range(25):
+        x, y = (int(v) for v in rng.integers(30, n - 70, 2))
+        w, h = (int(v) for v in rng.integers(5, 40, 2))
+        rects.append((x, y, x + w, y + h))
+    return rects
+
+
+def _random_grid(seed: int, n: int = 300, res: float = 0.1) -> GridMap:
+    occ = np.zeros((n, n), dtype=np.int8)
+    for x0, y0, x1, y1 in _random_rects(seed, n):
+        occ[y0:y1, x0:x1] = 100
+    return GridMap(occ, res, inflation_m=0.4)
+
+
+def _blocked_at(grid: GridMap, pts: np.ndarray) -> np.ndarray:
+    col = np.floor((pts[:, 0] - grid.origin_xy_m[0]) / grid.resolution_m).astype(int)
+    row = np.floor((pts[:, 1] - grid.origin_xy_m[1]) / grid.resolution_m).astype(int)
+    ny, nx = grid.blocked.shape
+    outside = (row < 0) | (row >= ny) | (col < 0) | (col >= nx)
+    out = np.ones(len(pts), dtype=bool)
+    out[~outside] = grid.blocked[row[~outside], col[~outside]]
+    return out
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.parametrize(("name", "speed"), VEHICLES)
+def test_routes_are_collision_free_and_feasible(seed: int, name: str, speed: float) -> None:
+    grid = _random_grid(seed)
+    spec = VehicleSpec.of(name)
+    opts = LatticePlannerOptions(time_budget_s=30.0)
+    res = LatticePlanner(grid, EnergyCost(spec, speed), opts).plan((1.5, 1.5), (28.5, 28.5))
+    plan = res.best
+    wps = plan.waypoints
+    # dense samples of the polyline, 1 cm apart: the robot disc (inflation_m) keeps
+    # clear of every obstacle rectangle and of the map edge (distances computed here)
+    pts = np.concatenate(
+        [a + np.linspace(0.0, 1.0, math.ceil(np.hypot(*(b - a)) / 0.01) + 1)[:, None] * (b - a)
+         for a, b in itertools.pairwise(wps)]
+    )  # fmt: skip
+    for x0, y0, x1, y1 in _random_rects(seed):
+        dx = np.maximum(np.maximum(x0 * 0.1 - pts[:, 0], pts[:, 0] - x1 * 0.1), 0.0)
+        dy = np.maximum(np.maximum(y0 * 0.1 - pts[:, 1], pts[:, 1] - y1 * 0.1), 0.0)
+        assert np.hypot(dx, dy).min() >= grid.inflation_m
+    assert np.minimum(pts, 30.0 - pts).min() >= grid.inflation_m
+    assert not _blocked_at(grid, wps).any()
+    # every turn is executable: arcs at a feasible (v, r), spot turns only when the
+    # evaluation found them feasible; the full evaluation has no violation
+    assert plan.cost.feasible, [v.message() for v in plan.cost.violations]
+    params = spec.on(None)
+    for tp in plan.cost.turns:
+        if tp.mode == "arc":
+            assert bool(feasible(params, tp.speed_mps, tp.radius_m)), tp
+    assert plan.speed_mps == speed
+    assert res.stats["lattice_cost"] > 0.0
+
+
+@pytest.mark.parametrize(("name", "speed"), VEHICLES)
+def test_open_floor_energy_is_near_the_straight_line_bound(name: str, speed: float) -> None:
+    grid = GridMap(np.zeros((200, 300), dtype=np.int8), 0.1, inflation_m=0.3)
+    spec = VehicleSpec.of(name)
+    s, g = (1.0, 1.2), (28.0, 17.3)
+    res = LatticePlanner(grid, EnergyCost(spec, speed)).plan(s, g)
+    p = spec.on(None)
+    per_m = float(p.power(speed, speed).total_w) / speed  # P_T(v, v) / v [J/m]
+    bound = per_m * math.hypot(g[0] - s[0], g[1] - s[1])
+    assert res.best.energy_j >= bound * (1 - 1e-9)
+    # any-angle smoothing makes the open-floor route the straight line
+    assert res.best.energy_j <= 1.01 * bound
+    assert res.best.n_waypoints == 2
+
+
+@pytest.mark.parametrize("path", sorted(SCENARIOS.glob("*.yaml")), ids=lambda p: p.stem)
+def test_lattice_not_worse_than_graph_planner_on_shipped_scenarios(path: Path) -> None:
+    sc = load_scenario(path)
+    v = sc.spec.speed.v_mps or 0.5
+    s, g = sc.spec.start.xy, sc.goal_xy
+    graph = GraphPlanner(
+        sc.world, EnergyCost(sc.vehicle, v, world=sc.world), GraphPlannerOptions(time_budget_s=60)
+    ).plan(s, g)
+    grid = rasterise_world(sc.world, 0.05)
+    opts = LatticePlannerOptions(time_budget_s=60)
+    lat = LatticePlanner(grid, EnergyCost(sc.vehicle, v), opts).plan(s, g)
+    assert lat.best.cost.feasible
+    # the rasterised map is at most one 5 cm cell more conservative than the polygons
+    assert lat.best.energy_j <= 1.02 * graph.best.energy_j
+
+
+def test_terrain_penalty_steers_the_route() -> None:
+    # a cheap detour (label 0) around a costly band (label 1) across the direct route
+    occ = np.zeros((200, 300), dtype=np.int8)
+    labels = np.zeros((200, 300), dtype=np.uint8)
+    labels[:150, 130:170] = 1
+    grid = GridMap(occ, 0.1, terrain=labels, terrain_names=("asphalt", "vinyl"))
+    spec = VehicleSpec.of("pioneer-3at")
+    cost = LengthCost(spec, 0.4)
+    s, g = (2.0, 2.0), (28.0, 2.0)
+    short = LatticePlanner(grid, cost).plan(s, g).best
+    weights = PenaltyWeights(terrain_penalty={"vinyl": 10.0})
+    around = LatticePlanner(grid, cost, weights=weights).plan(s, g).best
+    assert short.cost.length_m == pytest.approx(26.0, rel=1e-3)
+    # round the band's end (y >= 15 m between x = 13 and 17 m): at least
+    # 2 hypot(11, 13) + 4 = 38.06 m; allow the corners to clip the band by a little
+    assert around.cost.length_m > 36.0
+    pts = np.concatenate(
+        [a + np.linspace(0.0, 1.0, 1001)[:, None] * (b - a)
+         for a, b in itertools.pairwise(around.waypoints)]
+    )  # fmt: skip
+    on_band = (pts[:, 1] < 15.0) & (pts[:, 0] > 13.0) & (pts[:, 0] < 17.0)
+    assert on_band.mean() < 0.1
+
+
+def test_bad_inputs_are_one_line_errors() -> None:
+    grid = _random_grid(0)
+    cost = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5)
+    planner = LatticePlanner(grid, cost)
+    with pytest.raises(PointInObstacleError, match="start"):
+        planner.plan((0.05, 0.05), (28.5, 28.5))
+    with pytest.raises(InputError, match="headings must be 8 or 16"):
+        LatticePlannerOptions(headings=12)
+    with pytest.raises(InputError, match="GridMap"):
+        LatticePlanner("map.yaml", cost)  # type: ignore[arg-type]
+    walled = np.zeros((100, 100), dtype=np.int8)
+    walled[:, 50] = 100
+    with pytest.raises(PlanningError, match="no lattice path"):
+        LatticePlanner(GridMap(walled, 0.1), cost).plan((1.0, 5.0), (9.0, 5.0))
