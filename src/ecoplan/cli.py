@@ -570,7 +570,9 @@ def build_parser() -> argparse.ArgumentParser:
         "bag (with --topics, or <bag>.topics.yaml beside it).",
     )
     diag.add_argument("logs", nargs="+", type=Path, metavar="LOG")
-    diag.add_argument("--vehicle", required=True, help="vehicle preset (e.g. auriga-beta-wide)")
+    diag.add_argument(
+        "--vehicle", required=True, help="vehicle preset (e.g. auriga-beta-wide) or vehicle file"
+    )
     diag.add_argument("--terrain", help="terrain preset")
     diag.add_argument(
         "--json", metavar="FILE", help="write the diagnosis JSON here ('-': on stdout)"

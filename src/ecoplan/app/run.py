@@ -410,7 +410,11 @@ def simulate_case(
         plan.waypoints,
         ctrl,
         start_yaw_rad=spec.start.yaw_rad,
-        config=SimConfig(dt_s=spec.simulation.dt_s, t_max_s=spec.simulation.t_max_s),
+        config=SimConfig(
+            dt_s=spec.simulation.dt_s,
+            t_max_s=spec.simulation.t_max_s,
+            inertial=spec.simulation.inertial,
+        ),
     )
     return _account(sc, case.name, plan, sim)
 
@@ -459,6 +463,8 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
             idx = np.flatnonzero(np.asarray(terrain) == terr)
             pw = sc.vehicle.on(terr).power(sim.v_left[idx], sim.v_right[idx])
             p_total[idx] = pw.total_w
+            if "inertial_w" in comps:  # mass terms: the same on every terrain
+                p_total[idx] += comps["inertial_w"][idx]
             p_left[idx] = pw.left_w
             p_right[idx] = pw.right_w
             for k, v in pw.components().items():

@@ -45,10 +45,9 @@ Decisions where the issue is silent
   over the ramp, and each on-the-spot turn follows the drive law too
   (:func:`~ecoplan.energy.turns.spot_turn_profile_energy`: tracks ramp at the limit, a
   triangle yaw-rate profile for short turns).  Ramps are off by default (the paper's
-  model is static).  Changes of speed between segments are not ramped.
-  With ramps each start also costs the kinetic energy ``M v² / (2 η)``
-  (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``); braking returns nothing
-  (non-regenerative drivers).
+  model is static).  Changes of speed between segments are not ramped.  With ramps each
+  start also costs the kinetic energy ``M v² / (2 η)`` (:mod:`ecoplan.models.inertial`;
+  breakdown key ``inertial_w``); braking returns nothing (non-regenerative drivers).
 * ``turn=HeadingController(...)``: the path as the tracked paper's heading controller
   (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`):
   the estimate a battery budget should use.
@@ -83,7 +82,7 @@ from ecoplan.energy.result import PathCost, Violation
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
-from ecoplan.models.inertial import kinetic_energy_j
+from ecoplan.models.inertial import Elevation, climb_energy_along_j, kinetic_energy_j
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
 from ecoplan.models.tracked import TrackedParams
@@ -187,6 +186,7 @@ def path_cost(
     initial_heading_rad: float | None = None,
     turn: TurnMode | float | HeadingController = "auto",
     ramps: bool = False,
+    elevation: Elevation | None = None,
 ) -> PathCost:
     """Energy and feasibility of a waypoint path executed by the vehicle (module doc).
 
@@ -214,6 +214,11 @@ def path_cost(
         and ``ramps`` is implied).
     ramps : bool
         Account for acceleration from and to rest (module doc).
+    elevation : callable, optional
+        Ground elevation ``z(x, y)`` [m]: the climbs along the waypoint polyline cost
+        ``M g Δz / η`` (:func:`~ecoplan.models.inertial.climb_energy_along_j`; breakdown
+        key ``grade_w``; descents not credited).  Not used with a trajectory speed or a
+        heading-controller ``turn``.
 
     Returns
     -------
@@ -274,6 +279,14 @@ def path_cost(
         ramp = (bool(stop_at[i]) and ramps, bool(stop_at[i + 1]) and ramps)
         seg = (pts[i], pts[i + 1], float(v_seg[i]), tangent[i])
         _add_segment(acc, vehicle, world, seg, ramp, i, violations)
+    if elevation is not None:  # G(q) of wheeled eqs. 1-4: the climbs of every segment
+        p = params_on(vehicle, terrains[0])
+        eta = p.eta if isinstance(p, TrackedParams) else 1.0
+        climb = sum(
+            climb_energy_along_j(elevation, pts[i], pts[i + 1], p.mass_kg, eta)
+            for i in range(n_seg)
+        )
+        acc.energy["grade_w"] = acc.energy.get("grade_w", 0.0) + climb
     return acc.result(sum(abs(tp.dpsi_rad) for tp in turns), violations, turns)
 
 

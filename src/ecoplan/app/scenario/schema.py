@@ -236,10 +236,15 @@ class ControllerSection(_Section):
 
 
 class SimulationSection(_Section):
-    """Simulator settings: integration step ``dt_s`` and time limit ``t_max_s`` [s]."""
+    """Simulator settings: integration step ``dt_s`` and time limit ``t_max_s`` [s].
+
+    ``inertial: true`` adds the power of accelerating (``M a v + I α ω``,
+    :mod:`ecoplan.models.inertial`) to the static model's (default false: the papers').
+    """
 
     dt_s: Annotated[float, Field(gt=0.0, le=1.0, allow_inf_nan=False)] = 0.01
     t_max_s: Annotated[float, Field(gt=0.0, le=86_400.0, allow_inf_nan=False)] = 1200.0
+    inertial: bool = False
 
 
 class BatterySection(_Section):
