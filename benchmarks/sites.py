@@ -204,7 +204,7 @@ def write_shipped(folder: Path, seed: int = 7) -> None:
     rng = np.random.default_rng(seed)
     img[:, :8] = 205  # never observed by the SLAM run: unknown
     img[-6:, :] = 205
-    speckle = rng.random(img.shape) < 0.002  # a few unknown cells in the open
+    speckle = rng.random(img.shape) < 0.0003  # a few unknown cells in the open
     img[speckle & (img == 254)] = 205
     header = (
         f"P5\n# CREATOR: map_saver.cpp {RES_M:.3f} m/pix\n# site {seed}: "
