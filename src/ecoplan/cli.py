@@ -240,10 +240,29 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             "planning_time_s": plan.planning_time_s,
             "estimate_energy_j": plan.estimate_energy_j,
             "alternatives": [a.tolist() for a in plan.alternatives],
-            "files": _report(args, sc, [CaseResult.unsimulated(case.name, plan)], out),
+            "files": [
+                str(f)
+                for f in _report(args, sc, [CaseResult.unsimulated(case.name, plan)], out)
+                + _route_files(args, plan, out)
+            ],
         }
     )
     return 0
+
+
+def _route_files(args: argparse.Namespace, plan: Any, out: _Out) -> list[Path]:
+    """``plan --out``: the route as a nav_msgs/Path bag (MCAP), GeoJSON and CSV."""
+    folder = _prepare(args)
+    if folder is None:
+        return []
+    from ecoplan.io.route_export import write_route
+
+    folder.claim(["route_bag", "route.geojson", "route.csv"], force=args.force)
+    with folder.recording():
+        files = write_route(folder.path, plan.waypoints, plan.speed_mps, planner=plan.planner)
+    for f in files:
+        out.say(f"  {f}")
+    return files
 
 
 def _parse_points(items: Sequence[str]) -> list[list[float]]:
