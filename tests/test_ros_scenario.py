@@ -66,3 +66,18 @@ def test_terrain_layer_legend_names_are_checked() -> None:
     missing = _text("{ros: maps/nothere.yaml}")
     with pytest.raises(InputError, match=r"nothere\.yaml"):
         parse_scenario(missing, str(SCENARIOS / "x.yaml"))
+
+
+def test_budget_error_names_the_key_and_the_flag_and_the_flag_raises_it() -> None:
+    from ecoplan.errors import PlanningError
+
+    text = _text("{ros: maps/field_site.yaml}").replace(
+        "planner: {type: lattice}", "planner: {type: lattice, time_s: 0.001}"
+    )
+    sc = parse_scenario(text, str(SCENARIOS / "x.yaml"))
+    with pytest.raises(PlanningError) as err:
+        plan_case(sc.base_case())
+    assert "planner.time_s" in str(err.value)
+    assert "--time-budget" in str(err.value)
+    plan = plan_case(sc.base_case(), time_budget_s=60.0)  # above planner.time_s
+    assert plan.feasible

@@ -487,7 +487,12 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  ecoplan run scenarios/battery_mission.yaml --out reports/mission",
     )
     run.add_argument("scenario", type=Path, help="scenario YAML file")
-    run.add_argument("--time-budget", type=float, metavar="S", help="cap the planner's time [s]")
+    run.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="S",
+        help="planner time budget [s] (replaces planner.time_s)",
+    )
     _common(run)
     run.set_defaults(func=_cmd_run)
 
@@ -498,7 +503,12 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  ecoplan plan scenarios/pioneer_power_limit.yaml --json",
     )
     plan.add_argument("scenario", type=Path)
-    plan.add_argument("--time-budget", type=float, metavar="S")
+    plan.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="S",
+        help="planner time budget [s] (replaces planner.time_s)",
+    )
     _common(plan)
     plan.set_defaults(func=_cmd_plan)
 

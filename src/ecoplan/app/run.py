@@ -280,7 +280,7 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
     case : Case
         The case.
     time_budget_s : float, optional
-        Caps the planner's time budget (tests and quick looks).
+        Replaces the scenario's ``planner.time_s`` (``--time-budget``: lower or raise it).
 
     Returns
     -------
@@ -339,7 +339,7 @@ def _plan_with(
 ) -> PlanOutcome:
     cost_cls = EnergyCost if planner.objective == "energy" else LengthCost
     cost = cost_cls(sc.vehicle, speed_mps, world=sc.world)
-    budget = planner.time_s if time_budget_s is None else min(planner.time_s, time_budget_s)
+    budget = planner.time_s if time_budget_s is None else time_budget_s  # the flag overrides
     start, goal, heading = sc.spec.start.xy, sc.goal_xy, sc.spec.start.yaw_rad
     if isinstance(sc.world, GridMap) or planner.type == "lattice":
         from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions
@@ -399,7 +399,7 @@ def simulate_case(
     plan : PlanOutcome, optional
         A route to simulate instead of planning one.
     time_budget_s : float, optional
-        Caps the planner's time budget.
+        Replaces the scenario's ``planner.time_s``.
 
     Returns
     -------
@@ -436,7 +436,7 @@ def run_case(case: Case, time_budget_s: float | None = None) -> CaseResult:
     case : Case
         The case.
     time_budget_s : float, optional
-        Caps the planner's time budget.
+        Replaces the scenario's ``planner.time_s``.
 
     Returns
     -------
