@@ -16,7 +16,8 @@ Per variant it prints: right effect % on in-library logs, ``none`` % on clean lo
 to the targets (>= 90, >= 90, >= 70, >= 70 %); then a reliability table (confidence bins
 against accuracy; among verdicts with confidence >= 0.9 the share right, target >= 90 %) and
 the confusion matrix.  Per-case rows go to ``reports/plant_zoo/results.csv``; the logs are
-cached in ``reports/plant_zoo/logs/`` (never committed).
+kept in ``reports/plant_zoo/logs/`` (never committed) so that any case can be re-run by hand
+with ``ecoplan diagnose LOG --vehicle V --terrain T``.
 
 A verdict is right when it names the injected effect (``ambiguous`` counts as right when the
 effect is among the tied names, as in ``blind_diagnosis.py``; the count is printed).
@@ -67,8 +68,7 @@ def run_case(args: tuple[str, str, int, float, str]) -> dict[str, Any]:
 
     case = plant_zoo.make_case(variant, effect, seed, duration_s=duration)
     path = Path(cache) / f"{duration:g}s" / variant / f"{effect}-s{seed}.csv"
-    if not path.exists():
-        plant_zoo.write_log(case, path)
+    plant_zoo.write_log(case, path)  # always rewritten: a stale log would not match the truth
     row: dict[str, Any] = {
         "variant": variant,
         "effect": effect,
@@ -81,6 +81,7 @@ def run_case(args: tuple[str, str, int, float, str]) -> dict[str, Any]:
         "right": False,
         "ambiguous_right": False,
         "reduction": float("nan"),
+        "channel": "",
         "gap_calibrated_w": float("nan"),
         "gap_final_w": float("nan"),
         "best": "",
@@ -111,6 +112,7 @@ def run_case(args: tuple[str, str, int, float, str]) -> dict[str, Any]:
     row["right"] = d.verdict == exp or bool(row["ambiguous_right"])
     name = att.tied[0] if d.verdict == "ambiguous" and att.tied else d.verdict
     top = next((s for s in att.scores if s.name == name), None)
+    row["channel"] = top.channel if top is not None else ""
     if top is not None and top.channel == "power_w" and len(d.test_mask) == len(case.true_power_w):
         p_true = case.true_power_w[d.test_mask]
         pred_cal = d.test_frame.p - d.residual_calibrated_w
@@ -139,7 +141,7 @@ def summarise(rows: list[dict[str, Any]]) -> bool:
     )
     print(
         f"{'variant':<8s} {'n':>4s} {'right':>7s} {'none':>7s} {'unexpl':>7s} {'reduct':>7s}"
-        f" {'amb.ok':>6s} {'crash':>5s}  description"
+        f" {'power':>7s} {'amb.ok':>6s} {'crash':>5s}  description"
     )
     variants = sorted({r["variant"] for r in rows})
     for v in [*variants, "all"]:
@@ -149,7 +151,13 @@ def summarise(rows: list[dict[str, Any]]) -> bool:
         ool = [r for r in sel if r["effect"] in plant_zoo.OUT_OF_LIBRARY]
         reds = [r["reduction"] for r in inlib if r["right"] and not np.isnan(r["reduction"])]
         red = float(np.median(reds)) if reds else float("nan")
-        fig = (_share(inlib), _share(clean), _share(ool), red)
+        preds = [
+            r["reduction"]
+            for r in inlib
+            if r["right"] and r["channel"] == "power_w" and not np.isnan(r["reduction"])
+        ]
+        pred = float(np.median(preds)) if preds else float("nan")
+        fig = (_share(inlib), _share(clean), _share(ool), red, pred)
         ok_v = (
             fig[0] >= TARGETS["right"]
             and fig[1] >= TARGETS["none"]
@@ -168,7 +176,9 @@ def summarise(rows: list[dict[str, Any]]) -> bool:
     print(
         "  right: in-library logs whose verdict names the effect; none: clean logs called "
         "`none`;\n  unexpl: out-of-library logs called `unexplained`; reduct: median held-out "
-        "gap reduction when right"
+        "gap reduction when right;\n  power: the same over power-channel effects only "
+        "(a kinematic effect reports the share of its\n  channel's gap it explains, often "
+        "100 %); amb.ok: right verdicts that were `ambiguous` with the effect tied"
     )
 
     print("\nreliability (all verdicts with a confidence)")

@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python benchmarks/waypoint_sets.py``
 
-Scenario: the A->B obstacle lot of :mod:`ecoplan.sim.replay` (tracked paper §IV-A),
+Scenario: the A->B obstacle lot of :mod:`ecoplan.experiments.ab_replay` (tracked paper §IV-A),
 Auriga-β with narrow belts on asphalt, heading controller ``G = 0.18``, ``v_sp = 0.5``
 m/s, ``d_th = 1 m``, robot starting at A facing B.  Candidates:
 
@@ -35,9 +35,9 @@ import shapely
 
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import EcoplanError
+from ecoplan.experiments.ab_replay import ab_scenario, replay
 from ecoplan.presets import VehicleSpec, vehicle
 from ecoplan.sim import WaypointRun, simulate_batch
-from ecoplan.sim.replay import ab_scenario, replay
 
 V_SP, GAIN, BELT = 0.5, 0.18, "narrow"
 

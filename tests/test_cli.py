@@ -239,7 +239,7 @@ def test_diagnose_delegates_to_the_pipeline(
 
 
 def test_demo_writes_the_replay_report(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    pytest.importorskip("ecoplan.sim.replay")
+    pytest.importorskip("ecoplan.experiments.ab_replay")
     out_dir = tmp_path / "demo"
     assert main(["demo", "--out", str(out_dir)]) == 0
     printed = capsys.readouterr().out

@@ -38,7 +38,16 @@ def _diagnosed(effect: str, seed: int = 0) -> tuple[str, Diagnosis]:
 def test_diagnosis_names_the_withheld_effect(effect: str) -> None:
     expected, d = _diagnosed(effect)
     assert d.verdict == expected
-    assert d.attribution.scores[0].name == expected  # ranked first
+    if expected != "none":
+        assert d.attribution.scores[0].name == expected  # ranked first
+    else:
+        # a bounded regeneration on a tracked vehicle is a smaller non-regenerated term
+        # (synth._expected_verdict): the calibration re-identifies k_nonregen_n, no effect
+        # is significant
+        assert effect == "regeneration"
+        k_before, k_after = d.calibration.changed["k_nonregen_n"]
+        assert k_after < 0.5 * k_before
+        assert not any(s.significant for s in d.attribution.scores)
     assert 0.0 <= d.attribution.confidence <= 1.0
 
 

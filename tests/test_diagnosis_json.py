@@ -13,7 +13,15 @@ from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import JSON_KEYS, to_json_dict, validate_json, write_json
 from ecoplan.diagnose.synth import generate_case
 
-EXTRA_KEYS = {"calibration", "how_far", "channels", "distinguishability", "tied", "log"}
+EXTRA_KEYS = {
+    "calibration",
+    "how_far",
+    "channels",
+    "distinguishability",
+    "where_time",
+    "tied",
+    "log",
+}
 
 
 @cache

@@ -363,17 +363,24 @@ def test_huber_weights_cap_outliers_only() -> None:
 
 
 def test_wheeled_effect_design_takes_braking_sides_from_the_preset() -> None:
-    # calibration that absorbed a speed-dependent resistance has a negative straight-line
-    # offset, so its model calls both sides "braking" in slow straight motion.  The effects'
-    # design must keep the preset's physics (only the inner side brakes, in tight turns): at
-    # the preset's coefficients it reproduces the preset's battery draw |P| (wheeled_power).
+    # a model with a negative straight-line offset (what calibration absorbed from a
+    # speed-dependent resistance before the physical bounds of wheeled_bounds) calls both
+    # sides "braking" in slow straight motion.  The effects' design must keep the preset's
+    # physics (only the inner side brakes, in tight turns): at the preset's coefficients it
+    # reproduces the preset's battery draw |P| (wheeled_power).
     pioneer = vehicle("pioneer-3at", "asphalt")
     frame = build_frame([_pioneer_log(10.0, chi=0.65, seed=2, v0=0.04)], pioneer, snap_mps=2e-3)
     cal = calibrate(frame, pioneer)
-    assert cal.params.inner.b_inf + cal.params.outer.b_inf < 0.0  # the absorbed offset
-    theta, _ = wheeled_prior(cal.params, pioneer)
-    p_preset = dataclasses.replace(pioneer, chi=cal.params.chi).power(frame.vl, frame.vr).total_w
-    design = effect_base_design(frame, cal.params, pioneer).X
+    assert cal.params.inner.b_inf >= min(0.0, pioneer.inner.b_inf)  # bounded now
+    assert cal.params.outer.b_inf >= min(0.0, pioneer.outer.b_inf)
+    offset = dataclasses.replace(
+        cal.params,
+        inner=dataclasses.replace(cal.params.inner, b_inf=-1.0),
+        outer=dataclasses.replace(cal.params.outer, b_inf=-1.0),
+    )
+    theta, _ = wheeled_prior(offset, pioneer)
+    p_preset = dataclasses.replace(pioneer, chi=offset.chi).power(frame.vl, frame.vr).total_w
+    design = effect_base_design(frame, offset, pioneer).X
     np.testing.assert_allclose(design @ theta, p_preset, atol=1e-9)
-    calibrated_signs = base_design(frame, cal.params).X
+    calibrated_signs = base_design(frame, offset).X
     assert float(np.max(np.abs(calibrated_signs @ theta - p_preset))) > 0.5

@@ -84,7 +84,7 @@ def test_dask_local_cluster_gives_the_same_numbers_as_local_processes(
     scenario = tmp_path / "sweep.yaml"
     scenario.write_text(SWEEP)
     with distributed.LocalCluster(
-        n_workers=1, processes=False, threads_per_worker=1, dashboard_address=None
+        n_workers=1, processes=False, threads_per_worker=1, dashboard_address=":0"
     ) as cluster:
         with make_executor(scheduler=cluster.scheduler_address) as ex:
             assert ex.description.startswith("dask ")

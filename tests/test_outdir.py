@@ -48,3 +48,20 @@ def test_a_folder_ecoplan_wrote_is_reused_for_its_own_files(tmp_path: Path) -> N
     (again.path / "b.csv").write_text("someone else's")
     with pytest.raises(InputError, match=r"would overwrite b\.csv"):
         again.claim(["b.csv"])
+
+
+def test_a_file_an_earlier_run_wrote_stays_ecoplans(tmp_path: Path) -> None:
+    first = prepare_out_dir(tmp_path / "rep")
+    first.file("map.png").write_text("png")
+    first.file("old.csv").write_text("x\n")
+    first.finish()
+    second = prepare_out_dir(tmp_path / "rep")
+    second.file("map.png").write_text("png2")  # this run writes no old.csv
+    second.finish()
+    manifest = json.loads((second.path / MANIFEST).read_text())
+    assert manifest["files"] == ["map.png", "old.csv"]
+    (second.path / "old.csv").unlink()
+    third = prepare_out_dir(tmp_path / "rep")
+    third.file("map.png").write_text("png3")
+    third.finish()
+    assert json.loads((third.path / MANIFEST).read_text())["files"] == ["map.png"]

@@ -276,3 +276,18 @@ def test_power_saturation_slows_the_drive_instead_of_exceeding_the_supply() -> N
         assert c.true_power_w.max() <= cap / eta * (1 + 1e-6)
         free = plant_zoo.make_case(variant, "none", 2, duration_s=90.0)
         assert free.true_power_w.max() > cap / eta  # the limit did bind
+
+
+@pytest.mark.parametrize("variant", ["a", "g"])
+def test_the_library_reads_a_zoo_log_whole(tmp_path: Path, variant: str) -> None:
+    # the README log format is the contract: ecoplan's reader takes every row and column
+    from ecoplan.diagnose.logio import read_log_csv
+
+    case = plant_zoo.make_case(variant, "none", 1, duration_s=30.0)
+    log = read_log_csv(plant_zoo.write_log(case, tmp_path / "zoo.csv"))
+    assert log.dropped_rows == 0
+    assert log.run_id == f"zoo-{variant}-none-s1"
+    for col in ("t", "v_left", "v_right", "p_total", "v_left_cmd", "x", "y", "yaw", "wz"):
+        got = getattr(log, col)
+        assert got is not None
+        np.testing.assert_allclose(got, case.columns[col], rtol=1e-5, atol=1e-5)

@@ -16,7 +16,12 @@ def _t(name: str, terrain: str) -> TrackedParams:
 
 
 def test_names_are_stable() -> None:
-    assert vehicle_names() == ["auriga-beta-narrow", "auriga-beta-wide", "pioneer-3at"]
+    assert vehicle_names() == [
+        "auriga-beta-narrow",
+        "auriga-beta-wide",
+        "husky-a200",
+        "pioneer-3at",
+    ]
     assert terrain_names("auriga-beta-wide") == ["asphalt", "hoisted", "marble"]
     assert terrain_names("pioneer-3at") == ["asphalt", "vinyl"]
     assert default_terrain("pioneer-3at") == "asphalt"
@@ -31,7 +36,11 @@ def test_auriga_values_from_the_tracked_paper(belt: str) -> None:
     for p in (m, a, h):
         assert (p.mass_kg, p.track_gauge_m, p.contact_length_m) == (286.0, 0.42, 0.72)
         assert p.top_track_speed_mps == 0.86 and p.n_contact_points == 4
-        assert (p.p_powerup_w, p.p_braking_w, p.k_nonregen_n, p.eta) == (58.0, 164.0, 162.0, 0.95)
+        assert (p.p_powerup_w, p.eta) == (58.0, 0.95)
+    for p in (m, a):
+        assert (p.p_braking_w, p.k_nonregen_n) == (164.0, 162.0)
+    # hoisted: no ground contact, so no track brakes or drags the other (§II-C)
+    assert (h.p_braking_w, h.k_nonregen_n) == (0.0, 0.0)
     assert (m.mu, a.mu, h.mu) == (0.63, 0.81, 0.0)
     k = 342.0 if belt.endswith("wide") else 324.0
     assert (m.k_resistance_n, a.k_resistance_n, h.k_resistance_n) == (k, k, 282.0)

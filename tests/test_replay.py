@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 import shapely
 
-from ecoplan.sim.replay import (
+from ecoplan.experiments.ab_replay import (
     BELTS,
     GAINS,
     SPEEDS_MPS,

@@ -72,7 +72,9 @@ def test_shipped_presets_are_the_papers_values() -> None:
     )
 
 
-@pytest.mark.parametrize("name", ["auriga-beta-wide", "auriga-beta-narrow", "pioneer-3at"])
+@pytest.mark.parametrize(
+    "name", ["auriga-beta-wide", "auriga-beta-narrow", "pioneer-3at", "husky-a200"]
+)
 def test_every_shipped_terrain_value_has_a_source(name: str) -> None:
     v = shipped_vehicle(name)
     for terrain in v.terrains:
@@ -130,7 +132,6 @@ def _mutate(path: tuple[str, ...], value: object) -> dict[str, Any]:
     [
         (("inertia", "mass_kg"), -5.0, r"greater than 0"),
         (("geometry", "chi"), 1.0, r"less than 1"),
-        (("limits", "p_total_max_w"), 15.0, r"p_total_max_w = 15 W .*idle power.*> 20"),
         (("terrains", "sand", "rolling_resistance", "value"), -0.1, r"rolling_resistance.*>= 0"),
         (("terrains", "sand", "mu", "source"), "guess", r"identified.*paper.*assumption"),
         (("default_terrain",), "ice", r"default_terrain 'ice' is not in terrains"),
@@ -143,6 +144,26 @@ def test_impossible_values_are_refused(path: tuple[str, ...], value: object, pat
         vehicle_from_mapping(_mutate(path, value))
 
 
+def test_a_limit_below_the_idle_power_is_refused() -> None:
+    with pytest.raises(InputError, match=r"limits.p_total_max_w: 15 W .*idle power.*> 20"):
+        vehicle_from_mapping(_mutate(("limits", "p_total_max_w"), 15.0))
+
+
 def test_unknown_preset_lists_the_shipped_files() -> None:
     with pytest.raises(InputError, match=r"unknown vehicle preset 'clearpath-husky'.*pioneer-3at"):
         shipped_vehicle("clearpath-husky")
+
+
+def test_husky_is_identified_on_the_five_borealtc_terrains() -> None:
+    husky = shipped_vehicle("husky-a200")
+    assert husky.terrains == ["asphalt", "flooring", "ice", "sandy_loam", "snow"]
+    assert any("24 V" in a for a in husky.spec.assumptions)
+    assert (husky.mass_kg, husky.spec.geometry.track_gauge_m) == (70.0, 0.555)
+    for terrain in husky.terrains:
+        entry = husky.terrain(terrain)
+        assert entry.p_powerup_w is not None and entry.p_powerup_w.source == "identified"
+        assert entry.heldout_mae_w is not None
+    # ABOUT.md: mean power while moving 141 W on ice < 393 W on sandy loam; the identified
+    # straight-line power at 0.5 m/s keeps that order
+    straight = {t: float(vehicle("husky-a200", t).power(0.5, 0.5).total_w) for t in husky.terrains}
+    assert straight["ice"] < straight["asphalt"] < straight["sandy_loam"] < straight["snow"]

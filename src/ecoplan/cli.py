@@ -128,8 +128,12 @@ def _progress(
 
 def _load(args: argparse.Namespace) -> Any:
     from ecoplan.app.scenario import load_scenario
+    from ecoplan.app.scenario.load import with_vehicle
 
-    return load_scenario(args.scenario)
+    sc = load_scenario(args.scenario)
+    if getattr(args, "vehicle", None):
+        sc = with_vehicle(sc, args.vehicle)
+    return sc
 
 
 def _budget(args: argparse.Namespace) -> float | None:
@@ -387,6 +391,58 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     return int(code)
 
 
+def _cmd_identify(args: argparse.Namespace) -> int:
+    from ecoplan.app.identify import identify_from_logs
+
+    out = _out(args)
+    if args.out is not None and args.out.exists() and not args.force:
+        raise InputError(f"{args.out} exists; give --force to overwrite it")
+    res = identify_from_logs(
+        [str(p) for p in args.logs],
+        args.base,
+        terrain=args.terrain,
+        name=args.name,
+        clamp=args.clamp,
+        n_boot=args.boot,
+        speed_noise_mps=args.speed_noise,
+        bus_voltage_v=args.bus_voltage,
+    )
+    rows = []
+    for terrain, fit in sorted(res.fits.items()):
+        out.say(
+            f"{terrain}: {len(fit.run_ids)} log(s), {fit.n_samples} samples, held-out MAE "
+            f"{fit.heldout_mae_w:.1f} W (mean power {fit.mean_power_w:.0f} W), median energy "
+            f"error {100 * fit.median_energy_error:.1f} %"
+        )
+        for key in fit.identified:
+            lo, hi = fit.intervals[key]
+            out.say(f"  {key} = {fit.values[key]:.4g}  [{lo:.4g}, {hi:.4g}]")
+        if fit.unidentified:
+            out.say(f"  not identified (base values kept): {', '.join(fit.unidentified)}")
+        for key, val in fit.clamped.items():
+            out.say(f"  clamped at 0: {key} (the logs give {val:.4g})")
+        rows.append(
+            {
+                "terrain": terrain,
+                "values": dict(fit.values),
+                "intervals": {k: list(v) for k, v in fit.intervals.items()},
+                "unidentified": list(fit.unidentified),
+                "clamped": dict(fit.clamped),
+                "heldout_mae_w": fit.heldout_mae_w,
+                "heldout_energy_error": list(fit.heldout_energy_error),
+            }
+        )
+    header = f"Identified by: ecoplan identify {' '.join(str(p) for p in args.logs)}"
+    text = res.to_yaml(header + f" --base {args.base}")
+    if args.out is not None:
+        args.out.write_text(text, encoding="utf-8")
+        out.say(f"vehicle file written to {args.out}")
+    elif args.json is None:
+        sys.stdout.write(text)
+    out.emit({"vehicle": res.name, "terrains": rows, "file": args.out})
+    return 0
+
+
 def _cmd_bench(args: argparse.Namespace) -> int:
     from ecoplan.app.bench import (
         bench_cases,
@@ -418,7 +474,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     from ecoplan.app.outdir import prepare_out_dir
-    from ecoplan.sim.replay import run_demo
+    from ecoplan.experiments.ab_replay import run_demo
 
     out = _out(args)
     folder = prepare_out_dir(args.out, force=args.force)
@@ -453,6 +509,14 @@ def _common(p: argparse.ArgumentParser, *, out: bool = True) -> None:
             help="write into a non-empty folder ecoplan did not create",
         )
     p.add_argument("-q", "--quiet", action="store_true", help="no human-readable output")
+
+
+def _vehicle_option(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--vehicle",
+        metavar="FILE",
+        help="drive this vehicle file (or preset) instead of the scenario's vehicle",
+    )
 
 
 def _sweep(p: argparse.ArgumentParser) -> None:
@@ -494,6 +558,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="planner time budget [s] (replaces planner.time_s)",
     )
     _common(run)
+    _vehicle_option(run)
     run.set_defaults(func=_cmd_run)
 
     plan = sub.add_parser(
@@ -510,6 +575,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="planner time budget [s] (replaces planner.time_s)",
     )
     _common(plan)
+    _vehicle_option(plan)
     plan.set_defaults(func=_cmd_plan)
 
     sim = sub.add_parser(
@@ -524,6 +590,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--waypoints", nargs="+", metavar="X,Y", help="replace the waypoints (after the start)"
     )
     _common(sim)
+    _vehicle_option(sim)
     sim.set_defaults(func=_cmd_simulate)
 
     cmp_ = sub.add_parser(
@@ -537,6 +604,7 @@ def build_parser() -> argparse.ArgumentParser:
     cmp_.add_argument("--time-budget", type=float, metavar="S")
     _sweep(cmp_)
     _common(cmp_)
+    _vehicle_option(cmp_)
     cmp_.set_defaults(func=_cmd_compare)
 
     diag = sub.add_parser(
@@ -577,6 +645,44 @@ def build_parser() -> argparse.ArgumentParser:
         "--force", action="store_true", help="write into a non-empty folder ecoplan did not create"
     )
     diag.set_defaults(func=_cmd_diagnose)
+
+    ident = sub.add_parser(
+        "identify",
+        help="identify a vehicle file from your logs (per terrain)",
+        formatter_class=fmt,
+        epilog="examples:\n  ecoplan identify borealtc:ASPHALT borealtc:SNOW --base husky-a200 "
+        "--clamp --out husky.yaml\n"
+        "  ecoplan identify run*.csv --base robot.yaml --terrain gravel --out robot.yaml\n\n"
+        "LOG is a CSV in the ecoplan log format (with a terrain column, or one terrain\n"
+        "given by --terrain), borealtc:TERRAIN[/RUN], or a ROS 2 bag.",
+    )
+    ident.add_argument("logs", nargs="+", type=Path, metavar="LOG")
+    ident.add_argument(
+        "--base", required=True, help="vehicle file or preset: geometry, mass, fixed values"
+    )
+    ident.add_argument("--out", type=Path, metavar="FILE", help="write the vehicle file here")
+    ident.add_argument("--force", action="store_true", help="overwrite --out")
+    ident.add_argument("--name", help="name of the identified vehicle (default: the base's)")
+    ident.add_argument("--terrain", help="terrain of logs without a terrain column")
+    ident.add_argument(
+        "--clamp",
+        action="store_true",
+        help="hold parameters the logs drive negative at 0 instead of refusing",
+    )
+    ident.add_argument("--boot", type=int, default=200, help="bootstrap resamples (default 200)")
+    ident.add_argument(
+        "--speed-noise",
+        type=float,
+        default=0.005,
+        metavar="MPS",
+        help="encoder noise of the side speeds [m/s] (default 0.005; 0 = no correction)",
+    )
+    ident.add_argument(
+        "--bus-voltage", type=float, default=24.0, metavar="V", help="for borealtc: sources"
+    )
+    ident.add_argument("--json", nargs="?", const="-", metavar="FILE")
+    ident.add_argument("-q", "--quiet", action="store_true")
+    ident.set_defaults(func=_cmd_identify)
 
     bench = sub.add_parser(
         "bench",

@@ -46,7 +46,9 @@ of the range, as Fig. 11 suggests), asphalt/wide 0.80 (ICRs farther apart on asp
 
 Resulting table: marble wide 0.90, narrow 0.91; asphalt wide 0.80, narrow 0.81.
 Hoisted (µ = 0) has no ground contact, so χ has no effect on power; the marble values
-are kept so the kinematics stay defined.
+are kept so the kinematics stay defined.  Without ground contact no track brakes the
+motion the other induces (cases 3-4) or is dragged by it (case 2), so ``hoisted`` also
+sets ``p_braking_w`` and ``k_nonregen_n`` to 0 (Fig. 9c: K = 282 N and power-up only).
 
 Non-regenerated power onset and acceleration ramp
 -------------------------------------------------

@@ -125,11 +125,17 @@ class OutDir:
         )
 
     def finish(self) -> list[Path]:
-        """Write the manifest; return the files written."""
+        """Write the manifest; return the files written.
+
+        The manifest lists the files written now and those an earlier run listed that are
+        still there, so a file ecoplan wrote stays ecoplan's when a later run skips it.
+        """
+        earlier = _manifest_files(self.path / MANIFEST) or set()
+        kept = {name for name in earlier if (self.path / name).is_file()}
         manifest = {
             "tool": "ecoplan",
             "written_utc": datetime.now(UTC).isoformat(timespec="seconds"),
-            "files": sorted({p.name for p in self.written}),
+            "files": sorted(kept | {p.name for p in self.written}),
         }
         (self.path / MANIFEST).write_text(json.dumps(manifest, indent=1) + "\n")
         return list(dict.fromkeys(self.written))

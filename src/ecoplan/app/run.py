@@ -57,7 +57,8 @@ class PlanOutcome:
     planning_time_s : float
         Wall-clock time of planning [s] (0 for fixed waypoints).
     estimate_energy_j : float or None
-        Analytic energy of the route by :func:`ecoplan.energy.path.path_cost` [J].
+        Analytic energy of the route driven by the case's heading controller
+        (:func:`ecoplan.energy.path.path_cost` with ``turn=HeadingController(...)``) [J].
     feasible : bool or None
         Whether every command of the analytic execution respects the vehicle's limits.
     violations : tuple of str
@@ -327,10 +328,16 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
         plan = dataclasses.replace(
             plan,
             speed_mps=speed,
-            estimate_energy_j=pc.energy_j,
             feasible=pc.feasible,
             violations=tuple(v.message() for v in pc.violations),
         )
+    # the energy estimate: the route as the heading controller drives it (issue 11, item 6)
+    ctrl = HeadingController(spec.controller.gain, speed, spec.controller.d_th_m)
+    estimate = path_cost(
+        plan.waypoints, sc.vehicle, speed, world=sc.world,
+        initial_heading_rad=spec.start.yaw_rad, turn=ctrl,
+    )  # fmt: skip
+    plan = dataclasses.replace(plan, estimate_energy_j=estimate.energy_j)
     return dataclasses.replace(plan, speed_policy=spec.speed.policy)
 
 

@@ -641,7 +641,10 @@ def _power_verdict(
         _, lb_p = ljung_box(r0, decimate=dec)
         # a gap: clearly above the noise floor and coloured, or very strongly coloured (the
         # noise floor from first differences is inflated by fast real dynamics)
-        gap_sig = ((before - floor) > 0.25 * floor and lb_p < 0.01) or lb_p < 1e-6
+        # (a gap at the noise floor is no gap, however coloured: issue 12 item 2)
+        gap_sig = ((before - floor) > 0.25 * floor and lb_p < 0.01) or (
+            lb_p < 1e-6 and before > 1.05 * floor
+        )
         if gap_sig:
             return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0, pair_names, pair_after
         conf = 1.0

@@ -48,6 +48,7 @@ __all__ = [
     "fit_accel_limit",
     "grid_then_bounded",
     "kinematic_chi",
+    "wheeled_bounds",
     "wheeled_prior",
     "with_linear_params",
 ]
@@ -137,10 +138,36 @@ def _wheeled_columns(
             names.append(f"{side_name}.{coef}")
     cols.append(np.ones(vl.size))
     names.append("p_powerup_w")
-    k = len(cols)
-    lower = np.full(k, -_SIDE_COEF_MAX)
-    lower[-1] = 0.0
-    return BaseDesign(np.column_stack(cols), tuple(names), lower, np.full(k, _SIDE_COEF_MAX))
+    lower, upper = wheeled_bounds(params)
+    return BaseDesign(np.column_stack(cols), tuple(names), lower, upper)
+
+
+def wheeled_bounds(params: WheeledParams) -> tuple[FloatArray, FloatArray]:
+    """Physical bounds of the wheeled coefficients, in :func:`base_design`'s column order.
+
+    Per side (Chuy et al. 2009, eqs. 12-15): ``a_inf >= 0`` (straight-line power does not fall
+    with speed: the resistance is not negative), ``b_inf >= min(0, preset)`` (no offset below
+    the preset's), and ``a_alpha``, ``b_alpha`` keep the preset's sign, so that ``a(r)`` and
+    ``b(r)`` stay monotone in ``r`` the way the paper's fits are (Fig. 6: the inner side's
+    slope falls, the outer side's rises, as the radius shrinks); ``p_powerup_w >= 0``.  An
+    unconstrained fit on the BorealTC FLOORING runs gave ``a_inf`` 7.5 -> -229 W s/m: a power
+    that *falls* with speed, and a corrected model a scenario could not use (issue 12).
+    """
+    lower, upper = [], []
+    for side in (params.inner, params.outer):
+        for name in _SIDE_LINEAR:
+            val = float(getattr(side, name))
+            if name == "a_inf":
+                lo, hi = 0.0, _SIDE_COEF_MAX
+            elif name == "b_inf":
+                lo, hi = min(0.0, val), _SIDE_COEF_MAX
+            else:
+                lo, hi = (-_SIDE_COEF_MAX, 0.0) if val < 0.0 else (0.0, _SIDE_COEF_MAX)
+            lower.append(lo)
+            upper.append(hi)
+    lower.append(0.0)
+    upper.append(_SIDE_COEF_MAX)
+    return np.array(lower), np.array(upper)
 
 
 def base_design(frame: Frame, params: VehicleParams, signs: FloatArray | None = None) -> BaseDesign:
@@ -156,12 +183,14 @@ def with_linear_params(
     """Parameters with the linear coefficients of :func:`base_design` set to ``theta``.
 
     Tracked coefficients are clipped at zero (µ, K and the driver terms are non-negative),
-    wheeled ones to ±1e5 (far beyond any real vehicle; the presets' validation range is ±1e6).
+    wheeled ones to their physical bounds (:func:`wheeled_bounds`, at most ±1e5), so that a
+    refit with an effect cannot hand on a model whose power falls with speed.
     """
     if isinstance(params, TrackedParams):
         kw: dict[str, Any] = {n: float(max(v, 0.0)) for n, v in zip(names, theta, strict=True)}
         return dataclasses.replace(params, **kw)
-    theta = np.clip(theta, -_SIDE_COEF_MAX, _SIDE_COEF_MAX)
+    lower, upper = wheeled_bounds(params)
+    theta = np.clip(theta, lower, upper)
     inner = dict(zip(_SIDE_LINEAR, theta[0:4], strict=True))
     outer = dict(zip(_SIDE_LINEAR, theta[4:8], strict=True))
     return dataclasses.replace(

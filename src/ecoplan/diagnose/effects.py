@@ -21,8 +21,8 @@ name                           addition to the electrical power ``P_T``         
 ``terrain_patch``              friction and resistance scaled inside a disc of the map       5
 ``slope``                      ``m g (s_x vx cos ψ + s_y vx sin ψ)``: a plane of grade s     2
 ``speed_dependent_resistance`` ``c (V_l² + V_r²)``: resistance force growing with speed      1
-``regeneration``               a fraction ρ of the negative (dragged/braking) side power     1
-                               returned: ``ρ Σ min(P_side, 0)``
+``regeneration``               a fraction ρ ∈ [0, 1] of the dragged side's power returned,    1
+                               at most the non-regenerated loss (:func:`regenerated_w`)
 ``power_saturation``           the supply clips: ``min(P, P_max)``                          1
 ``sensor_delay``               power logged late: ``P(t - d)``                               1
 ``efficiency_drift``           η drifts linearly with time: ``P (1 + β (t - t0))``          1
@@ -55,6 +55,7 @@ from ecoplan.diagnose.calibrate import (
 )
 from ecoplan.diagnose.replay import Frame, rate_limit
 from ecoplan.errors import InputError
+from ecoplan.models.power import PowerBreakdown
 from ecoplan.models.tracked import GRAVITY_MPS2
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
@@ -78,8 +79,44 @@ __all__ = [
     "effect_names",
     "make_effect",
     "prepare",
+    "regenerated_w",
     "subsample",
 ]
+
+
+def regenerated_w(
+    params: VehicleParams, pb: PowerBreakdown, fraction: float | FloatArray
+) -> FloatArray:
+    """Power a regenerating drive returns, bounded by what physics allows [W].
+
+    A fraction ``ρ`` (in [0, 1]) of the negative mechanical power of the dragged or braking
+    sides, ``ρ η Σ max(-P_side, 0)``, goes back to the bus -- but never more than the loss the
+    base model charges for *not* regenerating: the non-regenerated term ``k_nr (|V_l| + |V_r|)``
+    of tracked case 2 (Morales et al. 2009 §III-C; ``nonregen_w / η`` of ``P_T``), or for the
+    wheeled model (Chuy et al. 2009 §III-A, the braking side's ``|P|`` drains the battery) the
+    braking side's draw ``braking_w``.  With the cap the corrected power stays at or above the
+    netted power of the sides, the physical floor (issue 12: the unbounded form gave 314 W at
+    (0.49, 0.5) m/s on the Auriga-β, below its 428.7 W floor, and -79 W at ``ρ = 1``).
+
+    Parameters
+    ----------
+    params : TrackedParams or WheeledParams
+        The vehicle (its η).
+    pb : PowerBreakdown
+        The base model's power on the samples.
+    fraction : float or ndarray
+        ``ρ``, clipped to [0, 1].
+
+    Returns
+    -------
+    ndarray
+        Non-negative power returned [W], to subtract from ``P_T``.
+    """
+    eta = float(getattr(params, "eta", 1.0))
+    rho = np.clip(fraction, 0.0, 1.0)
+    neg = np.maximum(-pb.left_w, 0.0) + np.maximum(-pb.right_w, 0.0)
+    cap = pb.braking_w if isinstance(params, WheeledParams) else pb.nonregen_w / eta
+    return np.asarray(np.minimum(rho * eta * neg, cap), dtype=np.float64)
 
 
 @dataclass(frozen=True, slots=True)
@@ -100,6 +137,8 @@ class EffectData:
         Friction and resistance components of the calibrated model [W].
     side_neg_w : ndarray
         ``min(P_left, 0) + min(P_right, 0)``: negative side power of the calibrated model [W].
+    breakdown : PowerBreakdown
+        The calibrated model's power breakdown on the samples.
     yaw : ndarray
         Heading [rad]: logged, else integrated from the kinematic yaw rate per run.
     t_rel : ndarray
@@ -119,6 +158,7 @@ class EffectData:
     yaw: FloatArray
     t_rel: FloatArray
     prior: VehicleParams | None = None
+    breakdown: PowerBreakdown | None = None
 
     @property
     def p(self) -> FloatArray:
@@ -146,7 +186,12 @@ class EffectData:
             self.yaw[mask],
             self.t_rel[mask],
             self.prior,
+            None if self.breakdown is None else _subset_breakdown(self.breakdown, mask),
         )
+
+
+def _subset_breakdown(pb: PowerBreakdown, mask: BoolArray) -> PowerBreakdown:
+    return PowerBreakdown(**{f.name: getattr(pb, f.name)[mask] for f in dataclasses.fields(pb)})
 
 
 def _per_run(frame: Frame) -> list[IntArray]:
@@ -224,6 +269,7 @@ def prepare(
         yaw=yaw,
         t_rel=frame.t if t_rel is None else t_rel,
         prior=prior,
+        breakdown=pb,
     )
 
 
@@ -246,7 +292,9 @@ def _lstsq(X: FloatArray, y: FloatArray) -> FloatArray:
     return np.asarray(coef / scale, dtype=np.float64)
 
 
-def _fit_linear(data: EffectData, D: FloatArray, rows: BoolArray | None = None) -> FloatArray:
+def _fit_linear(
+    data: EffectData, D: FloatArray, rows: BoolArray | None = None, y: FloatArray | None = None
+) -> FloatArray:
     """Least squares of ``data.p`` on the design ``D`` (base columns first) [coefficients].
 
     For a wheeled vehicle the base coefficients are weakly pulled towards the prior
@@ -261,7 +309,8 @@ def _fit_linear(data: EffectData, D: FloatArray, rows: BoolArray | None = None) 
     far from the Pioneer preset, the held-out calibrated gap was 47.4 / 38.9 / 36.8 W
     (FLOORING) and 63.9 / 56.1 / 54.1 W (ASPHALT), against 39.1 and 57.4 W before any pull.
     """
-    y = data.p if rows is None else data.p[rows]
+    y_all = data.p if y is None else y
+    y = y_all if rows is None else y_all[rows]
     X = D if rows is None else D[rows]
     if not isinstance(data.params, WheeledParams) or X.shape[0] == 0:
         return _lstsq(X, y)
@@ -483,18 +532,6 @@ class SpeedDependentResistance(Effect):
         return {"c_n_s_per_m": float(coef[data.X.shape[1]])}
 
 
-class Regeneration(Effect):
-    """A fraction ρ of the negative side power returned: ``ρ Σ min(P_side, 0)`` [W]."""
-
-    name = "regeneration"
-
-    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
-        return data.side_neg_w[:, None]
-
-    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
-        return {"fraction": float(coef[data.X.shape[1]])}
-
-
 class Slope(Effect):
     """A plane of grade ``(s_x, s_y)``: ``m g vx (s_x cos ψ + s_y sin ψ)`` [W]."""
 
@@ -631,6 +668,45 @@ class PowerSaturation(_ScalarSearch):
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         return {"p_max_w": float(theta) if theta is not None else float("inf")}
+
+
+class Regeneration(_ScalarSearch):
+    """The drive regenerates a fraction ``ρ`` of the dragged side's power, within physics.
+
+    ``P = P_base - regenerated_w(ρ)`` (:func:`regenerated_w`): ``ρ`` in [0, 1] is searched,
+    the base model's linear parameters are refitted with the returned power in place, and the
+    correction can never take the power below the netted power of the sides.
+    """
+
+    name = "regeneration"
+    n_grid = 11
+
+    def _bounds(self, data: EffectData) -> tuple[float, float]:
+        return 0.0, 1.0
+
+    def _returned(self, data: EffectData, theta: Any) -> FloatArray:
+        pb = (
+            data.breakdown
+            if data.breakdown is not None
+            else data.params.power(data.frame.vl, data.frame.vr)
+        )
+        return regenerated_w(data.params, pb, float(theta or 0.0))
+
+    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        return _fit_linear(data, data.X, y=data.p + self._returned(data, theta))
+
+    def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
+        return np.asarray(data.X @ coef - self._returned(data, theta), dtype=np.float64)
+
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        # the linearised regressor (distinguishability): the returned power at full recovery
+        return -self._returned(data, 1.0 if theta is None else theta)[:, None]
+
+    def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        return data.X
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        return {"fraction": float(theta or 0.0)}
 
 
 #: Grid discs of the terrain-patch search that are refined locally (best first).

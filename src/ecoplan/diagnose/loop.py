@@ -33,6 +33,7 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.diagnose.calibrate import base_design, with_linear_params
+from ecoplan.diagnose.effects import regenerated_w
 from ecoplan.diagnose.replay import rate_limit, smooth_derivative
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import setpoint_to_tracks, tracks_to_twist
@@ -103,7 +104,7 @@ class CorrectedModel:
         if e == "speed_dependent_resistance":
             return p["c_n_s_per_m"] * (vl**2 + vr**2)
         if e == "regeneration":
-            return p["fraction"] * (np.minimum(pb.left_w, 0.0) + np.minimum(pb.right_w, 0.0))
+            return -regenerated_w(self.params, pb, float(p["fraction"]))
         return np.zeros(np.shape(pb.total_w))
 
     def power(self, v_left: ArrayLike, v_right: ArrayLike) -> PowerBreakdown:

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ecoplan._typing import BoolArray, FloatArray, RngLike
+from ecoplan._typing import BoolArray, FloatArray, IntArray, RngLike
 from ecoplan.diagnose.attribute import Attribution, attribute, block_bootstrap, split_masks
 from ecoplan.diagnose.calibrate import Calibration, calibrate
 from ecoplan.diagnose.checks import check_logs
@@ -50,6 +50,7 @@ from ecoplan.diagnose.replay import (
     case_tolerance,
     replay_residuals,
 )
+from ecoplan.diagnose.where_time import TimeSegment, where_time
 from ecoplan.errors import InputError
 from ecoplan.presets import VehicleParams, vehicle
 
@@ -109,6 +110,13 @@ class Diagnosis:
         How the held-out split was drawn (``"time blocks"``).
     input_notes : tuple of str
         What the input check found the log does not excite (:mod:`ecoplan.diagnose.checks`).
+    where_time : list of TimeSegment
+        Stretches of the runs, on each log's own time, where the calibrated model's residual
+        (all samples) changes level (:mod:`ecoplan.diagnose.where_time`).
+    run_ids : tuple of str
+        Identifier of every run, in order.
+    all_t_s, all_run, all_residual_w : ndarray
+        Every sample's time on its log's clock [s], run index and calibrated residual [W].
     """
 
     vehicle: str
@@ -133,6 +141,11 @@ class Diagnosis:
     duration_s: float = 0.0
     split: str = "blocks"
     input_notes: tuple[str, ...] = ()
+    where_time: list[TimeSegment] = field(default_factory=list)
+    run_ids: tuple[str, ...] = ()
+    all_t_s: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
+    all_run: IntArray = field(repr=False, default_factory=lambda: np.zeros(0, dtype=np.int64))
+    all_residual_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
 
     @property
     def verdict(self) -> str:
@@ -208,6 +221,9 @@ def diagnose(
     )
     train_f, test_f = frame.subset(train_m), frame.subset(test_m)
     cal = calibrate(train_f, params)
+    run_ids = [str(getattr(lg, "run_id", "") or f"run{i}") for i, lg in enumerate(log_list)]
+    r_all = frame.p - np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
+    segments = where_time(frame.t, r_all, frame.run, run_ids)
     train = prepare(train_f, cal.params, prior=params)
     test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
@@ -246,6 +262,11 @@ def diagnose(
         duration_s=frame.duration_s,
         split="time blocks",
         input_notes=checked.excitation_notes,
+        where_time=segments,
+        run_ids=tuple(run_ids),
+        all_t_s=frame.t,
+        all_run=frame.run,
+        all_residual_w=r_all,
     )
 
 
@@ -283,7 +304,7 @@ def run_diagnose_cli(
     """
     from ecoplan.diagnose.logio import load_topic_map, read_logs
     from ecoplan.diagnose.loop import corrected_model, ranking_change, save_corrected_model
-    from ecoplan.diagnose.report import save_figures, write_json
+    from ecoplan.diagnose.report import save_figures, save_where_time, write_json
 
     if not log_paths:
         raise InputError("no log file given")
@@ -316,7 +337,7 @@ def run_diagnose_cli(
         write_json(d, out / "diagnosis.json", extra)
         if "ranking" in extra:
             (out / "ranking.json").write_text(json.dumps(extra["ranking"], indent=2))
-        for p in save_figures(d, out):
+        for p in [*save_figures(d, out), *save_where_time(d, out)]:
             print(f"figure: {p}")
         path = save_corrected_model(d, out / "corrected_model.json")
         print(f"corrected model: {path}")

@@ -22,6 +22,8 @@ and after re-identifying the base parameters, and the changed parameters), ``how
 winner's held-out reduction in W and %, its 95 % bootstrap interval, the best pair), ``channels``
 (each effect's deciding channel, its reduction and p-value), ``distinguishability`` (pairs the
 log cannot tell apart with the separating manoeuvre, candidates not excited or unavailable),
+``where_time`` (segments of each run where the calibrated model's residual changes level, on
+the log's own time: ``[{"run", "t_start_s", "t_end_s", "excess_w"}]``, exactly these keys),
 ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows, split) and,
 with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
 corrected model, both rankings, whether the order or the best route changes).
@@ -40,7 +42,15 @@ import numpy as np
 if TYPE_CHECKING:
     from ecoplan.diagnose.pipeline import Diagnosis
 
-__all__ = ["JSON_KEYS", "save_figures", "summary", "to_json_dict", "validate_json", "write_json"]
+__all__ = [
+    "JSON_KEYS",
+    "save_figures",
+    "save_where_time",
+    "summary",
+    "to_json_dict",
+    "validate_json",
+    "write_json",
+]
 
 #: The contract keys of the JSON report, in order.
 JSON_KEYS: tuple[str, ...] = ("gap", "where", "effects", "verdict")
@@ -112,6 +122,7 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
             "not_excited": list(att.not_excited),
             "unavailable": list(att.unavailable),
         },
+        "where_time": [seg.to_json() for seg in d.where_time],
         "tied": list(att.tied),
         "log": {
             "runs": d.n_runs,
@@ -154,6 +165,18 @@ def validate_json(obj: Any) -> None:
     need(isinstance(v, dict) and set(v) == {"effect", "confidence"}, "verdict keys")
     need(isinstance(v["effect"], str), "verdict.effect must be a string")
     need(is_num(v["confidence"]) and 0.0 <= v["confidence"] <= 1.0, "verdict.confidence in [0,1]")
+    if "where_time" in obj:
+        need(isinstance(obj["where_time"], list), "where_time must be a list")
+        for i, seg in enumerate(obj["where_time"]):
+            need(
+                isinstance(seg, dict) and set(seg) == {"run", "t_start_s", "t_end_s", "excess_w"},
+                f"where_time[{i}] keys must be run, t_start_s, t_end_s, excess_w",
+            )
+            need(isinstance(seg["run"], str), f"where_time[{i}].run must be a string")
+            need(
+                all(is_num(seg[k]) for k in ("t_start_s", "t_end_s", "excess_w")),
+                f"where_time[{i}] times and excess must be numbers",
+            )
 
 
 def write_json(
@@ -240,11 +263,82 @@ def summary(d: Diagnosis) -> str:
         lines.append(f"not excited by this log: {', '.join(att.not_excited)}")
     if att.unavailable:
         lines.append(f"needs signals the log lacks: {', '.join(att.unavailable)}")
+    if d.where_time:
+        lines.append("where in time (log's own clock; residual level minus the session's):")
+        for seg in d.where_time[:12]:
+            lines.append(
+                f"  {seg.run:24s} {seg.t_start_s:9.2f} .. {seg.t_end_s:9.2f} s  "
+                f"{seg.excess_w:+8.1f} W"
+            )
+        if len(d.where_time) > 12:
+            lines.append(f"  ... {len(d.where_time) - 12} more in where_time.csv / the JSON")
     lines.extend(f"input: {note}" for note in d.input_notes)
     return "\n".join(lines)
 
 
 _CASE_COLOURS = ("#999999", "#1f77b4", "#2ca02c", "#ff7f0e", "#d62728")
+
+
+def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
+    """``where_time.csv`` and ``where_time.png``: the residual over each log's own time axis.
+
+    One panel per run (at most eight: the runs with segments first), the calibrated model's
+    residual averaged over 1 s bins, the change-point segments shaded (red: the robot draws
+    more than the model, blue: less) with their excess in W.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ecoplan.diagnose.where_time import write_where_time_csv
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = [write_where_time_csv(d.where_time, out / "where_time.csv")]
+    if d.all_t_s.size == 0:
+        return paths
+    with_segs = [i for i, rid in enumerate(d.run_ids) if any(s.run == rid for s in d.where_time)]
+    others = [i for i in range(len(d.run_ids)) if i not in with_segs]
+    shown = (with_segs + others)[:8]
+    fig, axes = plt.subplots(len(shown), 1, figsize=(9, 1.9 * len(shown) + 0.6), squeeze=False)
+    for ax, i in zip(axes[:, 0], shown, strict=True):
+        idx = d.all_run == i
+        t, r = d.all_t_s[idx], d.all_residual_w[idx]
+        k = np.floor(t - t[0]).astype(np.int64)
+        cnt = np.bincount(k)
+        ok = cnt > 0
+        ax.plot(t, r, color="#cccccc", lw=0.5, label="residual")
+        ax.plot(
+            t[0] + np.arange(cnt.size)[ok] + 0.5,
+            np.bincount(k, weights=r)[ok] / cnt[ok],
+            color="k",
+            lw=1.0,
+            label="1 s mean",
+        )
+        rid = d.run_ids[i]
+        for seg in (s for s in d.where_time if s.run == rid):
+            colour = "#d62728" if seg.excess_w > 0 else "#1f77b4"
+            ax.axvspan(seg.t_start_s, seg.t_end_s, color=colour, alpha=0.15)
+            ax.text(
+                0.5 * (seg.t_start_s + seg.t_end_s),
+                0.92,
+                f"{seg.excess_w:+.0f} W",
+                transform=ax.get_xaxis_transform(),
+                ha="center",
+                va="top",
+                fontsize=7,
+            )
+        ax.axhline(0.0, color="k", lw=0.4)
+        ax.set_ylabel("W")
+        ax.set_title(f"{rid}: measured - calibrated model", fontsize=8, loc="left")
+    axes[-1, 0].set_xlabel("time on the log's own clock [s]")
+    axes[0, 0].legend(loc="upper right", fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out / "where_time.png", dpi=110)
+    plt.close(fig)
+    paths.append(out / "where_time.png")
+    return paths
 
 
 def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:

@@ -25,14 +25,30 @@ Decisions where the issue is silent
 * ``turn="auto"`` executes every turn the cheapest feasible way: on the spot at the
   best feasible yaw rate, or the fillet arc (radius from the smallest feasible one,
   :func:`ecoplan.models.limits.min_radius_for_speed`, up to the largest that fits) that
-  minimises the turn's energy **net of the straight driving it saves**.  With the
-  presets this picks tight arcs for Auriga-β and the tightest fitting arcs for the
-  Pioneer.  Slow is not always cheap: driver power-up runs all the time (tracked §IV).
+  minimises the turn's energy **net of the straight driving it saves**.  For Auriga-β
+  the winner depends on the ramp of the non-regenerated term (``nonregen_onset_mps``,
+  issue 11 item 4): with the paper's step (0) or a 0.02 m/s ramp, a 90° corner is
+  turned on a tight arc (``r`` near ``r_min``) at 0.3 and 0.5 m/s and on the spot at
+  0.8 m/s; with a 0.1 m/s ramp, wide arcs win -- their track-speed difference
+  (``v (y_l - y_r) / r``, 0.026 m/s for ``r = 10 m`` at 0.5 m/s) stays inside the ramp,
+  so they escape most of case 2's non-regenerated power and their net energy turns
+  negative (the straight driving they save outweighs them).  That is the ramp's
+  physics, not the paper's (``tests/test_energy.py``).  The Pioneer takes the
+  tightest fitting arcs.  Slow is not always cheap: driver power-up runs all the time
+  (tracked §IV).
 * Accelerations (``ramps=True``): the vehicle starts and ends at rest and stops for
   every on-the-spot turn; each stop is approached and left with a constant linear
   acceleration ``accel_max_mps2`` (the track acceleration limit), energy integrated
-  over the ramp.  Ramps are off by default (the paper's model is static).  Changes of
-  speed between segments and the yaw acceleration of on-the-spot turns are not ramped.
+  over the ramp, and each on-the-spot turn follows the drive law too
+  (:func:`~ecoplan.energy.turns.spot_turn_profile_energy`: tracks ramp at the limit, a
+  triangle yaw-rate profile for short turns).  Ramps are off by default (the paper's
+  model is static).  Changes of speed between segments are not ramped.
+  With ramps each start also costs the kinetic energy ``M v² / (2 η)``
+  (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``); braking returns nothing
+  (non-regenerative drivers).
+* ``turn=HeadingController(...)``: the path as the tracked paper's heading controller
+  (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`):
+  the estimate a battery budget should use.
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
 * Terrain of a turn is the terrain at its waypoint; straight parts are split by
@@ -41,12 +57,15 @@ Decisions where the issue is silent
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 
 import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.controlled import ORBIT, Excess, controlled_turns, drive_path
 from ecoplan.energy.primitives import (
     TurnMode,
     Vehicle,
@@ -61,8 +80,10 @@ from ecoplan.energy.result import PathCost, Violation
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
+from ecoplan.models.inertial import kinetic_energy_j
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
+from ecoplan.models.tracked import TrackedParams
 
 __all__ = ["Speed", "path_cost"]
 
@@ -123,10 +144,32 @@ class _Acc:
         self.length += length
         self.peak = max(self.peak, float(np.max(p.total_w)))
 
-    def add_ramp(self, params: VehicleParams, v: float, accel: float) -> None:
+    def result(
+        self, psi_rad: float, violations: list[Violation], turns: list[TurnPlan]
+    ) -> PathCost:
+        """The evaluation of the walked path."""
+        return PathCost(
+            length_m=self.length,
+            duration_s=self.duration,
+            psi_rad=float(psi_rad),
+            energy_j=float(sum(self.energy.values())),
+            breakdown_j=dict(self.energy),
+            peak_power_w=self.peak,
+            feasible=not violations,
+            violations=tuple(violations),
+            turns=tuple(turns),
+        )
+
+    def add_ramp(
+        self, params: VehicleParams, v: float, accel: float, accelerating: bool = False
+    ) -> None:
         p, duration = _ramp_power(params, v, accel)
         for k, val in p.components().items():
             self.energy[k] += float(np.mean(val)) * duration
+        if accelerating:  # M a v over the ramp: the kinetic energy, through the drives' eta
+            eta = params.eta if isinstance(params, TrackedParams) else 1.0
+            kinetic = float(kinetic_energy_j(params.mass_kg, v)) / eta
+            self.energy["inertial_w"] = self.energy.get("inertial_w", 0.0) + kinetic
         self.duration += duration
         self.length += v * v / (2.0 * accel)
         self.peak = max(self.peak, float(np.max(p.total_w)))
@@ -139,7 +182,7 @@ def path_cost(
     *,
     world: WorldLike | None = None,
     initial_heading_rad: float | None = None,
-    turn: TurnMode | float = "auto",
+    turn: TurnMode | float | HeadingController = "auto",
     ramps: bool = False,
 ) -> PathCost:
     """Energy and feasibility of a waypoint path executed by the vehicle (module doc).
@@ -159,8 +202,13 @@ def path_cost(
         leaving the free space are reported as ``collision`` violations.
     initial_heading_rad : float, optional
         Heading at the start; ``None``: already aligned with the first segment.
-    turn : {"auto", "spot", "arc"} or float
-        Turn execution (see :func:`cheapest_turn`).
+    turn : {"auto", "spot", "arc"}, float or HeadingController
+        Turn execution (see :func:`~ecoplan.energy.turns.cheapest_turn`), or the heading
+        controller that drives the path (:mod:`ecoplan.energy.controlled`: corners, start
+        and stop as the simulator drives them, from tables; a path with way points closer
+        than the tables' shortest leg ``max(1.5 d_th, v / G)`` is rolled out instead;
+        ``speed`` must then be one value, the controller's ``speed_mps`` is replaced by it,
+        and ``ramps`` is implied).
     ramps : bool
         Account for acceleration from and to rest (module doc).
 
@@ -175,6 +223,8 @@ def path_cost(
         Malformed path, non-positive speed, or plain parameters with terrain regions.
     """
     check_vehicle_world(vehicle, world)
+    if isinstance(turn, HeadingController):
+        return _controlled_path_cost(path, vehicle, speed, world, initial_heading_rad, turn)
     if isinstance(speed, TrackTrajectory):
         pts0 = np.asarray(path, dtype=np.float64).reshape(-1, 2)
         yaw0 = 0.0 if initial_heading_rad is None else float(initial_heading_rad)
@@ -197,7 +247,7 @@ def path_cost(
             raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
         d0 = float(wrap_pi(float(heading[0]) - initial_heading_rad))
         params0 = params_on(vehicle, terrains[0])
-        plan0 = _turn_plan(params0, d0, float(v_seg[0]), math.inf, turn, in_place=True)
+        plan0 = _turn_plan(params0, d0, float(v_seg[0]), math.inf, turn, in_place=True, ramps=ramps)
         _add_turn(acc, plan0, 0, turns, violations, count_length=True)
     # ---- interior turns
     tangent = np.zeros((n_seg, 2))  # length cut at the start / end of each segment
@@ -210,7 +260,7 @@ def path_cost(
         v = float(min(v_seg[i - 1], v_seg[i]))
         collides = None if world is None else fillet_collides(world, pts[i - 1 : i + 2])
         params = params_on(vehicle, terrains[i])
-        plan = _turn_plan(params, float(dpsi[i - 1]), v, room, turn, collides)
+        plan = _turn_plan(params, float(dpsi[i - 1]), v, room, turn, collides, ramps=ramps)
         if plan.mode == "arc":
             t = min(plan.tangent_m, room) if plan.violated == "turn_room" else plan.tangent_m
             tangent[i - 1, 1] = tangent[i, 0] = t
@@ -221,19 +271,80 @@ def path_cost(
         ramp = (bool(stop_at[i]) and ramps, bool(stop_at[i + 1]) and ramps)
         seg = (pts[i], pts[i + 1], float(v_seg[i]), tangent[i])
         _add_segment(acc, vehicle, world, seg, ramp, i, violations)
-    psi = sum(abs(tp.dpsi_rad) for tp in turns)
-    energy = float(sum(acc.energy.values()))
-    return PathCost(
-        length_m=acc.length,
-        duration_s=acc.duration,
-        psi_rad=float(psi),
-        energy_j=energy,
-        breakdown_j=dict(acc.energy),
-        peak_power_w=acc.peak,
-        feasible=not violations,
-        violations=tuple(violations),
-        turns=tuple(turns),
-    )
+    return acc.result(sum(abs(tp.dpsi_rad) for tp in turns), violations, turns)
+
+
+def _controlled_path_cost(
+    path: ArrayLike,
+    vehicle: Vehicle,
+    speed: Speed,
+    world: WorldLike | None,
+    initial_heading_rad: float | None,
+    controller: HeadingController,
+) -> PathCost:
+    """:func:`path_cost` of a path driven by the heading controller (module controlled)."""
+    pts = _validate_path(path)
+    n_seg = len(pts) - 1
+    if isinstance(speed, TrackTrajectory):
+        raise InputError("a timed trajectory has no waypoints for a heading controller")
+    v_seg = _segment_speeds(speed, n_seg)
+    if np.any(v_seg != v_seg[0]):
+        raise InputError("a heading controller drives one set point: give one speed")
+    ctrl = dataclasses.replace(controller, speed_mps=float(v_seg[0]))
+    d = np.diff(pts, axis=0)
+    heading = np.arctan2(d[:, 1], d[:, 0])
+    seg_len = np.hypot(d[:, 0], d[:, 1])
+    dpsi = wrap_pi(np.diff(heading))
+    terrains = world.terrain_at(pts) if world is not None else [None] * len(pts)
+    acc = _Acc()
+    turns: list[TurnPlan] = []
+    violations: list[Violation] = []
+    psi = 0.0
+    excesses: list[tuple[int, float, Excess]] = []
+    yaw0 = float(heading[0]) if initial_heading_rad is None else float(initial_heading_rad)
+    if not math.isfinite(yaw0):
+        raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
+    d0 = float(wrap_pi(float(heading[0]) - yaw0))
+    table0 = controlled_turns(params_on(vehicle, terrains[0]), ctrl)
+    if n_seg > 1 and float(np.min(seg_len[1:])) < float(table0.legs_m[0]):
+        # way points closer than the tables reach: roll the controller out on the path
+        t, vl, vr, done = drive_path(params_on(vehicle, terrains[0]), pts, ctrl, yaw0)
+        traj = TrackTrajectory(t, vl, vr)
+        start = (float(pts[0, 0]), float(pts[0, 1]), yaw0)
+        pc = trajectory_cost(traj, vehicle, world=world, start_pose=start)
+        if done:
+            return pc
+        orbit = Violation("turn", n_seg - 1, ORBIT, ctrl.speed_mps, math.nan)
+        return dataclasses.replace(pc, feasible=False, violations=(orbit, *pc.violations))
+    ends = table0.ends
+    if abs(d0) > 1e-12:
+        ex0 = table0.initial_excess(d0, float(seg_len[0]), last=n_seg == 1)
+        excesses.append((0, d0, ex0))
+    for i in range(1, n_seg):
+        table = controlled_turns(params_on(vehicle, terrains[i]), ctrl)
+        ex = table.corner_excess(float(dpsi[i - 1]), float(seg_len[i]), last=i == n_seg - 1)
+        excesses.append((i, float(dpsi[i - 1]), ex))
+    for index, angle, ex in [*excesses, (len(pts) - 1, 0.0, ends)]:
+        for k, val in ex.breakdown_j.items():
+            acc.energy[k] += val
+        acc.duration += ex.duration_s
+        acc.length += ex.length_m
+        acc.peak = max(acc.peak, ex.peak_power_w)
+        if abs(angle) > 0.0:
+            psi += ex.psi_rad
+            plan = TurnPlan(
+                "controller", angle, ctrl.speed_mps, math.nan, 0.0, ex.duration_s,
+                ex.length_m, 0.0, ex.energy_j, dict(ex.breakdown_j), ex.peak_power_w,
+                ex.violated == "", ex.violated,
+            )  # fmt: skip
+            turns.append(plan)
+        if ex.violated:
+            where = "turn" if abs(angle) > 0.0 else "segment"
+            violations.append(Violation(where, index, ex.violated, ctrl.speed_mps, math.nan))
+    for i in range(n_seg):
+        seg = (pts[i], pts[i + 1], float(v_seg[i]), np.zeros(2))
+        _add_segment(acc, vehicle, world, seg, (False, False), i, violations)
+    return acc.result(psi, violations, turns)
 
 
 def _add_turn(
@@ -284,7 +395,7 @@ def _add_segment(
         v_cruise = min(v, math.sqrt(accel * straight * (2.0 / n_ramps)))
         d_ramp = v_cruise * v_cruise / (2.0 * accel)
         if ramp[0]:
-            acc.add_ramp(first, v_cruise, accel)
+            acc.add_ramp(first, v_cruise, accel, accelerating=True)
             a += d_ramp
         if ramp[1]:
             acc.add_ramp(params_on(vehicle, pieces[-1][2]), v_cruise, accel)

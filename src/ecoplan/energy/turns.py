@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
+from ecoplan.dynamics.drive import rest_to_rest
 from ecoplan.energy.primitives import (
     TurnMode,
     VehicleParams,
@@ -45,6 +46,7 @@ __all__ = [
     "fillet_collides",
     "fillet_points",
     "fillet_points_many",
+    "spot_turn_profile_energy",
     "turn_candidates",
     "turn_costs",
 ]
@@ -241,6 +243,7 @@ def _turn_plan(
     collides: Callable[[float], bool] | None = None,
     *,
     in_place: bool = False,
+    ramps: bool = False,
 ) -> TurnPlan:
     a = abs(dpsi)
     sgn = -1.0 if dpsi < 0.0 else 1.0
@@ -255,7 +258,7 @@ def _turn_plan(
         if not (math.isfinite(r) and r >= 0.0):
             raise InputError(f"turn radius must be finite and >= 0 m, got {mode!r}")
         if r == 0.0:
-            return _spot_plan(params, dpsi, None)
+            return _spot_plan(params, dpsi, None, ramps=ramps)
         if collides is not None and collides(r):
             violated = "collision"
     else:
@@ -267,7 +270,7 @@ def _turn_plan(
         if choice is None:
             # nothing feasible: report the requested execution at its best, flagged
             if mode == "spot" or (mode == "auto" and params.kind == "tracked"):
-                return _spot_plan(params, dpsi, None)
+                return _spot_plan(params, dpsi, None, ramps=ramps)
             rmin = _min_radius(params, v)
             fit = room / math.tan(min(a, math.pi - 1e-9) / 2.0)
             r = rmin if math.isfinite(rmin) else max(fit, 1e-3)
@@ -275,7 +278,7 @@ def _turn_plan(
         else:
             r = choice[1]
             if r == 0.0:
-                return _spot_plan(params, dpsi, None)
+                return _spot_plan(params, dpsi, None, ramps=ramps)
     vl, vr = vr_to_tracks(params, v, sgn * r)
     p = params.power(vl, vr)
     check = check_tracks(params, vl, vr)
@@ -290,7 +293,59 @@ def _turn_plan(
     )  # fmt: skip
 
 
-def _spot_plan(params: VehicleParams, dpsi: float, yaw_rate: float | None) -> TurnPlan:
+_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(16)
+
+
+def spot_turn_profile_energy(
+    params: VehicleParams, dpsi_rad: float, yaw_rate_radps: float
+) -> tuple[dict[str, float], float, float]:
+    """On-the-spot turn under the drive law: energy per component, duration, peak yaw rate.
+
+    Both tracks are commanded to the on-the-spot speeds of ``w`` (tracked eq. 4 with
+    ``v = 0``) until the remaining angle equals the braking angle, then to zero; each
+    track follows at the acceleration limit (:mod:`ecoplan.dynamics.drive`), the faster
+    one (lever ``max(y_l, -y_r)``) setting the pace.  The yaw rate is the rest-to-rest
+    profile :func:`~ecoplan.dynamics.drive.rest_to_rest` of the turned angle: a triangle
+    when the turn is too short to reach ``w`` (Auriga-β, 90°: peak 1.43 rad/s, against
+    ``w_max`` = 3.3 rad/s).  The ramps are integrated by 16-point Gauss-Legendre
+    quadrature in the track speed (``dt = du / a``).
+
+    Parameters
+    ----------
+    params : TrackedParams or WheeledParams
+        Vehicle on one terrain.
+    dpsi_rad : float
+        Signed heading change [rad].
+    yaw_rate_radps : float
+        Commanded yaw rate magnitude ``w`` [rad/s], > 0.
+
+    Returns
+    -------
+    tuple
+        ``(energy per component [J], duration [s], peak yaw rate [rad/s])``.
+    """
+    icr = params.icr
+    lever = max(icr.y_left_m, -icr.y_right_m)
+    sgn = -1.0 if dpsi_rad < 0.0 else 1.0
+    prof = rest_to_rest(abs(dpsi_rad) * lever, yaw_rate_radps * lever, params.accel_max_mps2)
+    w_peak = prof.u_peak / lever
+    energy = dict.fromkeys(COMPONENTS, 0.0)
+    if prof.u_peak > 0.0:
+        u = 0.5 * prof.u_peak * (_GAUSS_X + 1.0)  # track speed of the lever track
+        vl, vr = setpoint_to_tracks(0.0, sgn * u / lever, icr)
+        ramp = params.power(vl, vr).components()
+        vl1, vr1 = setpoint_to_tracks(0.0, sgn * w_peak, icr)
+        hold = params.power(vl1, vr1).components()
+        for k in COMPONENTS:
+            # two ramps (up and down: the static model ignores the sign of du/dt) + hold
+            ramp_j = 0.5 * prof.u_peak * float(np.dot(_GAUSS_W, ramp[k])) / prof.accel
+            energy[k] = 2.0 * ramp_j + float(hold[k]) * prof.hold_s
+    return energy, prof.duration_s, w_peak
+
+
+def _spot_plan(
+    params: VehicleParams, dpsi: float, yaw_rate: float | None, *, ramps: bool = False
+) -> TurnPlan:
     w, _ = best_spot_yaw_rate(params)
     violated = ""
     if yaw_rate is not None:
@@ -302,6 +357,14 @@ def _spot_plan(params: VehicleParams, dpsi: float, yaw_rate: float | None) -> Tu
     vl, vr = setpoint_to_tracks(0.0, sgn * w, params.icr)
     p = params.power(vl, vr)
     violated = str(check_tracks(params, vl, vr).violated.ravel()[0]) or violated
+    if ramps:
+        energy, duration, w_peak = spot_turn_profile_energy(params, dpsi, w)
+        vl, vr = setpoint_to_tracks(0.0, sgn * w_peak, params.icr)
+        peak = float(params.power(vl, vr).total_w)
+        return TurnPlan(
+            "spot", dpsi, 0.0, 0.0, w_peak, duration, 0.0, 0.0, float(sum(energy.values())),
+            energy, peak, violated == "", violated,
+        )  # fmt: skip
     duration = abs(dpsi) / w
     return TurnPlan(
         "spot", dpsi, 0.0, 0.0, w, duration, 0.0, 0.0, float(p.total_w) * duration,
@@ -316,6 +379,7 @@ def cheapest_turn(
     *,
     room_m: float = math.inf,
     mode: TurnMode | float = "auto",
+    ramps: bool = False,
 ) -> TurnPlan:
     """The cheapest feasible way to turn by ``dpsi`` (see :func:`turn_costs`).
 
@@ -332,6 +396,9 @@ def cheapest_turn(
     mode : {"auto", "spot", "arc"} or float
         Allowed executions, or a fixed arc radius [m] (0: on the spot at the best
         yaw rate).
+    ramps : bool
+        Cost an on-the-spot turn under the drive law (:func:`spot_turn_profile_energy`)
+        instead of at its yaw rate reached instantly.
 
     Returns
     -------
@@ -341,7 +408,7 @@ def cheapest_turn(
         (``"turn_room"`` when it does not fit between its segments).
     """
     positive_speed("speed_mps", speed_mps)
-    return _turn_plan(params, float(dpsi_rad), float(speed_mps), float(room_m), mode)
+    return _turn_plan(params, float(dpsi_rad), float(speed_mps), float(room_m), mode, ramps=ramps)
 
 
 def fillet_points_many(

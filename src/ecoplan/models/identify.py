@@ -272,8 +272,9 @@ class TrackedIdentifier:
         case = motion_case(vl, vr, self.base.case_tol_mps)
         braking = ((case == MotionCase.ONE_ZERO) | (case == MotionCase.OPPOSITE)).astype(float)
         ramp = np.ones_like(vl)
-        if self.base.nonregen_blend_mps > 0.0:
-            ramp = np.minimum(np.abs(vl - vr) / self.base.nonregen_blend_mps, 1.0)
+        if self.base.nonregen_onset_mps > 0.0:  # the onset of TrackedParams
+            dv = np.abs(vl - vr) - self.base.case_tol_mps
+            ramp = np.clip(dv / self.base.nonregen_onset_mps, 0.0, 1.0)
         nonregen = np.where(case == MotionCase.SAME_SIGN, travel * ramp, 0.0)
         p_m_model = mu * s_unit + k * travel
         p_d = self.base.eta * data.p_total_w - p_m_model  # measured driver power

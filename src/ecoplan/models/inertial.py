@@ -30,15 +30,18 @@ import numpy as np
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array
-from ecoplan.models.tracked import GRAVITY_MPS2
+from ecoplan.models.tracked import GRAVITY_MPS2, TrackedParams
+from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
     "InertialPower",
     "battery_power",
     "climb_energy_j",
+    "inertial_battery_power",
     "inertial_power",
     "inertial_power_of_tracks",
     "kinetic_energy_j",
+    "yaw_inertia_estimate_kgm2",
 ]
 
 
@@ -206,3 +209,59 @@ def climb_energy_j(mass_kg: float, rise_m: ArrayLike) -> FloatArray:
     """Potential energy ``M g Δh`` of a rise [J] (the integral of ``P_grade`` along a path)."""
     check_range("climb_energy_j", "mass_kg", mass_kg, 0.0, lo_open=True)
     return mass_kg * GRAVITY_MPS2 * finite_array("rise_m", rise_m)
+
+
+def yaw_inertia_estimate_kgm2(params: TrackedParams | WheeledParams) -> float:
+    """Yaw inertia of a uniform box over the footprint, ``M (L² + W²) / 12`` [kg m²].
+
+    ``W`` is the track gauge; ``L`` the contact length (tracked) or, without one, the gauge
+    (a square footprint).  An estimate for parameter sets that carry no inertia; vehicle
+    files give theirs (:attr:`ecoplan.models.vehicles.Vehicle.yaw_inertia_kgm2`).
+    """
+    width = params.track_gauge_m
+    length = params.contact_length_m if isinstance(params, TrackedParams) else width
+    return params.mass_kg * (length**2 + width**2) / 12.0
+
+
+def inertial_battery_power(
+    t_s: ArrayLike,
+    v_left: ArrayLike,
+    v_right: ArrayLike,
+    params: TrackedParams | WheeledParams,
+    grade_rad: ArrayLike = 0.0,
+    *,
+    yaw_inertia_kgm2: float | None = None,
+    regen_efficiency: float = 0.0,
+) -> FloatArray:
+    """Battery power of the mass terms along a time series of side speeds [W].
+
+    :func:`inertial_power_of_tracks` with the parameters' mass, ICR spread and η
+    (tracked eq. 20; wheeled: η = 1, the paper's powers are at the battery), then
+    :func:`battery_power`.
+
+    Parameters
+    ----------
+    t_s, v_left, v_right : array_like
+        Sample times [s] and side speeds [m/s].
+    params : TrackedParams or WheeledParams
+        Vehicle parameters.
+    grade_rad : array_like
+        Slope along +x [rad].
+    yaw_inertia_kgm2 : float, optional
+        Yaw inertia (default :func:`yaw_inertia_estimate_kgm2`).
+    regen_efficiency : float
+        Share of negative mechanical power returned to the battery.
+    """
+    inertia = yaw_inertia_estimate_kgm2(params) if yaw_inertia_kgm2 is None else yaw_inertia_kgm2
+    ip = inertial_power_of_tracks(
+        t_s,
+        v_left,
+        v_right,
+        params.icr.spread_m,
+        grade_rad,
+        mass_kg=params.mass_kg,
+        yaw_inertia_kgm2=inertia,
+        icr_offset_m=params.icr_offset_m,
+    )
+    eta = params.eta if isinstance(params, TrackedParams) else 1.0
+    return ip.battery_w(eta, regen_efficiency)

@@ -20,27 +20,43 @@ vectorised array operations.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import NamedTuple
 
 import numpy as np
+import numpy.typing as npt
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
+from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array
 from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
 
 __all__ = [
+    "DEFAULT_NONREGEN_ONSET_MPS",
     "GRAVITY_MPS2",
+    "STATIONARY_RAMP_MPS2",
     "FrictionViews",
+    "OnsetFit",
     "TrackedParams",
     "contact_points",
     "dynamic_friction_views",
+    "fit_nonregen_onset",
     "tracked_power",
     "tracked_total_power",
 ]
 
 GRAVITY_MPS2 = 9.81
+
+#: Track acceleration of the paper's stationary experiments [m/s²]: "the goal speed is
+#: reached with an acceleration ramp of 2.5 s" (§III-C), i.e. the top track speed 0.86 m/s
+#: in 2.5 s.  A ramp the experimenters chose, not a stated limit of the vehicle; used as
+#: the default of :attr:`TrackedParams.accel_max_mps2`.
+STATIONARY_RAMP_MPS2 = 0.86 / 2.5
+
+#: Default track-speed difference over which the non-regenerated power and the dragged
+#: motor's generator power set in [m/s]; argued in :class:`TrackedParams`.
+DEFAULT_NONREGEN_ONSET_MPS = 0.05
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,23 +87,54 @@ class TrackedParams:
     p_powerup_w : float
         Driver power-up power [W] (58 W).
     p_braking_w : float
-        Driver braking power in cases 3 and 4 of Fig. 3 [W] (164 W).
+        Driver braking power in cases 3 and 4 of Fig. 3 [W] (164 W).  It needs ground
+        contact (one track braking the motion the other induces through the ground):
+        the ``hoisted`` preset sets it to 0.
     k_nonregen_n : float
-        Non-regenerated power per unit of ``|V_l| + |V_r|`` in case 2 [N] (162 N).
+        Non-regenerated power per unit of ``|V_l| + |V_r|`` in case 2 [N] (162 N).  It
+        needs ground contact (one track dragged by the other through the ground): the
+        ``hoisted`` preset sets it to 0.  (The model stays linear in µ, K and the three
+        driver terms, which calibration relies on.)
     eta : float
         Electrical efficiency η of the driver-motor sets, in (0, 1].
     icr_x_m : float
         Longitudinal ICR coordinate ``C_y`` [m].
     icr_offset_m : float
         Lateral shift of both ICRs [m] (a centre-of-mass offset; 0 = symmetric).
-    nonregen_blend_mps : float
-        Speed difference over which the non-regenerated term ramps in from case 1 to
-        case 2 [m/s].  The paper fitted it on pairs 0.2 m/s apart; the ramp keeps
-        ``P_T`` continuous for the small corrections of a heading controller.
+    nonregen_onset_mps : float
+        Track-speed difference ``|V_r - V_l|`` over which the dragging of the slower
+        track sets in [m/s]: the non-regenerated power of case 2 and the dragged motor's
+        generator power (the per-motor split of :func:`tracked_power`) rise linearly
+        from 0 at the case-1 tolerance ``case_tol_mps`` to their full values this much
+        beyond it, so the power is continuous in the speeds (apart from the paper's
+        braking step in cases 3-4).  ``0`` is the paper's step (full
+        ``k_nr (|V_l| + |V_r|)`` at any difference above ``case_tol_mps``).
+
+        The paper does not identify the shape below 0.2 m/s: its stationary experiments
+        use track speeds 0.2 m/s apart (§III-C), so every onset below 0.2 m/s fits them
+        identically.  The default, 0.05 m/s, is a physical estimate: Coulomb friction
+        (eq. 8) saturates at any sliding speed, but rubber on hard ground reaches its
+        sliding friction only after a slip of the order of 10 % of the rolling speed,
+        i.e. 0.03-0.05 m/s at the walking speeds of §IV (0.3-0.5 m/s); the contact
+        points at the ends of a track slide at ``|wz| * 0.36 m``, which is 0.7-0.8 of
+        ``|V_r - V_l|`` for χ = 0.8-0.9 (eqs. 3, 12), so the dragged track's friction
+        saturates at a difference of 0.04-0.07 m/s.  Below that the slower track is
+        not yet fully dragged, its motor generates less and less is lost in its
+        non-regenerating driver.  It is identifiable from logs with small speed
+        differences (heading-controller corrections): :func:`fit_nonregen_onset`.  The
+        paper's navigation runs corroborate an onset of this order: with the step, "0.3
+        m/s always costs more than 0.5 m/s" (Table III) fails in 4 of the replay's 8
+        pairings, with 0.02 m/s in 2, with 0.05 and 0.1 m/s in none.  The
+        sensitivity of the Table III
+        findings to it (step, 0.02, 0.05, 0.1 m/s) is in
+        :mod:`ecoplan.experiments.ab_replay`.
     case_tol_mps : float
         Speeds this close to zero (or to each other) count as zero (equal) [m/s].
     accel_max_mps2 : float
-        Track acceleration limit [m/s²] (paper: top speed reached in a 2.5 s ramp).
+        Track acceleration used by the simulator and the cost [m/s²].  Default
+        :data:`STATIONARY_RAMP_MPS2` (0.86 m/s in 2.5 s), the ramp of the paper's
+        stationary experiments (§III-C) -- a default, not a limit the paper states for
+        the vehicle.
     p_total_max_w : float or None
         Limit on total electrical locomotion power ``P_T`` [W]; None = unlimited.
     p_motor_max_w : float or None
@@ -109,9 +156,9 @@ class TrackedParams:
     eta: float = 0.95
     icr_x_m: float = 0.0
     icr_offset_m: float = 0.0
-    nonregen_blend_mps: float = 0.1
+    nonregen_onset_mps: float = DEFAULT_NONREGEN_ONSET_MPS
     case_tol_mps: float = 1e-3
-    accel_max_mps2: float = 0.86 / 2.5
+    accel_max_mps2: float = STATIONARY_RAMP_MPS2
     p_total_max_w: float | None = 3040.0
     p_motor_max_w: float | None = None
     _friction: _FrictionConstants = field(init=False, repr=False, compare=False)
@@ -136,7 +183,7 @@ class TrackedParams:
         check_range(o, "icr_x_m", self.icr_x_m, -self.contact_length_m, self.contact_length_m)
         half = self.track_gauge_m / (2.0 * self.chi)
         check_range(o, "icr_offset_m", self.icr_offset_m, -half, half, lo_open=True, hi_open=True)
-        check_range(o, "nonregen_blend_mps", self.nonregen_blend_mps, 0.0)
+        check_range(o, "nonregen_onset_mps", self.nonregen_onset_mps, 0.0, 1.0)
         check_range(o, "case_tol_mps", self.case_tol_mps, 0.0, 0.1)
         check_range(o, "accel_max_mps2", self.accel_max_mps2, 0.0, lo_open=True)
         if self.p_total_max_w is not None:
@@ -247,6 +294,7 @@ def dynamic_friction_views(
 
 
 _SAME_TABLE = (CASE_TABLE == MotionCase.SAME_SIGN).astype(np.float64)
+_TURNING_TABLE = (CASE_TABLE > MotionCase.STRAIGHT).astype(np.float64)
 _MOVING_TABLE = (CASE_TABLE != MotionCase.STOPPED).astype(np.float64)
 
 #: Samples per block in :func:`tracked_power`: the temporaries of one block stay in cache.
@@ -260,18 +308,32 @@ def tracked_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedParams) 
     * ``resistance_w`` = ``K (|V_l| + |V_r|)``, eq. (18);
     * ``powerup_w`` = constant driver power-up;
     * ``braking_w`` = braking effort when one track is stopped or opposed (cases 3, 4);
-    * ``nonregen_w`` = ``k_nr (|V_l| + |V_r|)`` in case 2 (the dragged motor's power is
-      not regenerated), ramped in over ``nonregen_blend_mps`` of speed difference;
+    * ``nonregen_w`` = ``s k_nr (|V_l| + |V_r|)`` in case 2 (the dragged motor's power is
+      not regenerated), with the onset factor ``s`` below;
     * ``elec_loss_w`` = ``(P_M + P_D)(1/eta - 1)`` so that ``total_w`` is eq. (20).
 
-    Per-motor mechanical powers ``left_w``/``right_w`` take each track's share of the
-    dynamic friction from the motor view (eq. 17), scaled so that the two add up to
-    ``P_M`` of eq. (19) as the measured motor powers do (eq. 22), plus each track's
-    traction resistance; a dragged track's resistance is borne by the other motor
-    (§II-C).  The dragged motor's power is negative in case 2 (Fig. 8b) and both are
-    positive in case 4 (Fig. 8a).  The unscaled views are :func:`dynamic_friction_views`.
-    With symmetric ICRs the scaled shares reduce to ``-c sign(w) V_l`` and
-    ``c sign(w) V_r`` with ``c = P_S / |V_r - V_l|``.
+    Per-motor mechanical powers ``left_w``/``right_w`` add up to ``P_M`` of eq. (19) for
+    every pair and any ICRs, as the measured motor powers do (eq. 22).  In steady motion
+    the longitudinal friction forces on the two tracks are equal and opposite (no net
+    force accelerates the vehicle), so the motor view (eq. 17) is a force pair
+    ``(-F, F)`` and energy balance with the terrain view fixes ``F (V_r - V_l) = P_S``:
+    the dragged-track split is ``(-c sign(w) V_l, c sign(w) V_r)`` with
+    ``c = P_S / |V_r - V_l|`` (with symmetric ICRs this is exactly eq. 17 with the
+    equilibrium ICRs; with an ICR offset the unbalanced motor views of
+    :func:`dynamic_friction_views` do not sum to ``P_S``).  Each motor also bears its
+    track's traction resistance, and in case 2 the dragged track's resistance is borne
+    by the faster motor (§II-C).  The dragged motor's power is negative in case 2
+    (Fig. 8b); both are positive in case 4 (Fig. 8a).
+
+    Onset of the dragging: the split above jumps at the first speed difference (Coulomb
+    friction, eq. 8, is saturated at any sliding speed).  With ``nonregen_onset_mps = w``
+    it sets in with the non-regenerated term: with
+    ``s = clip((|V_r - V_l| - case_tol_mps) / w, 0, 1)`` each
+    motor's power is ``s`` times the dragged split plus ``1 - s`` times the undragged one
+    (``P_S / 2`` and ``K |V|`` each), so ``left_w``, ``right_w`` and ``total_w`` are
+    continuous across case 1 and the sum stays ``P_M``.  With ``w = 0`` (the paper's
+    step) ``s = 1`` off case 1 and ``s = 0`` in case 1: pairs classified straight
+    (within ``case_tol_mps``) are split as straight motion, consistent with Fig. 3.
 
     Large inputs are processed in blocks of ``_BLOCK`` samples so that the temporaries
     stay in cache (about 10^7 evaluations per second on one core).
@@ -344,6 +406,116 @@ def tracked_total_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedPa
     return total.reshape(shape)
 
 
+def _onset(ad: FloatArray, idx: npt.NDArray[np.uint8], k: _KernelConstants) -> FloatArray:
+    """Onset factor ``s`` of the dragging, ``clip((|ΔV| - tol) / w, 0, 1)``; 0 in case 1."""
+    turning = np.take(_TURNING_TABLE, idx)
+    if k.inv_onset < np.inf:
+        s = ad - k.tol
+        s *= k.inv_onset
+        np.clip(s, 0.0, 1.0, out=s)
+        s *= turning
+        return s
+    return turning
+
+
+class OnsetFit(NamedTuple):
+    """Result of :func:`fit_nonregen_onset`.
+
+    Attributes
+    ----------
+    onset_mps : float
+        Best ``nonregen_onset_mps`` on the searched range [m/s].
+    mae_w : float
+        Mean absolute error of ``P_T`` with that onset [W].
+    n_informative : int
+        Case-2 samples whose speed difference lies inside the searched onsets (between
+        ``case_tol_mps`` and ``case_tol_mps + max_mps``): only these depend on the onset.
+    identified : bool
+        True when ``n_informative >= min_informative``; otherwise every onset fits the
+        data alike and ``onset_mps`` means nothing.
+    """
+
+    onset_mps: float
+    mae_w: float
+    n_informative: int
+    identified: bool
+
+
+def fit_nonregen_onset(
+    v_left: ArrayLike,
+    v_right: ArrayLike,
+    p_total_w: ArrayLike,
+    params: TrackedParams,
+    *,
+    max_mps: float = 0.2,
+    grid: int = 201,
+    min_informative: int = 20,
+) -> OnsetFit:
+    """Identify ``nonregen_onset_mps`` from logged track speeds and total power.
+
+    Every other parameter is held at ``params``; the onset minimising the mean absolute
+    error of ``P_T`` (eq. 20) is found on a grid of ``[0, max_mps]`` (least absolute
+    errors, as the paper's simplex fits, §III-C).  Only case-2 samples with a speed
+    difference inside the onset carry information: the paper's stationary experiments
+    (pairs 0.2 m/s apart) have none, so they cannot tell a step from any onset up to
+    0.2 m/s; a heading controller's corrections have many.
+
+    Parameters
+    ----------
+    v_left, v_right : array_like
+        Track speeds [m/s].
+    p_total_w : array_like
+        Measured total electrical power [W], same shape.
+    params : TrackedParams
+        The vehicle's other parameters.
+    max_mps : float
+        Largest onset searched [m/s].
+    grid : int
+        Onsets evaluated (evenly spaced, 0 included).
+    min_informative : int
+        Informative samples needed to call the onset identified.
+
+    Returns
+    -------
+    OnsetFit
+        Best onset, its error, and whether the data identify it.
+
+    Raises
+    ------
+    InputError
+        Shapes that differ, or a search range or grid out of bounds.
+    """
+    vl = finite_array("v_left", v_left).ravel()
+    vr = finite_array("v_right", v_right).ravel()
+    pt = finite_array("p_total_w", p_total_w).ravel()
+    if not vl.shape == vr.shape == pt.shape or vl.size == 0:
+        raise InputError(
+            f"v_left, v_right and p_total_w must be non-empty and of one length; "
+            f"got {vl.size}, {vr.size}, {pt.size}"
+        )
+    check_range("fit_nonregen_onset", "max_mps", max_mps, 0.0, 1.0, lo_open=True)
+    check_range("fit_nonregen_onset", "grid", grid, 2, 100_000)
+    widths = np.linspace(0.0, max_mps, int(grid))
+    errors = np.array(
+        [
+            float(
+                np.mean(
+                    np.abs(tracked_total_power(vl, vr, replace(params, nonregen_onset_mps=w)) - pt)
+                )
+            )
+            for w in widths
+        ]
+    )
+    best = int(np.argmin(errors))
+    ad = np.abs(vr - vl)
+    same = np.take(
+        _SAME_TABLE, motion_case_index(vl, vr, np.abs(vl), np.abs(vr), ad, params.case_tol_mps)
+    )
+    inside = (same > 0.0) & (ad < params.case_tol_mps + max_mps)
+    n_inf = int(np.count_nonzero(inside))
+    return OnsetFit(float(widths[best]), float(errors[best]), n_inf, n_inf >= min_informative)
+
+
 def _total_block(vl: FloatArray, vr: FloatArray, k: _KernelConstants, out: FloatArray) -> None:
     """One block of :func:`tracked_total_power`."""
     d = vr - vl
@@ -353,13 +525,8 @@ def _total_block(vl: FloatArray, vr: FloatArray, k: _KernelConstants, out: Float
     travel = al + ar
     idx = motion_case_index(vl, vr, al, ar, ad, k.tol)
     np.take(k.braking_table, idx, out=out)  # braking, cases 3-4
-    same = np.take(_SAME_TABLE, idx)
-    if k.inv_blend < np.inf:  # per unit of travel: K + k_nr ramp [case 2]
-        per_travel = ad * k.inv_blend
-        np.minimum(per_travel, 1.0, out=per_travel)
-        per_travel *= same
-    else:
-        per_travel = same
+    per_travel = _onset(ad, idx, k)  # per unit of travel: K + s k_nr [case 2]
+    per_travel *= np.take(_SAME_TABLE, idx)
     per_travel *= k.k_nr
     per_travel += k.k
     per_travel *= travel
@@ -374,33 +541,25 @@ class _KernelConstants(NamedTuple):
     c_s: float  # P_S / |V_r - V_l|  [N]  (eq. 10 with eq. 3)
     k: float
     tol: float
-    inv_blend: float  # 1 / nonregen_blend_mps (inf: no ramp)
+    inv_onset: float  # 1 / nonregen_onset_mps (inf: the paper's step)
     k_nr: float
     p_up: float
-    p_br: float
     inv_eta: float
-    g_left: float  # motor-view force constants µ g (eq. 17), for asymmetric ICRs
-    g_right: float
-    symmetric: bool
     braking_table: FloatArray  # braking power per case pattern (cases 3 and 4)
 
     @classmethod
     def of(cls, params: TrackedParams) -> _KernelConstants:
         c = params._friction
         icr = params.icr
-        blend = params.nonregen_blend_mps
+        onset = params.nonregen_onset_mps
         return cls(
             c_s=params.mu * (c.s_left + c.s_right) / icr.spread_m,
             k=params.k_resistance_n,
             tol=params.case_tol_mps,
-            inv_blend=1.0 / blend if blend > 0.0 else np.inf,
+            inv_onset=1.0 / onset if onset > 0.0 else np.inf,
             k_nr=params.k_nonregen_n,
             p_up=params.p_powerup_w,
-            p_br=params.p_braking_w,
             inv_eta=1.0 / params.eta,
-            g_left=params.mu * c.g_left,
-            g_right=params.mu * c.g_right,
-            symmetric=icr.is_symmetric,
             braking_table=np.where(CASE_TABLE >= MotionCase.ONE_ZERO, params.p_braking_w, 0.0),
         )
 
@@ -426,14 +585,10 @@ def _tracked_block(
     np.take(k.braking_table, idx, out=br)  # cases 3 and 4
     same = np.take(_SAME_TABLE, idx)
     moving = np.take(_MOVING_TABLE, idx)
+    s = _onset(ad, idx, k)
     up.fill(k.p_up)
-    if k.inv_blend < np.inf:
-        ramp = ad * k.inv_blend
-        np.minimum(ramp, 1.0, out=ramp)
-        ramp *= same
-        np.multiply(travel, ramp, out=nr)
-    else:
-        np.multiply(travel, same, out=nr)
+    np.multiply(travel, s, out=nr)
+    nr *= same
     nr *= k.k_nr
     p_mech = f + r
     p_drv = up + br
@@ -442,30 +597,22 @@ def _tracked_block(
     tot *= k.inv_eta  # eq. (20)
     np.subtract(tot, p_mech, out=loss)
     loss -= p_drv
-    # motor view (eq. 17) scaled to P_S: symmetric ICRs give -c sign(d) V_l, c sign(d) V_r
-    if k.symmetric:
-        sc = np.sign(d)
-        sc *= k.c_s
-        np.multiply(vr, sc, out=right)
-        np.multiply(vl, sc, out=left)
-        np.negative(left, out=left)
-    else:
-        sgn = np.sign(d)
-        lf = vl * (k.g_left * sgn)
-        rf = vr * (k.g_right * sgn)
-        msum = lf + rf
-        scale = np.divide(f, msum, out=np.ones_like(f), where=msum > 1e-9)
-        np.multiply(lf, scale, out=left)
-        np.multiply(rf, scale, out=right)
+    # friction split: s (dragged force pair -c sign(d) V_l, c sign(d) V_r) + (1 - s) P_S/2
+    np.multiply(vl, np.sign(d), out=left)
+    left *= -k.c_s
+    left -= 0.5 * f
+    left *= s
+    left += 0.5 * f
     # traction resistance per motor, adding up to P_R: in case 2 the faster motor bears
-    # the dragged one's (left faster: K (|V_l| + |V_r|), slower: 0); otherwise K |V|
+    # the dragged one's (left faster: K (|V_l| + |V_r|), slower: 0), set in by s;
+    # otherwise K |V|
     res_l = np.multiply(al > ar, travel)
     res_l -= al
     res_l *= same
+    res_l *= s
     res_l += al
     res_l *= k.k
     left += res_l
-    right += r
-    right -= res_l
+    np.subtract(p_mech, left, out=right)
     left *= moving
     right *= moving

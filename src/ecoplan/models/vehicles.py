@@ -74,6 +74,7 @@ __all__ = [
     "TerrainEntry",
     "Vehicle",
     "VehicleFile",
+    "limit_problem",
     "shipped_names",
     "shipped_vehicle",
     "vehicle_from_mapping",
@@ -333,7 +334,7 @@ class VehicleFile(_Section):
 
 
 def _check_terrain(vf: VehicleFile, name: str, e: TerrainEntry) -> None:
-    """Model-specific completeness of a terrain entry and limits above the idle power."""
+    """Model-specific completeness of a terrain entry."""
     if vf.power_model == "contact-friction":
         if e.mu is None:
             raise ValueError(f"terrains.{name}.mu is required by the contact-friction model")
@@ -350,18 +351,30 @@ def _check_terrain(vf: VehicleFile, name: str, e: TerrainEntry) -> None:
         for field in ("mu", "k_resistance_n", "p_braking_w", "k_nonregen_n"):
             if getattr(e, field) is not None:
                 raise ValueError(f"terrains.{name}.{field} belongs to the contact-friction model")
-    idle = e.p_powerup_w.value if e.p_powerup_w is not None else vf.drivers.p_powerup_w
+
+
+def limit_problem(vf: VehicleFile) -> tuple[tuple[str, str], str] | None:
+    """A power limit at or below the idle (power-up) power on some terrain, if any.
+
+    Returns
+    -------
+    ((section, field), message) or None
+        The offending field's key path and a one-line message naming the accepted range.
+    """
     lim = vf.limits
-    for field, limit, share in (
-        ("p_total_max_w", lim.p_total_max_w, 1.0),
-        ("p_side_max_w", lim.p_side_max_w, 0.5),
-        ("p_motor_max_w", lim.p_motor_max_w, 0.5),
-    ):
-        if limit is not None and limit <= idle * share:
-            raise ValueError(
-                f"limits.{field} = {limit:g} W is at or below the idle power on {name} "
-                f"({idle * share:g} W); accepted: > {idle * share:g}"
-            )
+    for name, e in vf.terrains.items():
+        idle = e.p_powerup_w.value if e.p_powerup_w is not None else vf.drivers.p_powerup_w
+        for field, limit, share in (
+            ("p_total_max_w", lim.p_total_max_w, 1.0),
+            ("p_side_max_w", lim.p_side_max_w, 0.5),
+            ("p_motor_max_w", lim.p_motor_max_w, 0.5),
+        ):
+            if limit is not None and limit <= idle * share:
+                return ("limits", field), (
+                    f"{limit:g} W is at or below the idle power on {name} "
+                    f"({idle * share:g} W); accepted: > {idle * share:g}"
+                )
+    return None
 
 
 def _value(v: Sourced | None, default: float) -> float:
@@ -580,8 +593,15 @@ def vehicle_from_mapping(data: Any, source: str = "<mapping>") -> Vehicle:
         The document does not follow :class:`VehicleFile`.  Readers of user files turn it
         into a one-line :class:`~ecoplan.errors.InputError`
         (:func:`ecoplan.io.vehicles.load_vehicle`).
+    InputError
+        A power limit at or below the idle power (:func:`limit_problem`).
     """
-    return Vehicle(VehicleFile.model_validate(data), source)
+    spec = VehicleFile.model_validate(data)
+    problem = limit_problem(spec)
+    if problem is not None:
+        (section, field), msg = problem
+        raise InputError(f"{source}: {section}.{field}: {msg}")
+    return Vehicle(spec, source)
 
 
 def shipped_names() -> list[str]:

@@ -20,9 +20,21 @@ Limits of the radius (defined here, not in the paper):
   :func:`wheeled_power` gives each side the mean of the inner and outer powers.
 * ``r -> 0`` (on the spot): ``(r + 1)^-beta -> 1``, so ``a(0) = a_inf + a_alpha`` and
   ``b(0) = b_inf + b_alpha``.  The linear speed of the centre is zero on the spot, so each
-  side draws ``b(0)`` -- 300 W on the outer side on asphalt, far above any limit: the
-  model says on-the-spot turns are not executable, which matches the paper's real robot
-  being immobilised when commanded r = 0 (§III).
+  side would draw ``b(0)``.  **That value is assumed, not known**: the asphalt fits of
+  Table I come from radii ``r >= 5 m`` (:data:`ASPHALT_RADII_M`, §III), where ``b(r)`` is
+  below 0.09 W on both sides (outer ``b(5) = 0.034 + 300 * 6^-4.818 ≈ 0.087 W``), so the
+  data pin neither ``b_alpha`` nor ``b_beta``; a fit on those radii is as good with
+  ``b_alpha`` near 0.2 W as with the tables' 300 / 500 W.  The tables' extrapolation to
+  ``r = 0`` (300 W outer, 500 W inner on asphalt) is what this model uses, as an
+  assumption.  What does follow from the identified part: the slope ``a(r)`` grows as
+  the radius shrinks (``a(5) = 14.9`` W s/m outer on asphalt, ``a(0) = 260`` W s/m by
+  extrapolation), so tight turns at useful speeds exceed the side limit whatever ``b(0)``
+  is, consistent with the real robot being immobilised when commanded ``r = 0`` (§III);
+  the spot turn itself is infeasible in this model only through the assumed ``b(0)``
+  (with ``b_alpha = 0.22`` W on both sides it would draw 0.23 W per side and pass, and
+  arcs of r = 0.5 m would be feasible up to 0.11 m/s instead of 0.6 mm/s).
+* Inner-side braking below r ≈ 2.4 m (see above) is likewise an extrapolation of the
+  fits below the 5 m of the data; the paper reports it from Fig. 6's torques.
 
 The negative power of a braking side still drains the battery (§III-A), so the battery
 draw of a side is ``|P|``.
@@ -40,6 +52,7 @@ from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
 
 __all__ = [
+    "ASPHALT_RADII_M",
     "SideCoefficients",
     "WheeledParams",
     "decay_curve",
@@ -47,6 +60,14 @@ __all__ = [
     "wheeled_power",
     "wheeled_power_vr",
 ]
+
+
+#: Command turning radii of the asphalt experiments behind Table I [m] (wheeled §III):
+#: the fits are identified on these only; below 5 m ``a(r)`` and ``b(r)`` are extrapolated.
+ASPHALT_RADII_M: tuple[float, ...] = (
+    5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 15.0, 20.0, 30.0, 50.0,
+    100.0, 200.0, 300.0, 400.0, 500.0, 1000.0, 10000.0,
+)  # fmt: skip
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,8 +1,9 @@
-"""Simulation: batch integrator of the time-domain physics, A->B replay.
+"""Simulation: batch integrator of the time-domain physics.
 
 * :mod:`ecoplan.sim.simulate` -- fixed-step ICR-kinematics integrator with power and
-  energy from the vehicle's model, vectorised over runs, CSV in the diagnosis log format;
-* :mod:`ecoplan.sim.replay` -- the A->B obstacle experiment of §IV-A (Table III, Fig. 14).
+  energy from the vehicle's model, vectorised over runs, CSV in the diagnosis log format.
+
+The A->B replay of §IV-A is :mod:`ecoplan.experiments.ab_replay`.
 """
 
 from ecoplan.sim.simulate import (

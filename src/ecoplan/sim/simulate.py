@@ -64,6 +64,7 @@ from ecoplan.dynamics.drive import IcrArrays
 from ecoplan.dynamics.rollout import ROLLOUT_STATE, CommandPolicy, rollout
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range
+from ecoplan.models.inertial import inertial_battery_power
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.power import COMPONENTS
 from ecoplan.models.tracked import TrackedParams
@@ -117,10 +118,15 @@ class SimConfig:
         Time limit of every run [s]; None = derived from the task (waypoint runs: three
         times the polyline's travel time at ``v_sp`` plus 60 s; schedules: their length
         plus the time to stop plus 1 s).
+    inertial : bool
+        Add the mass terms of :mod:`ecoplan.models.inertial` (``M a v + I α ω`` through
+        the drives' η, non-regenerative) to the static model's power, as the component
+        ``inertial_w`` (default False: the papers' static models only).
     """
 
     dt_s: float = 0.01
     t_max_s: float | None = None
+    inertial: bool = False
 
     def __post_init__(self) -> None:
         check_range("SimConfig", "dt_s", self.dt_s, 0.0, 1.0, lo_open=True)
@@ -372,7 +378,7 @@ def simulate_batch(
     if t_max is None:
         t_max = max(3.0 * r.polyline_length_m / r.controller.speed_mps + 60.0 for r in runs)
     start = np.array([[r.waypoints[0, 0], r.waypoints[0, 1], r.yaw0] for r in runs])
-    return simulate_policy(params, policy, start, SimConfig(config.dt_s, t_max))
+    return simulate_policy(params, policy, start, SimConfig(config.dt_s, t_max, config.inertial))
 
 
 def simulate_waypoints(
@@ -442,7 +448,8 @@ def simulate_tracks(
         top = float(np.max(np.abs(np.concatenate([sched.v_left, sched.v_right]))))
         t_max = sched.v_left.shape[0] * config.dt_s + top / params.accel_max_mps2 + 1.0
     start = np.array([start_pose], dtype=np.float64)
-    return simulate_policy([params], sched, start, SimConfig(config.dt_s, t_max))[0]
+    cfg = SimConfig(config.dt_s, t_max, config.inertial)
+    return simulate_policy([params], sched, start, cfg)[0]
 
 
 def simulate_policy(
@@ -476,13 +483,19 @@ def simulate_policy(
         raise InputError(f"start must be finite with shape ({len(params)}, 3), got {pose0.shape}")
     raw, end, finished = rollout(params, policy, pose0, config.dt_s, config.t_max_s)
     return [
-        _result(p, raw, i, int(end[i]), bool(finished[i]), config.dt_s)
+        _result(p, raw, i, int(end[i]), bool(finished[i]), config.dt_s, config.inertial)
         for i, p in enumerate(params)
     ]
 
 
 def _result(
-    params: VehicleParams, raw: FloatArray, i: int, end: int, completed: bool, dt: float
+    params: VehicleParams,
+    raw: FloatArray,
+    i: int,
+    end: int,
+    completed: bool,
+    dt: float,
+    inertial: bool = False,
 ) -> SimResult:
     cols = {
         name: np.ascontiguousarray(raw[: end + 1, j, i]) for j, name in enumerate(ROLLOUT_STATE)
@@ -490,6 +503,12 @@ def _result(
     vl, vr = cols["v_left"], cols["v_right"]
     pw = params.power(vl, vr)
     comps = {c: np.asarray(v, dtype=np.float64) for c, v in pw.components().items()}
+    p_total = np.asarray(pw.total_w, dtype=np.float64)
+    if inertial and vl.size >= 2:
+        comps["inertial_w"] = inertial_battery_power(
+            np.arange(vl.size, dtype=np.float64) * dt, vl, vr, params
+        )
+        p_total = p_total + comps["inertial_w"]
     body = tracks_to_twist(vl[:end], vr[:end], params.icr)
     return SimResult(
         t=np.arange(end + 1, dtype=np.float64) * dt,
@@ -501,12 +520,12 @@ def _result(
         v_left=vl,
         v_right=vr,
         wz=cols["wz"],
-        p_total=np.asarray(pw.total_w, dtype=np.float64),
+        p_total=p_total,
         p_left=np.asarray(pw.left_w, dtype=np.float64),
         p_right=np.asarray(pw.right_w, dtype=np.float64),
         case=np.asarray(pw.case, dtype=np.int64),
         components_w=comps,
-        energy_j=float(np.sum(pw.total_w[:end]) * dt),
+        energy_j=float(np.sum(p_total[:end]) * dt),
         breakdown_j={c: float(np.sum(v[:end]) * dt) for c, v in comps.items()},
         psi_rad=float(np.sum(np.abs(cols["wz"][:end])) * dt),
         length_m=float(np.sum(np.hypot(body.vx, body.vy)) * dt),

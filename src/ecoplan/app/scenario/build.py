@@ -28,6 +28,7 @@ from ecoplan.app.scenario.schema import (
 from ecoplan.errors import InputError, ScenarioError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.geometry.world import GeometryError, World, rectangle
+from ecoplan.io.vehicles import load_vehicle
 from ecoplan.io.yaml import LineMap, error_at, one_line
 from ecoplan.presets import VehicleParams, VehicleSpec
 
@@ -105,7 +106,7 @@ class Scenario:
     @property
     def default_terrain(self) -> str:
         """Default terrain preset name."""
-        return self.vehicle.terrain or _default_terrain(self.vehicle.name)
+        return self.vehicle.terrain or self.vehicle.vehicle.default_terrain
 
     @property
     def goal_xy(self) -> tuple[float, float]:
@@ -139,12 +140,6 @@ class Scenario:
             update["compare"] = []
             out.append(Case(v.name, self.spec.model_copy(update=update), self.source))
         return out
-
-
-def _default_terrain(preset: str) -> str:
-    from ecoplan.presets import default_terrain
-
-    return default_terrain(preset)
 
 
 def _err(source: str, lines: LineMap, loc: Sequence[str | int], msg: str) -> InputError:
@@ -307,6 +302,35 @@ def _model_overrides(model: Any) -> dict[str, Any]:
     return {k: SideCoefficients(**v) if isinstance(v, dict) else v for k, v in params.items()}
 
 
+def _file_vehicle(spec: ScenarioSpec, source: str, lines: LineMap) -> VehicleSpec:
+    """The vehicle file named by ``vehicle.file`` (path relative to the scenario)."""
+    v = spec.vehicle
+    assert v.file is not None
+    path = Path(v.file).expanduser()
+    if not path.is_absolute() and not source.startswith("<"):
+        path = Path(source).parent / path
+    try:
+        veh = load_vehicle(path)
+    except InputError as exc:
+        raise _err(source, lines, ("vehicle", "file"), one_line(str(exc))) from None
+    try:
+        VehicleSpec.of(veh)
+    except InputError as exc:  # pragma: no cover - load_vehicle builds every terrain
+        raise _err(source, lines, ("vehicle", "file"), one_line(str(exc))) from None
+    if spec.terrain.default is not None and spec.terrain.default.lower() not in veh.terrains:
+        raise _err(
+            source,
+            lines,
+            ("terrain", "default"),
+            f"{veh.name} has no terrain {spec.terrain.default!r}; "
+            f"accepted: {', '.join(veh.terrains)}",
+        )
+    try:
+        return VehicleSpec.of(veh, spec.terrain.default, v.overrides)
+    except (InputError, TypeError, ValueError) as exc:
+        raise _err(source, lines, ("vehicle", "overrides"), one_line(str(exc))) from None
+
+
 def _build_vehicle(
     spec: ScenarioSpec, source: str, lines: LineMap, model: Any = None
 ) -> VehicleSpec:
@@ -318,6 +342,8 @@ def _build_vehicle(
             )
         except (InputError, TypeError, ValueError) as exc:
             raise _err(source, lines, ("vehicle", "overrides"), one_line(str(exc))) from None
+    if v.file is not None:
+        return _file_vehicle(spec, source, lines)
     assert v.preset is not None
     try:
         return VehicleSpec.of(v.preset, spec.terrain.default, v.overrides)

@@ -31,7 +31,7 @@ from ecoplan.app.scenario.schema import MAX_FILE_BYTES, ScenarioSpec
 from ecoplan.errors import ScenarioError
 from ecoplan.io.yaml import LineMap, format_validation, read_text, read_yaml
 
-__all__ = ["load_scenario", "parse_scenario", "with_waypoints"]
+__all__ = ["load_scenario", "parse_scenario", "with_vehicle", "with_waypoints"]
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -121,6 +121,44 @@ def with_waypoints(sc: Scenario, points: Sequence[Sequence[float]]) -> Scenario:
     data.pop("goal", None)
     source = f"{sc.source} (--waypoints)"
     lines = LineMap()  # no lines: the patched spec is not a file
+    try:
+        spec = ScenarioSpec.model_validate(data)
+    except ValidationError as exc:
+        raise ScenarioError(format_validation(exc, source, lines, ScenarioSpec)) from None
+    return build_scenario(spec, source, lines)
+
+
+def with_vehicle(sc: Scenario, vehicle: str | Path) -> Scenario:
+    """The scenario with another vehicle: a vehicle file or a preset name (``--vehicle``).
+
+    The scenario's overrides belong to its own vehicle and are dropped; its terrains
+    (default and regions) must exist in the new vehicle's terrain table.
+
+    Parameters
+    ----------
+    sc : Scenario
+        A loaded scenario.
+    vehicle : str or Path
+        A vehicle file (``husky.yaml``, relative to the working directory) or a preset.
+
+    Returns
+    -------
+    Scenario
+
+    Raises
+    ------
+    ScenarioError
+        The vehicle cannot be read or lacks a terrain of the scenario.
+    """
+    text = str(vehicle)
+    path = Path(text).expanduser()
+    data = sc.spec.model_dump(exclude_none=True)
+    if path.exists() or text.endswith((".yaml", ".yml")):
+        data["vehicle"] = {"file": str(path.resolve())}
+    else:
+        data["vehicle"] = {"preset": text}
+    source = f"{sc.source} (--vehicle)"
+    lines = LineMap()
     try:
         spec = ScenarioSpec.model_validate(data)
     except ValidationError as exc:

@@ -127,21 +127,26 @@ class Region(Shape):
 
 
 class VehicleSection(_Section):
-    """Vehicle preset (``ecoplan.presets``) or corrected model, and parameter overrides.
+    """Vehicle preset (``ecoplan.presets``), vehicle file or corrected model, and overrides.
 
-    ``model`` is a file written by ``ecoplan diagnose --out`` (``corrected_model.json``:
-    the preset, its re-identified parameters and the fitted unmodelled effect), relative
-    to the scenario file.
+    ``file`` is a vehicle file (:mod:`ecoplan.models.vehicles`; ``husky.yaml``), ``model``
+    a file written by ``ecoplan diagnose --out`` (``corrected_model.json``: the preset, its
+    re-identified parameters and the fitted unmodelled effect); both relative to the
+    scenario file.
     """
 
     preset: Name | None = None
+    file: Annotated[str, Field(min_length=1, max_length=4096)] | None = None
     model: Annotated[str, Field(min_length=1, max_length=4096)] | None = None
     overrides: dict[str, Any] = Field(default_factory=dict)
 
     @model_validator(mode="after")
     def _one_source(self) -> VehicleSection:
-        if (self.preset is None) == (self.model is None):
-            raise ValueError("give exactly one of preset (a vehicle preset) or model (a file)")
+        if sum(x is not None for x in (self.preset, self.file, self.model)) != 1:
+            raise ValueError(
+                "give exactly one of preset (a vehicle preset), file (a vehicle file) or "
+                "model (a corrected model)"
+            )
         return self
 
 

@@ -1,0 +1,145 @@
+"""Reading users' vehicle files: one line naming file, line, field and range."""
+
+from __future__ import annotations
+
+import copy
+import json
+import re
+from pathlib import Path
+from typing import Any
+
+import pytest
+import yaml
+
+from ecoplan.errors import InputError
+from ecoplan.io.vehicles import load_vehicle, parse_vehicle
+from test_vehicles import ROBOT50
+
+
+def _write(tmp_path: Path, data: dict[str, Any], name: str = "robot.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    return path
+
+
+def _with(path: tuple[str, ...], value: object) -> dict[str, Any]:
+    data = copy.deepcopy(ROBOT50)
+    node = data
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = value
+    return data
+
+
+def test_a_robot_that_is_not_a_preset_loads_from_its_file(tmp_path: Path) -> None:
+    v = load_vehicle(_write(tmp_path, ROBOT50))
+    assert v.name == "robot50" and v.terrains == ["asphalt", "sand"]
+    assert v.params("sand").mass_kg == 50.0
+    assert load_vehicle("husky-a200").name == "husky-a200"  # presets by name
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "expected"),
+    [
+        # line numbers counted in the dump of ROBOT50 (sort_keys=False)
+        (("inertia", "mass_kg"), -5.0, r"robot.yaml:10: inertia.mass_kg: expected a number > 0"),
+        (("geometry", "chi"), 1.0, r"robot.yaml:8: geometry.chi: expected a number < 1"),
+        (("limits", "p_total_max_w"), 15.0,
+         r"robot.yaml:14: limits.p_total_max_w: 15 W is at or below the idle power .*> 20"),
+        (("geometry", "colour"), "red", r"robot.yaml:9: unknown key 'colour' in geometry"),
+    ],
+)  # fmt: skip
+def test_impossible_values_are_one_line_with_file_line_and_range(
+    tmp_path: Path, path: tuple[str, ...], value: object, expected: str
+) -> None:
+    with pytest.raises(InputError, match=expected) as info:
+        load_vehicle(_write(tmp_path, _with(path, value)))
+    assert "\n" not in str(info.value)
+
+
+def test_missing_files_and_bad_yaml_are_one_line(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="no vehicle file or preset 'clearpath-husky'"):
+        load_vehicle("clearpath-husky")
+    with pytest.raises(InputError, match="no such vehicle file"):
+        load_vehicle(tmp_path / "missing.yaml")
+    with pytest.raises(InputError, match=r"v.yaml:2: invalid YAML"):
+        parse_vehicle("name: [unclosed\n", "v.yaml")
+
+
+# ------------------------------------------------------------------ scenarios and the CLI
+
+SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
+
+
+def test_own_robot_plans_simulates_and_reports_from_files_only(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from ecoplan.cli import main
+
+    out = tmp_path / "rep"
+    assert main(["run", str(SCENARIOS / "own_robot.yaml"), "--out", str(out), "--json"]) == 0
+    case = json.loads(capsys.readouterr().out)["case"]
+    assert case["energy_j"] > 0.0 and case["error"] is None
+    for name in ("map.png", "power.png", "report.md", "summary.json"):
+        assert (out / name).stat().st_size > 0
+    assert "robot50" in (out / "report.md").read_text()
+
+
+def _scenario(tmp_path: Path, vehicle_file: str) -> Path:
+    text = (SCENARIOS / "own_robot.yaml").read_text()
+    path = tmp_path / "scn.yaml"
+    path.write_text(text.replace("file: vehicles/robot50.yaml", f"file: {vehicle_file}"))
+    return path
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "expected"),
+    [
+        (("inertia", "mass_kg"), -5.0, r"inertia.mass_kg: expected a number > 0"),
+        (("geometry", "chi"), 1.2, r"geometry.chi: expected a number < 1"),
+        (("limits", "p_total_max_w"), 15.0, r"limits.p_total_max_w: 15 W .*idle power"),
+    ],
+)
+def test_impossible_vehicle_in_a_scenario_is_exit_2_with_one_line(
+    tmp_path: Path,
+    capsys: pytest.CaptureFixture[str],
+    path: tuple[str, ...],
+    value: object,
+    expected: str,
+) -> None:
+    from ecoplan.cli import main
+
+    doc = yaml.safe_load((SCENARIOS / "vehicles" / "robot50.yaml").read_text())
+    node = doc
+    for key in path[:-1]:
+        node = node[key]
+    node[path[-1]] = value
+    _write(tmp_path, doc, "bad.yaml")
+    assert main(["plan", str(_scenario(tmp_path, "bad.yaml"))]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert re.search(r"vehicle.file: .*bad.yaml:\d+: " + expected, err), err
+
+
+def test_vehicle_option_replaces_the_scenarios_vehicle(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from ecoplan.cli import main
+
+    heavy = yaml.safe_load((SCENARIOS / "vehicles" / "robot50.yaml").read_text())
+    heavy["name"], heavy["inertia"]["mass_kg"] = "robot100", 100.0
+    path = _write(tmp_path, heavy, "robot100.yaml")
+    scenario = str(SCENARIOS / "own_robot.yaml")
+    energy = {}
+    for label, extra in (("robot50", []), ("robot100", ["--vehicle", str(path)])):
+        js = tmp_path / f"{label}.json"
+        assert main(["plan", scenario, "--json", str(js), "-q", *extra]) == 0
+        energy[label] = json.loads(js.read_text())["estimate_energy_j"]
+    # 50 kg more: at least the extra rolling resistance C_rr (dM) g at 0.6 m/s through
+    # eta = 0.9 over the straight-line distance (24 m on asphalt, C_rr >= 0.02)
+    at_least = 0.02 * 50.0 * 9.81 * 0.6 / 0.9 * (24.0 / 0.6)
+    assert energy["robot100"] - energy["robot50"] >= at_least
+    # the Husky's file has no grass: one line naming the region's terrain, exit 2
+    assert main(["plan", scenario, "--vehicle", "husky-a200"]) == 2
+    err = capsys.readouterr().err
+    assert "terrain.regions[0].terrain" in err and "'grass'" in err

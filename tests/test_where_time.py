@@ -1,0 +1,98 @@
+"""Where in the log's own time (issue 12, item 4): change points of the residual, JSON, CSV, plot.
+
+Expected switch times are the ones the test builds into the data (a level step of the residual,
+or a power gain switched on half-way through each run), never the detector's output.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+from functools import cache
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from ecoplan.diagnose.logio import Log
+from ecoplan.diagnose.pipeline import Diagnosis, diagnose, run_diagnose_cli
+from ecoplan.diagnose.synth import generate_case
+from ecoplan.diagnose.where_time import where_time, write_where_time_csv
+
+
+@settings(max_examples=20, deadline=None)
+@given(
+    t_switch=st.floats(30.0, 150.0),
+    step_w=st.sampled_from([-80.0, -40.0, 40.0, 80.0]),
+    t0=st.floats(0.0, 1e5),
+    seed=st.integers(0, 1000),
+)
+def test_a_level_step_is_found_on_the_logs_own_clock(
+    t_switch: float, step_w: float, t0: float, seed: int
+) -> None:
+    g = np.random.default_rng(seed)
+    t = t0 + np.arange(0.0, 180.0, 0.05)
+    r = np.where(t - t0 < t_switch, 0.0, step_w) + g.normal(0.0, 15.0, t.size)
+    segs = where_time(t, r, np.zeros(t.size, dtype=int), ["A"])
+    bounds = [s.t_end_s for s in segs[:-1]]
+    assert len(bounds) == 1
+    assert bounds[0] == pytest.approx(t0 + t_switch, abs=1.5)  # within the 1 s bins
+    assert segs[-1].excess_w - segs[0].excess_w == pytest.approx(step_w, abs=5.0)
+
+
+def test_a_flat_residual_gives_no_segment() -> None:
+    g = np.random.default_rng(3)
+    t = np.arange(0.0, 300.0, 0.1)
+    run = (t > 150.0).astype(int)
+    segs = where_time(t, g.normal(0.0, 10.0, t.size), run, ["a", "b"])
+    assert segs == []
+
+
+@cache
+def _gain_case() -> tuple[list[float], Diagnosis]:
+    # power multiplied by 1.15 on the second half of every run (the issue's "flat yard")
+    case = generate_case(0, "none", "large", n_waypoint_runs=1, rate_hz=10.0)
+    logs, switches = [], []
+    for lg in case.logs:
+        assert isinstance(lg, Log)
+        p = lg.p_total.copy()
+        h = len(p) // 2
+        p[h:] *= 1.15
+        switches.append(float(lg.t[h]))
+        logs.append(dataclasses.replace(lg, p_total=p))
+    return switches, diagnose(logs, case.vehicle, case.terrain)
+
+
+def test_a_gain_switched_on_mid_run_is_located_in_each_run() -> None:
+    switches, d = _gain_case()
+    assert d.verdict != "slope"  # the issue's symptom: "slope, confidence 1.00" on a flat yard
+    for rid, t_sw in zip(d.run_ids, switches, strict=True):
+        bounds = [s.t_end_s for s in d.where_time if s.run == rid]
+        assert bounds, rid
+        assert min(abs(b - t_sw) for b in bounds) <= 5.0, (rid, t_sw, bounds)
+
+
+def test_where_time_json_csv_and_figure(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    _, d = _gain_case()
+    obj = d.to_json_dict()
+    assert obj["where_time"]
+    for seg in obj["where_time"]:
+        assert list(seg) == ["run", "t_start_s", "t_end_s", "excess_w"]
+        assert seg["t_start_s"] < seg["t_end_s"]
+    path = write_where_time_csv(d.where_time, tmp_path / "w.csv")
+    with path.open() as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["run", "t_start_s", "t_end_s", "excess_w"]
+    assert len(rows) == len(d.where_time) + 1
+    json.dumps(obj)
+
+
+def test_cli_out_writes_where_time_files(tmp_path) -> None:  # type: ignore[no-untyped-def]
+    case = generate_case(1, "none", "large", n_waypoint_runs=1, rate_hz=10.0)
+    paths = [str(p) for p in case.write(tmp_path / "logs")]
+    out = tmp_path / "out"
+    assert run_diagnose_cli(paths, case.vehicle, case.terrain, None, str(out)) == 0
+    assert (out / "where_time.csv").read_text().startswith("run,t_start_s,t_end_s,excess_w")
+    assert (out / "where_time.png").stat().st_size > 1000
