@@ -244,10 +244,29 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             "planning_time_s": plan.planning_time_s,
             "estimate_energy_j": plan.estimate_energy_j,
             "alternatives": [a.tolist() for a in plan.alternatives],
-            "files": _report(args, sc, [CaseResult.unsimulated(case.name, plan)], out),
+            "files": [
+                str(f)
+                for f in _report(args, sc, [CaseResult.unsimulated(case.name, plan)], out)
+                + _route_files(args, plan, out)
+            ],
         }
     )
     return 0
+
+
+def _route_files(args: argparse.Namespace, plan: Any, out: _Out) -> list[Path]:
+    """``plan --out``: the route as a nav_msgs/Path bag (MCAP), GeoJSON and CSV."""
+    folder = _prepare(args)
+    if folder is None:
+        return []
+    from ecoplan.io.route_export import write_route
+
+    folder.claim(["route_bag", "route.geojson", "route.csv"], force=args.force)
+    with folder.recording():
+        files = write_route(folder.path, plan.waypoints, plan.speed_mps, planner=plan.planner)
+    for f in files:
+        out.say(f"  {f}")
+    return files
 
 
 def _parse_points(items: Sequence[str]) -> list[list[float]]:
@@ -510,7 +529,12 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  ecoplan run scenarios/battery_mission.yaml --out reports/mission",
     )
     run.add_argument("scenario", type=Path, help="scenario YAML file")
-    run.add_argument("--time-budget", type=float, metavar="S", help="cap the planner's time [s]")
+    run.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="S",
+        help="planner time budget [s] (replaces planner.time_s)",
+    )
     _common(run)
     _vehicle_option(run)
     run.set_defaults(func=_cmd_run)
@@ -522,7 +546,12 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  ecoplan plan scenarios/pioneer_power_limit.yaml --json",
     )
     plan.add_argument("scenario", type=Path)
-    plan.add_argument("--time-budget", type=float, metavar="S")
+    plan.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="S",
+        help="planner time budget [s] (replaces planner.time_s)",
+    )
     _common(plan)
     _vehicle_option(plan)
     plan.set_defaults(func=_cmd_plan)
