@@ -12,6 +12,7 @@ import pytest
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import JSON_KEYS, to_json_dict, validate_json, write_json
 from ecoplan.diagnose.synth import generate_case
+from ecoplan.errors import InputError
 
 EXTRA_KEYS = {
     "calibration",
@@ -76,7 +77,7 @@ def _broken(path: list[Any], value: Any) -> dict[str, Any]:
     ],
 )
 def test_validator_names_the_broken_field(path: list[Any], value: Any, message: str) -> None:
-    with pytest.raises(ValueError, match=message):
+    with pytest.raises(InputError, match=message):  # ecoplan's hierarchy (issue 10 item 6)
         validate_json(_broken(path, value))
 
 

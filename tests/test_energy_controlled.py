@@ -107,3 +107,17 @@ def test_close_way_points_are_rolled_out_like_the_simulator() -> None:
     pc = path_cost(path, AURIGA, 0.5, turn=CTRL)
     assert pc.turns == ()  # no tabulated corner was used
     assert pc.energy_j == pytest.approx(sim.energy_j, rel=0.005)
+
+
+def test_controller_driven_path_also_pays_its_climbs() -> None:
+    # a 10 % grade along x over 30 m: M g h / eta (tracked eta = 0.95, m = 286 kg), as the
+    # static path cost charges it
+    def ramp(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+        return 0.1 * np.asarray(x)
+
+    path = np.array([[0.0, 0.0], [30.0, 0.0]])
+    flat = path_cost(path, AURIGA, 0.5, turn=CTRL)
+    up = path_cost(path, AURIGA, 0.5, turn=CTRL, elevation=ramp)
+    climb = AURIGA.mass_kg * 9.81 * 3.0 / AURIGA.eta
+    assert up.energy_j - flat.energy_j == pytest.approx(climb, rel=1e-3)
+    assert up.breakdown_j["grade_w"] == pytest.approx(climb, rel=1e-3)

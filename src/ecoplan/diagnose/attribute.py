@@ -218,7 +218,7 @@ def _signatures(data: EffectData, names: Sequence[str]) -> dict[str, FloatArray]
         elif name == "power_saturation":
             cap = float(np.quantile(data.base_w, 0.9))
             sig[name] = np.minimum(cap - data.base_w, 0.0)[:, None]
-        elif name == "terrain_patch":
+        elif name in ("terrain_patch", "terrain_change"):
             continue
         else:
             sig[name] = eff.columns(data, None)
@@ -489,7 +489,9 @@ def attribute(
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
-    floor = noise_floor_mae(r0, test.frame.run.astype(np.float64))
+    # differenced at ~5 Hz: logged power noise is often coloured (a meter averaging over the
+    # sample, AR(1) noise) and first differences would put the floor too low
+    floor = noise_floor_mae(r0, test.frame.run.astype(np.float64), _decimation(test.frame))
     fitted: dict[str, Effect] = {"none": base}
     residuals: dict[str, FloatArray] = {}
     power_scores: list[EffectScore] = []

@@ -26,6 +26,7 @@ name                           addition to the electrical power ``P_T``         
 ``power_saturation``           the supply clips: ``min(P, P_max)``                          1
 ``sensor_delay``               power logged late: ``P(t - d)``                               1
 ``efficiency_drift``           η drifts linearly with time: ``P (1 + β (t - t0))``          1
+``terrain_change``             friction and the rest rescaled per time segment (no pose)   2/seg
 =============================  ===========================================================  ======
 
 Effects that need a signal the log lacks (commands, pose) report it through
@@ -74,6 +75,7 @@ __all__ = [
     "SensorDelay",
     "Slope",
     "SpeedDependentResistance",
+    "TerrainChange",
     "TerrainPatch",
     "effect_base_design",
     "effect_names",
@@ -790,6 +792,69 @@ class TerrainPatch(Effect):
         }
 
 
+#: Most segments a ``terrain_change`` fit keeps (the longest; the others join the reference).
+TERRAIN_CHANGE_MAX_SEGMENTS = 8
+
+
+class TerrainChange(Effect):
+    """Piecewise-constant terrain over time: friction and the rest of the power rescaled.
+
+    Needs no pose (issue 12, item 5).  The segments are the change points of the calibrated
+    residual on the training split (:func:`ecoplan.diagnose.where_time.where_time`, on each
+    log's own clock); within each segment but the reference (the longest) the friction power
+    and the rest of the base power (resistance, driver terms) get their own gains, fitted
+    jointly with the base model like every effect and scored held-out on the interleaved
+    time blocks of the same runs.  With a pose a terrain is a place, and ``terrain_patch``
+    (a disc of the map) is the candidate: this effect is offered only for logs without pose.
+    """
+
+    name = "terrain_change"
+
+    @classmethod
+    def available(cls, frame: Frame) -> bool:  # noqa: D102
+        return frame.x is None or frame.y is None
+
+    @staticmethod
+    def _indicator(data: EffectData, seg: tuple[int, float, float]) -> FloatArray:
+        f = data.frame
+        run, t0, t1 = seg
+        return np.asarray((f.run == run) & (f.t >= t0) & (f.t <= t1), dtype=np.float64)
+
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        if not theta:
+            return np.zeros((data.frame.n, 0))
+        rest = data.base_w - data.friction_w
+        cols = []
+        for seg in theta:
+            ins = self._indicator(data, seg)
+            cols += [ins * data.friction_w, ins * rest]
+        return np.column_stack(cols)
+
+    def _search(self, data: EffectData) -> Any:
+        from ecoplan.diagnose.where_time import where_time
+
+        f = data.frame
+        runs = [str(int(r)) for r in range(int(f.run.max()) + 1)] if f.n else []
+        segs = where_time(f.t, data.p - data.base_w, f.run, runs)
+        if len(segs) < 2:
+            return ()
+        spans = [(int(sg.run), sg.t_start_s, sg.t_end_s) for sg in segs]
+        spans.sort(key=lambda sp: -(sp[2] - sp[1]))
+        kept = spans[1 : 1 + TERRAIN_CHANGE_MAX_SEGMENTS]  # the longest is the reference
+        return tuple(sorted(kept))
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        k = data.X.shape[1]
+        out: dict[str, float] = {"segments": float(len(theta or ()))}
+        for i, (run, t0, t1) in enumerate(theta or ()):
+            out[f"seg{i}_run"] = float(run)
+            out[f"seg{i}_t_start_s"] = float(t0)
+            out[f"seg{i}_t_end_s"] = float(t1)
+            out[f"seg{i}_friction_gain"] = 1.0 + float(coef[k + 2 * i])
+            out[f"seg{i}_resistance_gain"] = 1.0 + float(coef[k + 2 * i + 1])
+        return out
+
+
 class ActuatorLag(_ScalarSearch):
     """Drives follow the commands through a first-order lag ``τ`` after the rate limit.
 
@@ -844,6 +909,7 @@ EFFECTS: dict[str, type[Effect]] = {
         ActuatorLag,
         IcrAsymmetry,
         TerrainPatch,
+        TerrainChange,
         Slope,
         SpeedDependentResistance,
         Regeneration,

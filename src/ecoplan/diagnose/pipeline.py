@@ -22,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -110,6 +111,9 @@ class Diagnosis:
         How the held-out split was drawn (``"time blocks"``).
     input_notes : tuple of str
         What the input check found the log does not excite (:mod:`ecoplan.diagnose.checks`).
+    log_notes : tuple of str
+        The readers' notes on the logs (assumptions such as the bus voltage, ignored columns,
+        dropped rows), each once.
     where_time : list of TimeSegment
         Stretches of the runs, on each log's own time, where the calibrated model's residual
         (all samples) changes level (:mod:`ecoplan.diagnose.where_time`).
@@ -141,6 +145,7 @@ class Diagnosis:
     duration_s: float = 0.0
     split: str = "blocks"
     input_notes: tuple[str, ...] = ()
+    log_notes: tuple[str, ...] = ()
     where_time: list[TimeSegment] = field(default_factory=list)
     run_ids: tuple[str, ...] = ()
     all_t_s: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
@@ -222,8 +227,9 @@ def diagnose(
     train_f, test_f = frame.subset(train_m), frame.subset(test_m)
     cal = calibrate(train_f, params)
     run_ids = [str(getattr(lg, "run_id", "") or f"run{i}") for i, lg in enumerate(log_list)]
-    r_all = frame.p - np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
-    segments = where_time(frame.t, r_all, frame.run, run_ids)
+    p_cal = np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
+    r_all = frame.p - p_cal
+    segments = where_time(frame.t, r_all, frame.run, run_ids, model_w=p_cal)
     train = prepare(train_f, cal.params, prior=params)
     test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
@@ -239,6 +245,11 @@ def diagnose(
     r_fin = test.p - final.predict(test)
     _, lo, hi, _ = block_bootstrap(r_cal, r_fin, test_f.block.astype(np.float64), gen)
     dropped = int(sum(int(getattr(lg, "dropped_rows", 0) or 0) for lg in log_list))
+    log_notes: list[str] = []
+    for lg in log_list:
+        for note in getattr(lg, "notes", ()) or ():
+            if note not in log_notes:
+                log_notes.append(str(note))
     return Diagnosis(
         vehicle=name,
         terrain=terrain,
@@ -262,6 +273,7 @@ def diagnose(
         duration_s=frame.duration_s,
         split="time blocks",
         input_notes=checked.excitation_notes,
+        log_notes=tuple(log_notes),
         where_time=segments,
         run_ids=tuple(run_ids),
         all_t_s=frame.t,
@@ -287,8 +299,9 @@ def run_diagnose_cli(
 ) -> int:
     """Back end of ``ecoplan diagnose LOG [LOG ...] --vehicle PRESET [--terrain PRESET]``.
 
-    Reads the logs, prints the text summary, writes the JSON (``--json``) and the figures and
-    corrected model (``--out``).  Bad input raises :class:`~ecoplan.errors.InputError`
+    Reads the logs, prints the text summary, writes the JSON (``--json FILE``; ``--json -``
+    prints it on stdout and the text on stderr) and the figures, ``report.md``, ``where_time``
+    CSV and corrected model (``--out``).  Bad input raises :class:`~ecoplan.errors.InputError`
     subclasses (exit code 2 in the CLI).
 
     ``topics_path`` is the topic map of ROS 2 bags (``--topics``), ``bus_voltage_v`` the bus
@@ -304,7 +317,8 @@ def run_diagnose_cli(
     """
     from ecoplan.diagnose.logio import load_topic_map, read_logs
     from ecoplan.diagnose.loop import corrected_model, ranking_change, save_corrected_model
-    from ecoplan.diagnose.report import save_figures, save_where_time, write_json
+    from ecoplan.diagnose.report import json_report, save_figures, save_where_time, write_json
+    from ecoplan.diagnose.report_md import write_report_md
 
     if not log_paths:
         raise InputError("no log file given")
@@ -312,13 +326,20 @@ def run_diagnose_cli(
         raise InputError(f"--bus-voltage must be a positive number of volts, got {bus_voltage_v}")
     topic_map = load_topic_map(topics_path) if topics_path is not None else None
     logs = read_logs(log_paths, topic_map=topic_map, bus_voltage_v=bus_voltage_v)
-    d = diagnose(logs, vehicle, terrain)
-    print(d.summary())
+    if vehicle.endswith((".yaml", ".yml")) or Path(vehicle).is_file():  # a vehicle file
+        from ecoplan.io.vehicles import load_vehicle
+
+        d = diagnose(logs, load_vehicle(vehicle).params(terrain), terrain)
+    else:
+        d = diagnose(logs, vehicle, terrain)
+    # with --json - the JSON is the only thing on stdout; the text goes to stderr
+    text = sys.stderr if json_path == "-" else sys.stdout
+    print(d.summary(), file=text)
     extra: dict[str, Any] = {}
     if routes is not None:
         rc = ranking_change(routes, corrected_model(d))
-        print("route ranking under the preset and the corrected model:")
-        print(rc.summary())
+        print("route ranking under the preset and the corrected model:", file=text)
+        print(rc.summary(), file=text)
         extra["ranking"] = {
             "routes": [
                 {"name": n, "energy_preset_j": float(eb), "energy_corrected_j": float(ec)}
@@ -329,7 +350,9 @@ def run_diagnose_cli(
             "changed": rc.changed,
             "best_changed": rc.best_changed,
         }
-    if json_path is not None:
+    if json_path == "-":
+        print(json.dumps(json_report(d, extra), indent=2))
+    elif json_path is not None:
         write_json(d, json_path, extra)
     if out_dir is not None:
         out = Path(out_dir)
@@ -338,7 +361,8 @@ def run_diagnose_cli(
         if "ranking" in extra:
             (out / "ranking.json").write_text(json.dumps(extra["ranking"], indent=2))
         for p in [*save_figures(d, out), *save_where_time(d, out)]:
-            print(f"figure: {p}")
+            print(f"figure: {p}", file=text)
         path = save_corrected_model(d, out / "corrected_model.json")
-        print(f"corrected model: {path}")
+        print(f"corrected model: {path}", file=text)
+        print(f"report: {write_report_md(d, out / 'report.md', extra)}", file=text)
     return 0

@@ -22,9 +22,11 @@ and after re-identifying the base parameters, and the changed parameters), ``how
 winner's held-out reduction in W and %, its 95 % bootstrap interval, the best pair), ``channels``
 (each effect's deciding channel, its reduction and p-value), ``distinguishability`` (pairs the
 log cannot tell apart with the separating manoeuvre, candidates not excited or unavailable),
-``where_time`` (segments of each run where the calibrated model's residual changes level, on
-the log's own time: ``[{"run", "t_start_s", "t_end_s", "excess_w"}]``, exactly these keys),
-``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows, split) and,
+``where_time`` (segments of each run where the calibrated model's residual changes level,
+on the log's own time: ``[{"run", "t_start_s", "t_end_s", "excess_w"}]``, exactly these
+keys), ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows,
+split, the readers' ``notes`` -- assumptions such as the bus voltage, ignored columns -- and
+the input check's ``input_notes``) and,
 with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
 corrected model, both rankings, whether the order or the best route changes).
 """
@@ -39,11 +41,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ecoplan.errors import InputError
+
 if TYPE_CHECKING:
     from ecoplan.diagnose.pipeline import Diagnosis
 
 __all__ = [
     "JSON_KEYS",
+    "json_report",
     "save_figures",
     "save_where_time",
     "summary",
@@ -129,16 +134,18 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
             "duration_s": _num(d.duration_s),
             "dropped_rows": d.dropped_rows,
             "split": d.split,
+            "notes": list(d.log_notes),
+            "input_notes": list(d.input_notes),
         },
     }
 
 
 def validate_json(obj: Any) -> None:
-    """Raise ``ValueError`` naming the first field that breaks the stable JSON shape."""
+    """Raise :class:`~ecoplan.errors.InputError` naming the first field that breaks the shape."""
 
     def need(cond: bool, what: str) -> None:
         if not cond:
-            raise ValueError(f"diagnosis JSON: {what}")
+            raise InputError(f"diagnosis JSON: {what}")
 
     def is_num(x: Any) -> bool:
         return isinstance(x, int | float) and not isinstance(x, bool)
@@ -179,17 +186,23 @@ def validate_json(obj: Any) -> None:
             )
 
 
-def write_json(
-    d: Diagnosis, path: str | os.PathLike[str], extra: dict[str, Any] | None = None
-) -> Path:
-    """Write :func:`to_json_dict` (plus ``extra`` top-level keys) to ``path``, validated first."""
+def json_report(d: Diagnosis, extra: dict[str, Any] | None = None) -> dict[str, Any]:
+    """:func:`to_json_dict` plus ``extra`` top-level keys, validated."""
     obj = to_json_dict(d)
     if extra:
         clash = set(extra) & set(obj)
         if clash:
-            raise ValueError(f"diagnosis JSON: extra keys {sorted(clash)} clash with report keys")
+            raise InputError(f"diagnosis JSON: extra keys {sorted(clash)} clash with report keys")
         obj.update(extra)
     validate_json(obj)
+    return obj
+
+
+def write_json(
+    d: Diagnosis, path: str | os.PathLike[str], extra: dict[str, Any] | None = None
+) -> Path:
+    """Write :func:`json_report` to ``path``."""
+    obj = json_report(d, extra)
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
     p.write_text(json.dumps(obj, indent=2))
@@ -273,6 +286,7 @@ def summary(d: Diagnosis) -> str:
         if len(d.where_time) > 12:
             lines.append(f"  ... {len(d.where_time) - 12} more in where_time.csv / the JSON")
     lines.extend(f"input: {note}" for note in d.input_notes)
+    lines.extend(f"log: {note}" for note in d.log_notes)
     return "\n".join(lines)
 
 

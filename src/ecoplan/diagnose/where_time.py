@@ -72,14 +72,19 @@ class TimeSegment:
         }
 
 
-def _bins(t: FloatArray, r: FloatArray, bin_s: float) -> tuple[FloatArray, FloatArray, IntArray]:
-    """Mean residual per time bin; returns (bin start times, means, sample counts)."""
+def _bins(
+    t: FloatArray, r: FloatArray, bin_s: float
+) -> tuple[FloatArray, FloatArray, IntArray, IntArray]:
+    """Mean residual per time bin: (bin start times, means, sample counts, bin numbers).
+
+    Empty bins (gaps of the log, or the held-out blocks of a training split) are left out.
+    """
     k = np.floor((t - t[0]) / bin_s).astype(np.int64)
     counts = np.bincount(k)
     sums = np.bincount(k, weights=r)
     keep = counts > 0
     starts = t[0] + bin_s * np.arange(counts.size)
-    return starts[keep], sums[keep] / counts[keep], counts[keep]
+    return starts[keep], sums[keep] / counts[keep], counts[keep], np.flatnonzero(keep)
 
 
 def where_time(
@@ -88,9 +93,10 @@ def where_time(
     run: IntArray,
     run_ids: Sequence[str],
     *,
+    model_w: FloatArray | None = None,
     bin_s: float = 1.0,
     min_segment_s: float = 8.0,
-    penalty: float = 6.0,
+    penalty: float = 4.0,
 ) -> list[TimeSegment]:
     """Segments of each run where the residual departs from the rest (change points).
 
@@ -104,6 +110,10 @@ def where_time(
         Run index of every sample (into ``run_ids``).
     run_ids : sequence of str
         Name of each run.
+    model_w : ndarray, optional
+        The model's power [W].  With it the change points are searched on the *relative*
+        residual of every bin (``Σ residual / Σ |model|``): a terrain scales the power, so its
+        residual in watts follows the manoeuvre while its relative residual stays level.
     bin_s : float
         Width of the averaging bins [s].
     min_segment_s : float
@@ -129,16 +139,21 @@ def where_time(
         idx = np.flatnonzero(run == i)
         name = run_ids[int(i)] if int(i) < len(run_ids) else f"run{int(i)}"
         tr, rr = t[idx], r[idx]
-        starts, means, counts = _bins(tr, rr, bin_s)
+        starts, means, counts, number = _bins(tr, rr, bin_s)
+        signal = means
+        if model_w is not None:
+            m_abs = _bins(tr, np.abs(np.asarray(model_w, dtype=np.float64)[idx]), bin_s)[1]
+            signal = means / np.maximum(m_abs, 0.05 * float(np.mean(m_abs)) + 1e-9)
         n = means.size
-        diffs = np.diff(means)
+        # differences of neighbouring bins only (not across a gap)
+        diffs = np.diff(signal)[np.diff(number) == 1]
         sigma = (
             float(median_abs_deviation(diffs, scale="normal")) / math.sqrt(2.0) if n > 2 else 0.0
         )
         bkps: list[int] = [n]
         min_bins = max(round(min_segment_s / bin_s), 2)
         if n >= 2 * min_bins and sigma > 0.0:
-            algo = ruptures.Pelt(model="l2", min_size=min_bins, jump=1).fit(means[:, None])
+            algo = ruptures.Pelt(model="l2", min_size=min_bins, jump=1).fit(signal[:, None])
             bkps = list(algo.predict(pen=penalty * sigma**2 * math.log(n)))
         edges = [0, *bkps]
         segs = []

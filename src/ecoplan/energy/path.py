@@ -47,10 +47,9 @@ Decisions where the issue is silent
   triangle yaw-rate profile for short turns); a change of speed between segments ramps
   at the limit on the faster segment, from or to the junction speed (the lower of the
   two, which an arc between them is driven at).  Ramps are off by default (the paper's
-  model is static).
-  With ramps each start also costs the kinetic energy ``M v² / (2 η)``
-  (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``); braking returns nothing
-  (non-regenerative drivers).
+  model is static).  With ramps each start also costs the kinetic energy
+  ``M v² / (2 η)`` (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``), each
+  speed-up ``M (v² - u²) / (2 η)``; braking returns nothing (non-regenerative drivers).
 * ``turn=HeadingController(...)``: the path as the tracked paper's heading controller
   (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`):
   the estimate a battery budget should use.
@@ -85,7 +84,7 @@ from ecoplan.energy.result import PathCost, Violation
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
-from ecoplan.models.inertial import kinetic_energy_j
+from ecoplan.models.inertial import Elevation, climb_energy_along_j, kinetic_energy_j
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
 from ecoplan.models.tracked import TrackedParams
@@ -200,6 +199,7 @@ def path_cost(
     initial_heading_rad: float | None = None,
     turn: TurnMode | float | HeadingController = "auto",
     ramps: bool = False,
+    elevation: Elevation | None = None,
 ) -> PathCost:
     """Energy and feasibility of a waypoint path executed by the vehicle (module doc).
 
@@ -227,6 +227,11 @@ def path_cost(
         and ``ramps`` is implied).
     ramps : bool
         Account for acceleration from and to rest (module doc).
+    elevation : callable, optional
+        Ground elevation ``z(x, y)`` [m]: the climbs along the waypoint polyline cost
+        ``M g Δz / η`` (:func:`~ecoplan.models.inertial.climb_energy_along_j`; breakdown
+        key ``grade_w``; descents not credited).  Not used with a trajectory speed or a
+        heading-controller ``turn``.
 
     Returns
     -------
@@ -240,7 +245,19 @@ def path_cost(
     """
     check_vehicle_world(vehicle, world)
     if isinstance(turn, HeadingController):
-        return _controlled_path_cost(path, vehicle, speed, world, initial_heading_rad, turn)
+        pc = _controlled_path_cost(path, vehicle, speed, world, initial_heading_rad, turn)
+        if elevation is None:
+            return pc
+        pts = _validate_path(path)
+        p = params_on(vehicle, world.terrain_at(pts[:1])[0] if world is not None else None)
+        eta = p.eta if isinstance(p, TrackedParams) else 1.0
+        climb = sum(
+            climb_energy_along_j(elevation, pts[i], pts[i + 1], p.mass_kg, eta)
+            for i in range(len(pts) - 1)
+        )
+        breakdown = dict(pc.breakdown_j)
+        breakdown["grade_w"] = breakdown.get("grade_w", 0.0) + climb
+        return dataclasses.replace(pc, energy_j=pc.energy_j + climb, breakdown_j=breakdown)
     if isinstance(speed, TrackTrajectory):
         pts0 = np.asarray(path, dtype=np.float64).reshape(-1, 2)
         yaw0 = 0.0 if initial_heading_rad is None else float(initial_heading_rad)
@@ -292,6 +309,14 @@ def path_cost(
                 ends[e] = 0.0 if stop_at[w] else float(min(v_seg[w - 1], v_seg[w]))
         seg = (pts[i], pts[i + 1], float(v_seg[i]), tangent[i])
         _add_segment(acc, vehicle, world, seg, (ends[0], ends[1]), i, violations)
+    if elevation is not None:  # G(q) of wheeled eqs. 1-4: the climbs of every segment
+        p = params_on(vehicle, terrains[0])
+        eta = p.eta if isinstance(p, TrackedParams) else 1.0
+        climb = sum(
+            climb_energy_along_j(elevation, pts[i], pts[i + 1], p.mass_kg, eta)
+            for i in range(n_seg)
+        )
+        acc.energy["grade_w"] = acc.energy.get("grade_w", 0.0) + climb
     return acc.result(sum(abs(tp.dpsi_rad) for tp in turns), violations, turns)
 
 

@@ -1,0 +1,168 @@
+"""``report.md``: the diagnosis for people (issue 12, item 8).
+
+What was found, what each number means, where in time, what the log could not tell, what to do
+next (the manoeuvre that separates two look-alike effects, the signal that is missing) and the
+input's stated assumptions (the bus voltage of current-only logs, ignored columns, dropped rows).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ecoplan.diagnose.pipeline import Diagnosis
+
+__all__ = ["report_markdown", "write_report_md"]
+
+_VERDICT_MEANING = {
+    "none": "the calibrated base model explains the logs down to the sensor noise; no "
+    "candidate effect closes a significant part of what is left",
+    "unexplained": "a gap is left that is larger than the noise and that no candidate of the "
+    "library closes well enough (>= 80 % of it above the noise floor): something outside the "
+    "library, or a mixture",
+    "ambiguous": "two candidates close the gap equally well and this log cannot tell them apart",
+}
+
+_MISSING_SIGNAL = {
+    "actuator_lag": "log the commanded side speeds (`v_left_cmd`, `v_right_cmd`)",
+    "terrain_patch": "log the pose (`x`, `y`, `yaw`) to locate terrain on the map",
+    "terrain_change": "(offered only without pose: with a pose, terrain is `terrain_patch`)",
+    "icr_asymmetry": "log the pose to measure the body speed in turns",
+}
+
+
+def _f(x: float, unit: str = "", nd: int = 1) -> str:
+    return f"{x:.{nd}f}{(' ' + unit) if unit else ''}"
+
+
+def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
+    """The Markdown text of ``report.md`` for a diagnosis."""
+    att = d.attribution
+    verdict = att.verdict + (f" ({' / '.join(att.tied)})" if att.tied else "")
+    red = d.gap_calibrated_w - d.gap_final_w
+    pct = 100.0 * red / d.gap_calibrated_w if d.gap_calibrated_w else 0.0
+    out: list[str] = [f"# Diagnosis: {d.preset.name}", ""]
+    out += [
+        "## What was found",
+        "",
+        f"**Verdict: `{verdict}`**, confidence {att.confidence:.2f}.",
+        "",
+        _VERDICT_MEANING.get(
+            att.verdict,
+            f"the effect `{att.verdict}` closes the gap the calibrated model leaves, better than "
+            "every other candidate and significantly on held-out data",
+        )
+        + ".",
+        "",
+        "Confidence is one minus the (Bonferroni-corrected) p-value of the deciding test: for an "
+        "effect, that its held-out reduction of the gap is not chance; for `unexplained`, that "
+        "the residual is not white noise.",
+        "",
+        "## The numbers",
+        "",
+        "| quantity | value | meaning |",
+        "|---|---|---|",
+        f"| gap of the preset | {_f(d.gap_preset_w, 'W')} | held-out mean absolute error of the "
+        "preset's power model on the measured side speeds |",
+        f"| gap after calibration | {_f(d.gap_calibrated_w, 'W')} | the same after "
+        "re-identifying the base model's own parameters on the training split |",
+        f"| gap of the final model | {_f(d.gap_final_w, 'W')} | calibrated model plus the "
+        "verdict's effect |",
+        f"| reduction by the effect | {_f(red, 'W')} ({pct:.1f} %) | 95 % block-bootstrap "
+        f"interval {_f(d.final_ci_w[0], 'W')} .. {_f(d.final_ci_w[1], 'W')} |",
+        f"| noise floor | {_f(att.noise_floor_w, 'W')} | the error white sensor noise alone "
+        "would leave (from first differences) |",
+        f"| residual whiteness | p = {att.ljung_box_p:.2g} | Ljung-Box test after the verdict "
+        "(small: structure is left) |",
+        "",
+        f"Data: {d.n_runs} run(s), {d.duration_s:.0f} s; held out by {d.split}; "
+        f"{d.dropped_rows} row(s) dropped by the reader.",
+        "",
+    ]
+    if d.calibration.changed:
+        out += ["## Calibration (base-model parameters re-identified)", ""]
+        out += ["| parameter | preset | calibrated |", "|---|---|---|"]
+        for k, (a, b) in d.calibration.changed.items():
+            out.append(f"| `{k}` | {a:.4g} | {b:.4g} |")
+        out += [
+            "",
+            "Calibration is constrained to physics (resistance >= 0, straight power "
+            "non-decreasing with speed, a(r), b(r) monotone as in the wheeled paper).",
+            "",
+        ]
+    out += ["## Where", "", "Regimes where the error share exceeds the time share:", ""]
+    top = sorted(d.where, key=lambda w: -(w.error_share - w.time_share))[:5]
+    out += ["| regime | share of error | share of time | MAE |", "|---|---|---|---|"]
+    for w in top:
+        out.append(
+            f"| {w.regime} | {100 * w.error_share:.1f} % | {100 * w.time_share:.1f} % | "
+            f"{_f(w.mae_w, 'W')} |"
+        )
+    out += [""]
+    if d.where_time:
+        out += [
+            "In each log's own time (`where_time.csv`, `where_time.png`): stretches where the "
+            "calibrated residual changes level; excess = the stretch's mean residual minus the "
+            "session's (positive: the robot draws more than the model).",
+            "",
+            "| run | from [s] | to [s] | excess |",
+            "|---|---|---|---|",
+        ]
+        for seg in d.where_time[:30]:
+            out.append(
+                f"| {seg.run} | {seg.t_start_s:.2f} | {seg.t_end_s:.2f} | {seg.excess_w:+.1f} W |"
+            )
+        out += [""]
+    out += ["## Candidates (held out, best first)", ""]
+    out += ["| effect | reduction | significant | parameters |", "|---|---|---|---|"]
+    for s in att.scores[:8]:
+        shown = ", ".join(f"{k} = {v:.3g}" for k, v in list(s.params.items())[:5])
+        out.append(
+            f"| {s.name} | {s.reduction_pct:.1f} % of {s.channel} | "
+            f"{'yes' if s.significant else 'no'} | {shown} |"
+        )
+    out += ["", "## What to do next", ""]
+    todo: list[str] = []
+    for e1, e2, c, m in att.indistinguishable:
+        todo.append(f"`{e1}` and `{e2}` look alike on this log (correlation {c:.2f}): drive {m}.")
+    for note in d.input_notes:
+        todo.append(note[0].upper() + note[1:] + ".")
+    if att.not_excited:
+        todo.append(
+            "Not excited by this log (cannot be confirmed or ruled out): "
+            + ", ".join(f"`{n}`" for n in att.not_excited)
+            + "."
+        )
+    for n in att.unavailable:
+        todo.append(f"`{n}` could not be tried: {_MISSING_SIGNAL.get(n, 'a signal is missing')}.")
+    if att.verdict == "unexplained":
+        todo.append(
+            "Look at `where_time.png`: a stretch with a large excess is where to look for the "
+            "cause (a terrain, a payload, a fault)."
+        )
+    if not todo:
+        todo.append("Nothing: the log separates every candidate it excites.")
+    out += [f"- {t}" for t in todo]
+    out += ["", "## Input and assumptions", ""]
+    notes = list(d.log_notes) or ["no reader notes"]
+    out += [f"- {n}" for n in notes]
+    if extra and "ranking" in extra:
+        rk = extra["ranking"]
+        out += ["", "## Route ranking", ""]
+        out.append(
+            f"Preset order {rk['rank_preset']}, corrected-model order {rk['rank_corrected']}; "
+            f"best route changed: {rk['best_changed']}."
+        )
+    return "\n".join(out) + "\n"
+
+
+def write_report_md(
+    d: Diagnosis, path: str | os.PathLike[str], extra: dict[str, Any] | None = None
+) -> Path:
+    """Write :func:`report_markdown` to ``path``; returns the path."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    p.write_text(report_markdown(d, extra))
+    return p
