@@ -259,11 +259,9 @@ def _route_files(args: argparse.Namespace, plan: Any, out: _Out) -> list[Path]:
     folder = _prepare(args)
     if folder is None:
         return []
-    from ecoplan.io.route_export import write_route
+    from ecoplan.app.reports.route import write_route_files
 
-    folder.claim(["route_bag", "route.geojson", "route.csv"], force=args.force)
-    with folder.recording():
-        files = write_route(folder.path, plan.waypoints, plan.speed_mps, planner=plan.planner)
+    files = write_route_files(folder, plan, force=args.force)
     for f in files:
         out.say(f"  {f}")
     return files
