@@ -284,6 +284,11 @@ def test_plan_writes_the_route_map(tmp_path: Path, capsys: pytest.CaptureFixture
     assert len(payload["alternatives"]) == 1
     assert (out_dir / "map.png").stat().st_size > 0
     assert not (out_dir / "power.png").exists()  # nothing simulated
+    # the route files are ecoplan's: listed in the manifest, so planning again may replace them
+    manifest = json.loads((out_dir / ".ecoplan-manifest.json").read_text())
+    assert {"route_bag", "route.geojson", "route.csv", "map.png"} <= set(manifest["files"])
+    assert main(["plan", str(scenario), "--out", str(out_dir), "--json"]) == 0
+    capsys.readouterr()
 
 
 def test_diagnose_source_options_fail_fast_with_one_line(

@@ -201,25 +201,14 @@ def _print_files(out: _Out, args: argparse.Namespace, files: Sequence[Path]) -> 
 
 
 def _print_case(out: _Out, r: Any) -> None:
-    if r.error is not None:
-        out.say(f"{r.name}: NO ROUTE ({r.error})")
-        return
-    p = r.plan
-    out.say(f"{r.name}: route from {p.planner}, {len(p.waypoints)} points, {p.length_m:.1f} m")
-    if p.estimate_energy_j is not None:
-        out.say(f"  analytic estimate: {p.estimate_energy_j / 1e3:.2f} kJ")
-    if r.sim is not None:
-        s = r.sim
-        state = "goal reached" if s.completed else "TIME LIMIT before the goal"
-        out.say(
-            f"  simulated: {r.energy_j / 1e3:.2f} kJ in {s.time_s:.1f} s over {s.length_m:.1f} m, "
-            f"psi {s.psi_rad:.2f} rad, peak {r.peak_power_w:.0f} W ({state})"
-        )
-    if r.battery is not None:
-        out.say(f"  battery: {r.battery.sentence()}")
+    from ecoplan.app.reports.tables import case_lines
+
+    for line in case_lines(r):
+        out.say(line)
 
 
 def _cmd_plan(args: argparse.Namespace) -> int:
+    from ecoplan.app.reports.tables import plan_lines
     from ecoplan.app.run import CaseResult, plan_case
 
     out = _out(args)
@@ -227,13 +216,8 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     _prepare(args)
     case = sc.base_case()
     plan = plan_case(case, time_budget_s=_budget(args))
-    out.say(
-        f"{sc.name}: route from {plan.planner}, {plan.length_m:.1f} m, v_sp {plan.speed_mps} m/s"
-    )
-    for x, y in plan.waypoints:
-        out.say(f"  {x:9.3f} {y:9.3f}")
-    if plan.estimate_energy_j is not None:
-        out.say(f"  analytic estimate: {plan.estimate_energy_j / 1e3:.2f} kJ")
+    for line in plan_lines(sc.name, plan):
+        out.say(line)
     out.emit(
         {
             "scenario": sc.name,
@@ -259,11 +243,9 @@ def _route_files(args: argparse.Namespace, plan: Any, out: _Out) -> list[Path]:
     folder = _prepare(args)
     if folder is None:
         return []
-    from ecoplan.io.route_export import write_route
+    from ecoplan.app.reports.route import write_route_files
 
-    folder.claim(["route_bag", "route.geojson", "route.csv"], force=args.force)
-    with folder.recording():
-        files = write_route(folder.path, plan.waypoints, plan.speed_mps, planner=plan.planner)
+    files = write_route_files(folder, plan, force=args.force)
     for f in files:
         out.say(f"  {f}")
     return files

@@ -131,7 +131,7 @@ class OutDir:
         still there, so a file ecoplan wrote stays ecoplan's when a later run skips it.
         """
         earlier = _manifest_files(self.path / MANIFEST) or set()
-        kept = {name for name in earlier if (self.path / name).is_file()}
+        kept = {name for name in earlier if (self.path / name).exists()}
         manifest = {
             "tool": "ecoplan",
             "written_utc": datetime.now(UTC).isoformat(timespec="seconds"),

@@ -7,9 +7,16 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from ecoplan.app.run import CaseResult
+    from ecoplan.app.run import CaseResult, PlanOutcome
 
-__all__ = ["COMPONENT_LABELS", "SUMMARY_COLUMNS", "summary_row", "summary_table"]
+__all__ = [
+    "COMPONENT_LABELS",
+    "SUMMARY_COLUMNS",
+    "case_lines",
+    "plan_lines",
+    "summary_row",
+    "summary_table",
+]
 
 #: Readable name of each power component (tracked paper eqs. 14-20).
 COMPONENT_LABELS = {
@@ -103,3 +110,58 @@ def _limits_cell(r: CaseResult) -> str:
     if r.sim is not None and not r.sim.completed:
         parts.append("time limit")
     return ", ".join(parts) or "ok"
+
+
+def case_lines(r: CaseResult) -> list[str]:
+    """Terminal lines for one case: the route, the analytic estimate, the run, the battery.
+
+    Parameters
+    ----------
+    r : CaseResult
+        The case.
+
+    Returns
+    -------
+    list of str
+        A header line, then indented details (``NO ROUTE`` and why when it failed).
+    """
+    if r.error is not None:
+        return [f"{r.name}: NO ROUTE ({r.error})"]
+    p = r.plan
+    lines = [f"{r.name}: route from {p.planner}, {len(p.waypoints)} points, {p.length_m:.1f} m"]
+    if p.estimate_energy_j is not None:
+        lines.append(f"  analytic estimate: {p.estimate_energy_j / 1e3:.2f} kJ")
+    if r.sim is not None:
+        s = r.sim
+        state = "goal reached" if s.completed else "TIME LIMIT before the goal"
+        lines.append(
+            f"  simulated: {r.energy_j / 1e3:.2f} kJ in {s.time_s:.1f} s over {s.length_m:.1f} m, "
+            f"psi {s.psi_rad:.2f} rad, peak {r.peak_power_w:.0f} W ({state})"
+        )
+    if r.battery is not None:
+        lines.append(f"  battery: {r.battery.sentence()}")
+    return lines
+
+
+def plan_lines(scenario: str, plan: PlanOutcome) -> list[str]:
+    """Terminal lines for a planned route: planner, length, speed, waypoints, estimate.
+
+    Parameters
+    ----------
+    scenario : str
+        Scenario name.
+    plan : PlanOutcome
+        The route.
+
+    Returns
+    -------
+    list of str
+        A header line, one line per waypoint ``x y`` [m], and the analytic estimate.
+    """
+    lines = [
+        f"{scenario}: route from {plan.planner}, {plan.length_m:.1f} m, v_sp {plan.speed_mps} m/s"
+    ]
+    lines += [f"  {x:9.3f} {y:9.3f}" for x, y in plan.waypoints]
+    if plan.estimate_energy_j is not None:
+        lines.append(f"  analytic estimate: {plan.estimate_energy_j / 1e3:.2f} kJ")
+    return lines
