@@ -22,9 +22,13 @@ built (:class:`LatticePlanner`), collision-checked against the **inflated fine g
 (:attr:`ecoplan.geometry.maps.GridMap.blocked`) through precomputed fine-cell offsets
 sampled every quarter of a fine cell.  A query runs Dijkstra (scipy.sparse.csgraph, in
 C) from the start node; Dijkstra is A* with the zero heuristic, which is admissible, so
-the result is optimal on the lattice.  The returned :class:`~ecoplan.planning.base.Plan`
-carries the waypoints (heading changes of the lattice path) and their full evaluation
-by :func:`ecoplan.energy.path.path_cost` on the grid, like every planner.
+the result is optimal on the lattice.  Any-angle smoothing passes (string pulling on the
+grid) follow while the time budget lasts; every stage is evaluated in full and the best
+one is kept.  The budget is checked between phases: the build is not part of a query's
+budget, and a search that ends after the budget raises.  The returned
+:class:`~ecoplan.planning.base.Plan` carries the waypoints (heading changes of the
+lattice path) and their full evaluation by :func:`ecoplan.energy.path.path_cost` on the
+grid, like every planner.
 
 The search costs come from the cost objective's ``per_metre`` and ``turn_value``
 (:class:`~ecoplan.energy.objective.EnergyCost`: joules;
