@@ -25,7 +25,8 @@ C) from the start node; Dijkstra is A* with the zero heuristic, which is admissi
 the result is optimal on the lattice.  Any-angle smoothing passes (string pulling on the
 grid) follow while the time budget lasts; every stage is evaluated in full and the best
 one is kept.  The budget is checked between phases: the build is not part of a query's
-budget, and a search that ends after the budget raises.  The returned
+budget; a query raises when the budget is spent before its search starts, and a search
+that ends after the budget returns its path unsmoothed.  The returned
 :class:`~ecoplan.planning.base.Plan` carries the waypoints (heading changes of the
 lattice path) and their full evaluation by :func:`ecoplan.energy.path.path_cost` on the
 grid, like every planner.
@@ -646,7 +647,6 @@ class LatticePlanner:
         graph = self._graph + sparse.csr_matrix((w, (rows, cols)), shape=(n, n))
         deadline.check("joining start and goal to the lattice")
         dist, pred = csgraph.dijkstra(graph, directed=True, indices=src, return_predecessors=True)
-        deadline.check("searching the lattice")
         total = float(dist[snk])
         if not math.isfinite(total):
             raise PlanningError(
