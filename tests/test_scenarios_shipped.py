@@ -102,7 +102,7 @@ def _check_against_library(
     np.testing.assert_allclose(log["p_total"], p, rtol=1e-8, atol=1e-8)
     assert case["energy_j"] == pytest.approx(float(np.sum(p[:-1]) * dt), rel=1e-7)
     assert case["time_s"] == pytest.approx(log["t"][-1], abs=1e-9)
-    if resimulate and not sc.regions:
+    if resimulate and not sc.regions and not sc.world.has_regions:
         # without terrain regions the simulator's own result is the reported one
         sim = simulate_waypoints(
             vehicle.on(),
