@@ -245,14 +245,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=Path("reports/sites"))
     ap.add_argument("--quick", action="store_true", help="3 sites")
     ap.add_argument("--write-shipped", type=Path, default=None, metavar="DIR")
+    ap.add_argument("--vehicles", nargs="+", default=list(SPEEDS), help="vehicles to run")
     args = ap.parse_args(argv)
     if args.write_shipped is not None:
         write_shipped(args.write_shipped)
         return 0
     n_sites = 3 if args.quick else args.sites
     args.out.mkdir(parents=True, exist_ok=True)
-    names = [n for n in SPEEDS if n in shipped_names()]
-    for n in SPEEDS:
+    names = [n for n in args.vehicles if n in shipped_names() and n in SPEEDS]
+    for n in args.vehicles:
         if n not in names:
             print(f"not run (no shipped vehicle file on this branch): {n}")
     rows: list[dict[str, Any]] = []
@@ -260,6 +261,7 @@ def main(argv: list[str] | None = None) -> int:
         veh = field_vehicle(name)
         for seed in range(n_sites):
             rows.append(run_site(name, veh, seed))
+            print(f"  {name} site {seed}: {'ok' if 'error' not in rows[-1] else rows[-1]['error']}")
     keys = sorted({k for r in rows for k in r})
     with open(args.out / "sites.csv", "w", newline="") as fh:
         wr = csv.DictWriter(fh, fieldnames=keys)

@@ -94,7 +94,8 @@ def test_open_floor_energy_is_near_the_straight_line_bound(name: str, speed: flo
     grid = GridMap(np.zeros((200, 300), dtype=np.int8), 0.1, inflation_m=0.3)
     spec = VehicleSpec.of(name)
     s, g = (1.0, 1.2), (28.0, 17.3)
-    res = LatticePlanner(grid, EnergyCost(spec, speed)).plan(s, g)
+    opts = LatticePlannerOptions(time_budget_s=60.0)  # every smoothing pass, even under load
+    res = LatticePlanner(grid, EnergyCost(spec, speed), opts).plan(s, g)
     p = spec.on(None)
     per_m = float(p.power(speed, speed).total_w) / speed  # P_T(v, v) / v [J/m]
     bound = per_m * math.hypot(g[0] - s[0], g[1] - s[1])
@@ -135,9 +136,10 @@ def test_terrain_penalty_steers_the_route() -> None:
     spec = VehicleSpec.of("pioneer-3at")
     cost = LengthCost(spec, 0.4)
     s, g = (2.0, 2.0), (28.0, 2.0)
-    short = LatticePlanner(grid, cost).plan(s, g).best
+    opts = LatticePlannerOptions(time_budget_s=60.0)
+    short = LatticePlanner(grid, cost, opts).plan(s, g).best
     weights = PenaltyWeights(terrain_penalty={"vinyl": 10.0})
-    around = LatticePlanner(grid, cost, weights=weights).plan(s, g).best
+    around = LatticePlanner(grid, cost, opts, weights=weights).plan(s, g).best
     assert short.cost.length_m == pytest.approx(26.0, rel=1e-3)
     # round the band's end (y >= 15 m between x = 13 and 17 m): at least
     # 2 hypot(11, 13) + 4 = 38.06 m; allow the corners to clip the band by a little

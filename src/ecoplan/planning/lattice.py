@@ -22,9 +22,14 @@ built (:class:`LatticePlanner`), collision-checked against the **inflated fine g
 (:attr:`ecoplan.geometry.maps.GridMap.blocked`) through precomputed fine-cell offsets
 sampled every quarter of a fine cell.  A query runs Dijkstra (scipy.sparse.csgraph, in
 C) from the start node; Dijkstra is A* with the zero heuristic, which is admissible, so
-the result is optimal on the lattice.  The returned :class:`~ecoplan.planning.base.Plan`
-carries the waypoints (heading changes of the lattice path) and their full evaluation
-by :func:`ecoplan.energy.path.path_cost` on the grid, like every planner.
+the result is optimal on the lattice.  Any-angle smoothing passes (string pulling on the
+grid) follow while the time budget lasts; every stage is evaluated in full and the best
+one is kept.  The budget is checked between phases: the build is not part of a query's
+budget; a query raises when the budget is spent before its search starts, and a search
+that ends after the budget returns its path unsmoothed.  The returned
+:class:`~ecoplan.planning.base.Plan` carries the waypoints (heading changes of the
+lattice path) and their full evaluation by :func:`ecoplan.energy.path.path_cost` on the
+grid, like every planner.
 
 The search costs come from the cost objective's ``per_metre`` and ``turn_value``
 (:class:`~ecoplan.energy.objective.EnergyCost`: joules;
@@ -642,7 +647,6 @@ class LatticePlanner:
         graph = self._graph + sparse.csr_matrix((w, (rows, cols)), shape=(n, n))
         deadline.check("joining start and goal to the lattice")
         dist, pred = csgraph.dijkstra(graph, directed=True, indices=src, return_predecessors=True)
-        deadline.check("searching the lattice")
         total = float(dist[snk])
         if not math.isfinite(total):
             raise PlanningError(
