@@ -10,8 +10,8 @@ inflation is part of the map preparation, timed apart), start (3, 3) and goal
 (size-3, size-3) with 4 m clear around each.  Terrain presets per label: Auriga-β
 (narrow belts, tracked, 0.5 m/s) alternates marble and asphalt; the Pioneer 3-AT
 (wheeled, 0.4 m/s) asphalt and vinyl -- the only presets the vehicles have today, so the
-four labels carry two distinct terrains each.  The Husky is run when a ``husky`` preset
-exists (it does not on this branch; the output says so).
+four labels carry two distinct terrains each; the Husky A200 (0.5 m/s) its identified
+asphalt, sandy loam, snow and flooring.
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
 of every node), query time (Dijkstra + smoothing + full evaluation), energy, feasibility.
@@ -55,7 +55,7 @@ INFLATION_M = 0.5
 VEHICLES: dict[str, tuple[float, tuple[str, str, str, str]]] = {
     "auriga-beta-narrow": (0.5, ("marble", "asphalt", "marble", "asphalt")),
     "pioneer-3at": (0.4, ("asphalt", "vinyl", "asphalt", "vinyl")),
-    "husky": (0.5, ("asphalt", "grass", "gravel", "sand")),
+    "husky-a200": (0.5, ("asphalt", "sandy_loam", "snow", "flooring")),
 }
 
 
@@ -175,12 +175,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--obstacles", type=int, nargs="+", default=[50, 200, 400])
     ap.add_argument("--out", type=Path, default=Path("reports/lattice_scale"))
     ap.add_argument("--quick", action="store_true", help="2 seeds, sizes 30 and 60 m")
+    ap.add_argument("--vehicles", nargs="+", default=list(VEHICLES), help="vehicles to run")
     args = ap.parse_args(argv)
     if args.quick:
         args.seeds, args.sizes, args.obstacles = 2, [30.0, 60.0], [20, 60]
     args.out.mkdir(parents=True, exist_ok=True)
-    names = [n for n in VEHICLES if n in vehicle_names()]
-    missing = [n for n in VEHICLES if n not in names]
+    names = [n for n in args.vehicles if n in vehicle_names() and n in VEHICLES]
+    missing = [n for n in args.vehicles if n not in names]
     if missing:
         print(f"not run (no preset on this branch): {', '.join(missing)}")
     big = (max(args.sizes), max(args.obstacles))

@@ -22,9 +22,10 @@ with ``ecoplan diagnose LOG --vehicle V --terrain T``.
 A verdict is right when it names the injected effect (``ambiguous`` counts as right when the
 effect is among the tied names, as in ``blind_diagnosis.py``; the count is printed).
 Held-out gap reduction: for power effects ``1 - MAE(true - final) / MAE(true - calibrated)``
-on the held-out samples, against the zoo's noise-free power; for kinematic effects the share
-of the channel's gap the effect explains.  A refusal (an ``ecoplan.errors`` error) or a crash
-(any other exception) is a wrong verdict and is listed.
+on the held-out samples, against the zoo's noise-free meter power (sensor effects in, noise
+out); for kinematic effects the share of the channel's gap the effect explains.  A refusal
+(an ``ecoplan.errors`` error) or a crash (any other exception) is a wrong verdict and is
+listed.
 """
 
 from __future__ import annotations

@@ -322,8 +322,8 @@ def test_collinear_waypoints_change_nothing(x: float, y: float, frac: float) -> 
 
 
 @pytest.fixture(scope="module")
-def ab_runs() -> dict[tuple[int, float], tuple[float, float, float]]:
-    """(waypoints, v) -> (simulated energy, analytic energy, trajectory_cost of the sim)."""
+def ab_runs() -> dict[tuple[int, float], tuple[float, float, float, float]]:
+    """(waypoints, v) -> (simulated, static analytic, trajectory_cost of the sim, driven)."""
     spec = VehicleSpec.of("auriga-beta-narrow", "asphalt")
     sc = ab_scenario()
     out = {}
@@ -335,26 +335,31 @@ def ab_runs() -> dict[tuple[int, float], tuple[float, float, float]]:
             )
             ana = path_cost(pts, spec, v, initial_heading_rad=sc.start_yaw_rad, ramps=True)
             traj = trajectory_cost(TrackTrajectory(sim.t, sim.v_left, sim.v_right), spec)
-            out[(n, v)] = (sim.energy_j, ana.energy_j, traj.energy_j)
+            driven = path_cost(
+                pts, spec, v, initial_heading_rad=sc.start_yaw_rad, turn=HeadingController(0.18, v)
+            )
+            out[(n, v)] = (sim.energy_j, ana.energy_j, traj.energy_j, driven.energy_j)
     return out
 
 
 def test_analytic_cost_agrees_with_the_simulator_on_the_ab_paths(
-    ab_runs: dict[tuple[int, float], tuple[float, float, float]],
+    ab_runs: dict[tuple[int, float], tuple[float, float, float, float]],
 ) -> None:
     # The heading controller (eq. 23, G = 0.18) overshoots and smooths the corners, so it
     # turns more than the polyline's psi.  Its small corrections also enter the onset of
     # the non-regenerated power (nonregen_onset_mps, 0.05 m/s: issue #11 item 4), which
-    # the analytic cost does not see: measured agreement is within 6.2 % (4 way points at
-    # 0.5 m/s; 0.0-2.5 % on the others); issue #11 item 6 asks for 3 %.  The analytic
-    # cost keeps the paper's orderings (Table III): 4 way points > 3, and 0.3 > 0.5 m/s.
-    for sim, ana, traj in ab_runs.values():
+    # the static analytic cost does not see: agreement within 7 %.  Costed as the
+    # controller drives the path (energy.controlled), within 3 % (issue #11 item 6).  Both
+    # keep the paper's orderings (Table III): 4 way points > 3, and 0.3 > 0.5 m/s.
+    for sim, ana, traj, driven in ab_runs.values():
         assert ana == pytest.approx(sim, rel=0.07)
+        assert driven == pytest.approx(sim, rel=0.03)
         assert traj == pytest.approx(sim, rel=1e-3)  # same power model, trapezoid vs steps
-    for v in (0.3, 0.5):
-        assert ab_runs[(4, v)][1] > ab_runs[(3, v)][1]
-    for n in (3, 4):
-        assert ab_runs[(n, 0.3)][1] > ab_runs[(n, 0.5)][1]
+    for k in (1, 3):
+        for v in (0.3, 0.5):
+            assert ab_runs[(4, v)][k] > ab_runs[(3, v)][k]
+        for n in (3, 4):
+            assert ab_runs[(n, 0.3)][k] > ab_runs[(n, 0.5)][k]
 
 
 def test_spot_turn_under_the_drive_law_matches_the_simulator() -> None:
@@ -392,6 +397,10 @@ def test_auto_turn_choice_under_the_papers_step_and_under_the_ramp(v: float) -> 
     step = dataclasses.replace(base, nonregen_onset_mps=0.0)  # the paper: a step (Fig. 3)
     ramp = dataclasses.replace(base, nonregen_onset_mps=0.1)
     tight = cheapest_turn(step, math.pi / 2, v, room_m=10.0)
+    near_step = cheapest_turn(
+        dataclasses.replace(base, nonregen_onset_mps=0.02), math.pi / 2, v, room_m=10.0
+    )
+    assert near_step.radius_m == pytest.approx(tight.radius_m)
     # with the paper's step: a tight arc (<= 1 m) or on the spot, net energy positive --
     # by hand, a fillet of radius r saves 2 r of straight at P_T(v, v) and drives
     # r pi / 2 at a case-2 power that includes k_nr (|V_l| + |V_r|) / eta, far above

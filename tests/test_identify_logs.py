@@ -160,3 +160,20 @@ def test_cli_identify_writes_a_vehicle_file_from_logs(tmp_path, capsys) -> None:
     assert "no terrain column; give its terrain with --terrain" in capsys.readouterr().err
     assert main(["identify", str(paths[2]), "--base", str(base_file), "--terrain", "asphalt",
                  "--boot", "20", "--json", str(tmp_path / "r.json")]) == 0  # fmt: skip
+
+
+def test_cli_identify_refuses_an_unphysical_fit_with_exit_2(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    from ecoplan.cli import main
+
+    base_file = tmp_path / "robot.yaml"
+    base_file.write_text(yaml.safe_dump(WHEELED, sort_keys=False))
+    t = np.arange(3000) * 0.1
+    v = 0.2 + 0.6 * (0.5 + 0.5 * np.sin(t / 7.0))
+    falling = DriveLog(t, v, v, 120.0 - 60.0 * v, "asphalt", "falling")  # P falls with speed
+    path = _write_csv(tmp_path, falling, "falling")
+    args = ["identify", str(path), "--base", str(base_file), "--boot", "20"]
+    assert main([*args, "--out", str(tmp_path / "x.yaml")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "power falling with speed" in err
+    assert not (tmp_path / "x.yaml").exists()  # nothing written
+    assert main([*args, "--clamp", "--out", str(tmp_path / "x.yaml")]) == 0

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ecoplan.models import TrackedParams
 from ecoplan.presets import vehicle
@@ -323,3 +325,44 @@ def test_onset_fit_rejects_mismatched_logs_with_one_line() -> None:
 
     with pytest.raises(InputError, match="of one length; got 3, 3, 2"):
         fit_nonregen_onset([0.1, 0.2, 0.3], [0.2, 0.2, 0.2], [1.0, 2.0], TrackedParams())
+
+
+# --- properties of the per-motor split and the onset (hypothesis) ------------------------
+
+_speed = st.floats(-V_MAX, V_MAX, allow_nan=False)
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    vl=_speed,
+    vr=_speed,
+    onset=st.sampled_from([0.0, 0.02, 0.05, 0.1]),
+    offset=st.sampled_from([0.0, 0.03, -0.04]),
+)
+def test_split_sums_to_p_m_and_mirrors_left_and_right(
+    vl: float, vr: float, onset: float, offset: float
+) -> None:
+    # eq. (22): P_M^l + P_M^r = P_M for every pair, onset and ICR offset
+    p = vehicle(
+        "auriga-beta-wide", "asphalt", {"nonregen_onset_mps": onset, "icr_offset_m": offset}
+    )
+    out = p.power(vl, vr)
+    assert float(out.left_w + out.right_w) == pytest.approx(float(out.mechanical_w), abs=1e-9)
+    if offset == 0.0:  # symmetric ICRs: swapping the tracks swaps the motors (Fig. 2)
+        swapped = p.power(vr, vl)
+        assert float(swapped.left_w) == pytest.approx(float(out.right_w), abs=1e-9)
+        assert float(swapped.total_w) == pytest.approx(float(out.total_w), abs=1e-9)
+
+
+@settings(max_examples=200, deadline=None)
+@given(vl=_speed, vr=_speed, w1=st.floats(0.0, 0.2), w2=st.floats(0.0, 0.2))
+def test_a_wider_onset_never_costs_more_and_energy_stays_positive(
+    vl: float, vr: float, w1: float, w2: float
+) -> None:
+    # the onset only scales the non-regenerated term (>= 0) down: P_T falls as it widens
+    lo, hi = sorted((w1, w2))
+    narrow_onset = vehicle("auriga-beta-narrow", "marble", {"nonregen_onset_mps": lo})
+    wide_onset = vehicle("auriga-beta-narrow", "marble", {"nonregen_onset_mps": hi})
+    p_lo, p_hi = narrow_onset.power(vl, vr), wide_onset.power(vl, vr)
+    assert float(p_hi.total_w) <= float(p_lo.total_w) + 1e-9
+    assert float(p_hi.total_w) > 0.0 and float(p_hi.nonregen_w) >= 0.0

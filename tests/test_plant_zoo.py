@@ -227,7 +227,7 @@ def test_speeds_within_limits_and_manoeuvres_varied() -> None:
     cases = set(tracked.motion_case(vl, vr).tolist())
     assert {0, 1, 2, 4} <= cases  # stops, straights, arcs, spot turns / pivots
     w = plant_zoo.make_case("g", "none", 0)
-    assert w.true_power_w.max() < 2 * 12.0  # two sides, each under the Pioneer side limit
+    assert w.plant_power_w.max() < 2 * 12.0  # two sides, each under the Pioneer side limit
     assert np.abs(w.columns["v_left_cmd"]).max() <= 0.9
 
 
@@ -238,8 +238,8 @@ def test_effects_act_where_they_physically_should() -> None:
     pay = plant_zoo.make_case("b", "payload", 1)
     t_on = pay.effect_params["t_on_frac"] * 180.0
     same = np.intersect1d(t, pay.columns["t"])
-    pb = base.true_power_w[np.isin(t, same)]
-    pp = pay.true_power_w[np.isin(pay.columns["t"], same)]
+    pb = base.plant_power_w[np.isin(t, same)]
+    pp = pay.plant_power_w[np.isin(pay.columns["t"], same)]
     before, after = same < t_on - 0.1, same > t_on + 0.1
     np.testing.assert_allclose(pp[before], pb[before])
     assert np.all(pp[after] >= pb[after] - 1e-9) and pp[after].mean() > pb[after].mean()
@@ -248,8 +248,8 @@ def test_effects_act_where_they_physically_should() -> None:
         c = plant_zoo.make_case("b", e, 1)
         common = np.intersect1d(t, c.columns["t"])
         np.testing.assert_allclose(
-            c.true_power_w[np.isin(c.columns["t"], common)],
-            base.true_power_w[np.isin(t, common)],
+            c.plant_power_w[np.isin(c.columns["t"], common)],
+            base.plant_power_w[np.isin(t, common)],
         )
 
 
@@ -273,9 +273,9 @@ def test_power_saturation_slows_the_drive_instead_of_exceeding_the_supply() -> N
         cap = c.effect_params["cap_w"]
         eta = 0.95 if variant == "a" else 1.0
         # the supply limit is on the drive demand (P_M + P_D); the meter sees it over eta
-        assert c.true_power_w.max() <= cap / eta * (1 + 1e-6)
+        assert c.plant_power_w.max() <= cap / eta * (1 + 1e-6)
         free = plant_zoo.make_case(variant, "none", 2, duration_s=90.0)
-        assert free.true_power_w.max() > cap / eta  # the limit did bind
+        assert free.plant_power_w.max() > cap / eta  # the limit did bind
 
 
 @pytest.mark.parametrize("variant", ["a", "g"])
@@ -291,3 +291,14 @@ def test_the_library_reads_a_zoo_log_whole(tmp_path: Path, variant: str) -> None
         got = getattr(log, col)
         assert got is not None
         np.testing.assert_allclose(got, case.columns[col], rtol=1e-5, atol=1e-5)
+
+
+def test_meter_power_carries_the_sensor_effects_but_no_noise() -> None:
+    c = plant_zoo.make_case("a", "power_gain", 0, duration_s=120.0)
+    t, g = c.columns["t"], c.effect_params["gain"]
+    t_on = c.effect_params["t_on_frac"] * 120.0
+    late, early = t > t_on + 0.05, t < t_on - 0.05
+    np.testing.assert_allclose(c.true_power_w[late], g * c.plant_power_w[late])
+    np.testing.assert_allclose(c.true_power_w[early], c.plant_power_w[early])
+    noise = c.columns["p_total"] - c.true_power_w
+    assert 5.0 < np.std(noise) < 30.0  # the 15 W coloured meter noise is only in the log

@@ -143,3 +143,20 @@ def test_vehicle_option_replaces_the_scenarios_vehicle(
     assert main(["plan", scenario, "--vehicle", "husky-a200"]) == 2
     err = capsys.readouterr().err
     assert "terrain.regions[0].terrain" in err and "'grass'" in err
+
+
+def test_diagnose_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from ecoplan.cli import main
+    from ecoplan.diagnose.logio import Log, write_log_csv
+    from ecoplan.models.identify_logs import free_driving_log
+
+    robot = SCENARIOS / "vehicles" / "robot50.yaml"
+    sim = free_driving_log(load_vehicle(robot), rng=3, duration_s=120.0)
+    log = write_log_csv(
+        Log(sim.t_s, sim.v_left, sim.v_right, sim.p_total_w, run_id="r"), tmp_path / "r.csv"
+    )
+    out = tmp_path / "d.json"
+    code = main(["diagnose", str(log), "--vehicle", str(robot), "--json", str(out)])
+    assert code == 0, capsys.readouterr().err
+    # the log is simulated from the file itself: no unmodelled effect to find
+    assert json.loads(out.read_text())["verdict"]["effect"] == "none"

@@ -89,7 +89,11 @@ class Case:
     meta : dict of str to str
         ``# key: value`` metadata lines.
     true_power_w : ndarray
-        Noise-free logged-grid power before logging defects (W), for the gap reduction.
+        Noise-free power as the meter reports it (W): the plant's power after the sensor-side
+        effects (delay, gain, ripple) and the 50 ms averaging, before noise; the reference of
+        the held-out gap reduction.
+    plant_power_w : ndarray
+        Noise-free electrical power the plant really draws (W), averaged over each sample.
     effect_params : dict of str to float
         Drawn parameters of the effect (for the record).
     """
@@ -103,6 +107,7 @@ class Case:
     columns: dict[str, FloatArray]
     meta: dict[str, str]
     true_power_w: FloatArray
+    plant_power_w: FloatArray
     effect_params: dict[str, float] = field(default_factory=dict)
 
 
@@ -412,7 +417,8 @@ def make_case(variant: str, effect: str, seed: int, duration_s: float = 180.0) -
         expected=expected_verdict(effect),
         columns=cols,
         meta=meta,
-        true_power_w=np.asarray(true_avg[keep], dtype=float),
+        true_power_w=np.asarray(p_avg[keep], dtype=float),
+        plant_power_w=np.asarray(true_avg[keep], dtype=float),
         effect_params=fx_all,
     )
 

@@ -244,10 +244,29 @@ def _cmd_plan(args: argparse.Namespace) -> int:
             "planning_time_s": plan.planning_time_s,
             "estimate_energy_j": plan.estimate_energy_j,
             "alternatives": [a.tolist() for a in plan.alternatives],
-            "files": _report(args, sc, [CaseResult.unsimulated(case.name, plan)], out),
+            "files": [
+                str(f)
+                for f in _report(args, sc, [CaseResult.unsimulated(case.name, plan)], out)
+                + _route_files(args, plan, out)
+            ],
         }
     )
     return 0
+
+
+def _route_files(args: argparse.Namespace, plan: Any, out: _Out) -> list[Path]:
+    """``plan --out``: the route as a nav_msgs/Path bag (MCAP), GeoJSON and CSV."""
+    folder = _prepare(args)
+    if folder is None:
+        return []
+    from ecoplan.io.route_export import write_route
+
+    folder.claim(["route_bag", "route.geojson", "route.csv"], force=args.force)
+    with folder.recording():
+        files = write_route(folder.path, plan.waypoints, plan.speed_mps, planner=plan.planner)
+    for f in files:
+        out.say(f"  {f}")
+    return files
 
 
 def _parse_points(items: Sequence[str]) -> list[list[float]]:
@@ -374,6 +393,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 
 def _cmd_identify(args: argparse.Namespace) -> int:
     from ecoplan.app.identify import identify_from_logs
+    from ecoplan.app.reports.identify import identification_lines, identification_rows
 
     out = _out(args)
     if args.out is not None and args.out.exists() and not args.force:
@@ -388,31 +408,8 @@ def _cmd_identify(args: argparse.Namespace) -> int:
         speed_noise_mps=args.speed_noise,
         bus_voltage_v=args.bus_voltage,
     )
-    rows = []
-    for terrain, fit in sorted(res.fits.items()):
-        out.say(
-            f"{terrain}: {len(fit.run_ids)} log(s), {fit.n_samples} samples, held-out MAE "
-            f"{fit.heldout_mae_w:.1f} W (mean power {fit.mean_power_w:.0f} W), median energy "
-            f"error {100 * fit.median_energy_error:.1f} %"
-        )
-        for key in fit.identified:
-            lo, hi = fit.intervals[key]
-            out.say(f"  {key} = {fit.values[key]:.4g}  [{lo:.4g}, {hi:.4g}]")
-        if fit.unidentified:
-            out.say(f"  not identified (base values kept): {', '.join(fit.unidentified)}")
-        for key, val in fit.clamped.items():
-            out.say(f"  clamped at 0: {key} (the logs give {val:.4g})")
-        rows.append(
-            {
-                "terrain": terrain,
-                "values": dict(fit.values),
-                "intervals": {k: list(v) for k, v in fit.intervals.items()},
-                "unidentified": list(fit.unidentified),
-                "clamped": dict(fit.clamped),
-                "heldout_mae_w": fit.heldout_mae_w,
-                "heldout_energy_error": list(fit.heldout_energy_error),
-            }
-        )
+    for line in identification_lines(res):
+        out.say(line)
     header = f"Identified by: ecoplan identify {' '.join(str(p) for p in args.logs)}"
     text = res.to_yaml(header + f" --base {args.base}")
     if args.out is not None:
@@ -420,7 +417,7 @@ def _cmd_identify(args: argparse.Namespace) -> int:
         out.say(f"vehicle file written to {args.out}")
     elif args.json is None:
         sys.stdout.write(text)
-    out.emit({"vehicle": res.name, "terrains": rows, "file": args.out})
+    out.emit({"vehicle": res.name, "terrains": identification_rows(res), "file": args.out})
     return 0
 
 
@@ -532,7 +529,12 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  ecoplan run scenarios/battery_mission.yaml --out reports/mission",
     )
     run.add_argument("scenario", type=Path, help="scenario YAML file")
-    run.add_argument("--time-budget", type=float, metavar="S", help="cap the planner's time [s]")
+    run.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="S",
+        help="planner time budget [s] (replaces planner.time_s)",
+    )
     _common(run)
     _vehicle_option(run)
     run.set_defaults(func=_cmd_run)
@@ -544,7 +546,12 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  ecoplan plan scenarios/pioneer_power_limit.yaml --json",
     )
     plan.add_argument("scenario", type=Path)
-    plan.add_argument("--time-budget", type=float, metavar="S")
+    plan.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="S",
+        help="planner time budget [s] (replaces planner.time_s)",
+    )
     _common(plan)
     _vehicle_option(plan)
     plan.set_defaults(func=_cmd_plan)
@@ -592,7 +599,9 @@ def build_parser() -> argparse.ArgumentParser:
         "bag (with --topics, or <bag>.topics.yaml beside it).",
     )
     diag.add_argument("logs", nargs="+", type=Path, metavar="LOG")
-    diag.add_argument("--vehicle", required=True, help="vehicle preset (e.g. auriga-beta-wide)")
+    diag.add_argument(
+        "--vehicle", required=True, help="vehicle preset (e.g. auriga-beta-wide) or vehicle file"
+    )
     diag.add_argument("--terrain", help="terrain preset")
     diag.add_argument(
         "--json", metavar="FILE", help="write the diagnosis JSON here ('-': on stdout)"

@@ -23,6 +23,7 @@ from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.energy.path import path_cost
 from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.maps import GridMap
 from ecoplan.models.limits import check_tracks
 from ecoplan.presets import VehicleSpec
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
@@ -280,7 +281,7 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
     case : Case
         The case.
     time_budget_s : float, optional
-        Caps the planner's time budget (tests and quick looks).
+        Replaces the scenario's ``planner.time_s`` (``--time-budget``: lower or raise it).
 
     Returns
     -------
@@ -345,9 +346,23 @@ def _plan_with(
 ) -> PlanOutcome:
     cost_cls = EnergyCost if planner.objective == "energy" else LengthCost
     cost = cost_cls(sc.vehicle, speed_mps, world=sc.world)
-    budget = planner.time_s if time_budget_s is None else min(planner.time_s, time_budget_s)
+    budget = planner.time_s if time_budget_s is None else time_budget_s  # the flag overrides
     start, goal, heading = sc.spec.start.xy, sc.goal_xy, sc.spec.start.yaw_rad
-    if planner.type == "graph":
+    if isinstance(sc.world, GridMap) or planner.type == "lattice":
+        from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions
+
+        if not isinstance(sc.world, GridMap):
+            raise InputError(
+                f"{sc.source}: planner type lattice plans on grid maps: give map: {{ros: FILE}}"
+            )
+        if planner.type not in ("lattice", "graph"):
+            raise InputError(
+                f"{sc.source}: planner type {planner.type} needs a polygon map; "
+                "use planner: {type: lattice} with map: {ros: ...}"
+            )
+        lopts = LatticePlannerOptions(time_budget_s=budget)
+        res = LatticePlanner(sc.world, cost, lopts).plan(start, goal, initial_heading_rad=heading)
+    elif planner.type == "graph":
         from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
 
         options = GraphPlannerOptions(k_paths=planner.k, time_budget_s=budget)
@@ -391,7 +406,7 @@ def simulate_case(
     plan : PlanOutcome, optional
         A route to simulate instead of planning one.
     time_budget_s : float, optional
-        Caps the planner's time budget.
+        Replaces the scenario's ``planner.time_s``.
 
     Returns
     -------
@@ -410,7 +425,11 @@ def simulate_case(
         plan.waypoints,
         ctrl,
         start_yaw_rad=spec.start.yaw_rad,
-        config=SimConfig(dt_s=spec.simulation.dt_s, t_max_s=spec.simulation.t_max_s),
+        config=SimConfig(
+            dt_s=spec.simulation.dt_s,
+            t_max_s=spec.simulation.t_max_s,
+            inertial=spec.simulation.inertial,
+        ),
     )
     return _account(sc, case.name, plan, sim)
 
@@ -428,7 +447,7 @@ def run_case(case: Case, time_budget_s: float | None = None) -> CaseResult:
     case : Case
         The case.
     time_budget_s : float, optional
-        Caps the planner's time budget.
+        Replaces the scenario's ``planner.time_s``.
 
     Returns
     -------
@@ -448,7 +467,7 @@ def run_case(case: Case, time_budget_s: float | None = None) -> CaseResult:
 def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> CaseResult:
     dt = sim.dt_s
     n = sim.n_steps
-    if sc.regions:
+    if sc.regions or sc.world.has_regions:
         pts = np.column_stack([sim.x, sim.y])
         terrain = tuple(t or sc.default_terrain for t in sc.world.terrain_at(pts))
         p_total = np.array(sim.p_total, dtype=np.float64, copy=True)
@@ -459,6 +478,8 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
             idx = np.flatnonzero(np.asarray(terrain) == terr)
             pw = sc.vehicle.on(terr).power(sim.v_left[idx], sim.v_right[idx])
             p_total[idx] = pw.total_w
+            if "inertial_w" in comps:  # mass terms: the same on every terrain
+                p_total[idx] += comps["inertial_w"][idx]
             p_left[idx] = pw.left_w
             p_right[idx] = pw.right_w
             for k, v in pw.components().items():

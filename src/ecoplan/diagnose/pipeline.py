@@ -326,7 +326,12 @@ def run_diagnose_cli(
         raise InputError(f"--bus-voltage must be a positive number of volts, got {bus_voltage_v}")
     topic_map = load_topic_map(topics_path) if topics_path is not None else None
     logs = read_logs(log_paths, topic_map=topic_map, bus_voltage_v=bus_voltage_v)
-    d = diagnose(logs, vehicle, terrain)
+    if vehicle.endswith((".yaml", ".yml")) or Path(vehicle).is_file():  # a vehicle file
+        from ecoplan.io.vehicles import load_vehicle
+
+        d = diagnose(logs, load_vehicle(vehicle).params(terrain), terrain)
+    else:
+        d = diagnose(logs, vehicle, terrain)
     # with --json - the JSON is the only thing on stdout; the text goes to stderr
     text = sys.stderr if json_path == "-" else sys.stdout
     print(d.summary(), file=text)

@@ -26,7 +26,8 @@ in one batch:
 
 ``L = max(10 m, 8 v / G) + d_th`` (the heading error decays as ``exp(-G t)``: 8 time
 constants of driving); ``l`` on 7 geometric steps from ``max(1.5 d_th, v / G)`` (a goal
-closer than the turning radius ``v / (G phi)`` can be orbited forever) to ``L``; ``dpsi``
+closer than the turning radius ``v / (G phi)`` can be orbited forever; ``d_th`` as widened
+for power-limited turning) to ``L``; ``dpsi``
 every 11.25 degrees (only ``|dpsi|`` for left-right symmetric vehicles).  Excesses are
 interpolated bilinearly in ``(dpsi, log l)``, clamped at the table's edges.  A path's
 energy is then its straight driving plus its corners' and ends' excesses
@@ -218,7 +219,10 @@ def controlled_turns(
     half = np.linspace(0.0, math.pi, _N_ANGLES)
     angles = half if symmetric else np.concatenate([-half[:0:-1], half])
     # shortest leg: a goal closer than the turning radius v / (G phi) can be orbited forever
-    leg_min = min(max(1.5 * controller.switch_radius_m, v / controller.gain), 0.5 * leg)
+    r_min = power_limited_radius(params, v) if controller.power_limited else 0.0
+    d_switch = max(controller.switch_radius_m, 1.5 * r_min)  # as the follower widens it
+    leg = leg + d_switch - controller.switch_radius_m
+    leg_min = min(max(1.5 * d_switch, v / controller.gain), 0.5 * leg)
     legs = np.geomspace(leg_min, leg, _N_LEGS)
     na, nl = angles.size, legs.size
     aa, ll = (g.ravel() for g in np.meshgrid(angles, legs, indexing="ij"))
@@ -242,7 +246,6 @@ def controlled_turns(
     for lo in legs:  # and leg + lo
         goals.append(np.array([[leg + lo, 0.0]]))
     n = len(goals)
-    r_min = power_limited_radius(params, v) if controller.power_limited else 0.0
     runs = [params] * n
     icr = IcrArrays.of([p.icr for p in runs], [p.top_track_speed_mps for p in runs])
     policy = WaypointFollower(

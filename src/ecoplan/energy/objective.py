@@ -37,7 +37,9 @@ from ecoplan.energy.primitives import (
 from ecoplan.energy.result import PathCost
 from ecoplan.energy.turns import choose_turn, fillet_collides
 from ecoplan.errors import InputError
+from ecoplan.models.inertial import Elevation, climb_energy_along_j
 from ecoplan.models.limits import check_tracks
+from ecoplan.models.tracked import TrackedParams
 
 __all__ = ["CostObjective", "EnergyCost", "LengthCost"]
 
@@ -64,6 +66,9 @@ class CostObjective:
         Allowed turn executions.
     ramps : bool
         Passed to :func:`~ecoplan.energy.path.path_cost` by :meth:`path`.
+    elevation : callable, optional
+        Ground elevation ``z(x, y)`` [m]: straight segments also cost their climbs
+        (:func:`ecoplan.models.inertial.climb_energy_along_j`, the vehicle's mass).
     """
 
     name = "cost"
@@ -76,8 +81,10 @@ class CostObjective:
         world: WorldLike | None = None,
         turn: TurnMode = "auto",
         ramps: bool = False,
+        elevation: Elevation | None = None,
     ) -> None:
         check_vehicle_world(vehicle, world)
+        self.elevation = elevation
         self.vehicle = vehicle
         self.speed_mps = float(positive_speed("speed_mps", speed_mps))
         self.world = world
@@ -108,6 +115,10 @@ class CostObjective:
             if per_m is None:
                 return None
             energy += per_m * length
+        if self.elevation is not None:
+            p = self.params(pieces[0][1])
+            eta = p.eta if isinstance(p, TrackedParams) else 1.0
+            energy += climb_energy_along_j(self.elevation, a, b, p.mass_kg, eta)
         return energy
 
     def straight_energy_per_m(self, terrain: str | None = None) -> float | None:
@@ -192,6 +203,7 @@ class CostObjective:
             initial_heading_rad=initial_heading_rad,
             turn=self.turn,
             ramps=self.ramps,
+            elevation=self.elevation,
         )
 
     def value(self, pc: PathCost) -> float:

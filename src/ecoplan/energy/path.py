@@ -26,26 +26,28 @@ Decisions where the issue is silent
   best feasible yaw rate, or the fillet arc (radius from the smallest feasible one,
   :func:`ecoplan.models.limits.min_radius_for_speed`, up to the largest that fits) that
   minimises the turn's energy **net of the straight driving it saves**.  For Auriga-β
-  the winner depends on the ramp of the non-regenerated term (``nonregen_onset_mps``,
-  issue 11 item 4): with the paper's step (0) or a 0.02 m/s ramp, a 90° corner is
-  turned on a tight arc (``r`` near ``r_min``) at 0.3 and 0.5 m/s and on the spot at
-  0.8 m/s; with a 0.1 m/s ramp, wide arcs win -- their track-speed difference
-  (``v (y_l - y_r) / r``, 0.026 m/s for ``r = 10 m`` at 0.5 m/s) stays inside the ramp,
-  so they escape most of case 2's non-regenerated power and their net energy turns
-  negative (the straight driving they save outweighs them).  That is the ramp's
-  physics, not the paper's (``tests/test_energy.py``).  The Pioneer takes the
-  tightest fitting arcs.  Slow is not always cheap: driver power-up runs all the time
-  (tracked §IV).
+  the winner depends on the onset of the non-regenerated term (``nonregen_onset_mps``,
+  issue 11 item 4), which the paper does not identify.  For the 90° corner of
+  (0,0)->(10,0)->(10,10): with the paper's step (0) or a 0.02 m/s onset, a tight arc
+  (``r`` near ``r_min``, net about 1 kJ) at 0.3 and 0.5 m/s, on the spot at 0.8 m/s;
+  with the 0.05 m/s default, wide arcs at 0.3 and 0.5 m/s (7 m: -0.25 kJ; 10 m:
+  +0.02 kJ), on the spot at 0.8 m/s; with a 0.1 m/s onset, wide arcs at every speed
+  (10 m at 0.5 m/s: -1.3 kJ).  A wide arc's track-speed difference
+  (``v (y_l - y_r) / r``, 0.026 m/s for 10 m at 0.5 m/s) lies inside the onset, so it
+  escapes most of case 2's non-regenerated power, and the straight driving it saves
+  outweighs it; under the step it pays ``k_nr (|V_l| + |V_r|)`` in full and cannot.
+  The choice follows the onset's physics (``tests/test_energy.py``).  The Pioneer
+  takes the tightest fitting arcs.  Slow is not always cheap: driver power-up runs all
+  the time (tracked §IV).
 * Accelerations (``ramps=True``): the vehicle starts and ends at rest and stops for
   every on-the-spot turn; each stop is approached and left with a constant linear
   acceleration ``accel_max_mps2`` (the track acceleration limit), energy integrated
   over the ramp, and each on-the-spot turn follows the drive law too
   (:func:`~ecoplan.energy.turns.spot_turn_profile_energy`: tracks ramp at the limit, a
   triangle yaw-rate profile for short turns).  Ramps are off by default (the paper's
-  model is static).  Changes of speed between segments are not ramped.
-  With ramps each start also costs the kinetic energy ``M v² / (2 η)``
-  (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``); braking returns nothing
-  (non-regenerative drivers).
+  model is static).  Changes of speed between segments are not ramped.  With ramps each
+  start also costs the kinetic energy ``M v² / (2 η)`` (:mod:`ecoplan.models.inertial`;
+  breakdown key ``inertial_w``); braking returns nothing (non-regenerative drivers).
 * ``turn=HeadingController(...)``: the path as the tracked paper's heading controller
   (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`):
   the estimate a battery budget should use.
@@ -80,7 +82,7 @@ from ecoplan.energy.result import PathCost, Violation
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
-from ecoplan.models.inertial import kinetic_energy_j
+from ecoplan.models.inertial import Elevation, climb_energy_along_j, kinetic_energy_j
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS, PowerBreakdown
 from ecoplan.models.tracked import TrackedParams
@@ -184,6 +186,7 @@ def path_cost(
     initial_heading_rad: float | None = None,
     turn: TurnMode | float | HeadingController = "auto",
     ramps: bool = False,
+    elevation: Elevation | None = None,
 ) -> PathCost:
     """Energy and feasibility of a waypoint path executed by the vehicle (module doc).
 
@@ -211,6 +214,11 @@ def path_cost(
         and ``ramps`` is implied).
     ramps : bool
         Account for acceleration from and to rest (module doc).
+    elevation : callable, optional
+        Ground elevation ``z(x, y)`` [m]: the climbs along the waypoint polyline cost
+        ``M g Δz / η`` (:func:`~ecoplan.models.inertial.climb_energy_along_j`; breakdown
+        key ``grade_w``; descents not credited).  Not used with a trajectory speed or a
+        heading-controller ``turn``.
 
     Returns
     -------
@@ -271,6 +279,14 @@ def path_cost(
         ramp = (bool(stop_at[i]) and ramps, bool(stop_at[i + 1]) and ramps)
         seg = (pts[i], pts[i + 1], float(v_seg[i]), tangent[i])
         _add_segment(acc, vehicle, world, seg, ramp, i, violations)
+    if elevation is not None:  # G(q) of wheeled eqs. 1-4: the climbs of every segment
+        p = params_on(vehicle, terrains[0])
+        eta = p.eta if isinstance(p, TrackedParams) else 1.0
+        climb = sum(
+            climb_energy_along_j(elevation, pts[i], pts[i + 1], p.mass_kg, eta)
+            for i in range(n_seg)
+        )
+        acc.energy["grade_w"] = acc.energy.get("grade_w", 0.0) + climb
     return acc.result(sum(abs(tp.dpsi_rad) for tp in turns), violations, turns)
 
 

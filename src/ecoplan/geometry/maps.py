@@ -325,6 +325,16 @@ class GridMap:
             pieces.append(TerrainPiece(_pt(s), _pt(e), float(np.hypot(*(e - s))), terr))
         return pieces
 
+    def connected(self, p0: ArrayLike, p1: ArrayLike) -> bool:
+        """True when free cells (8-connected) join the cells of two free points."""
+        labels, _ = ndimage.label(~self.blocked, structure=np.ones((3, 3), dtype=bool))
+        (r0, c0), (r1, c1) = self.cell_of(*np.asarray(p0)), self.cell_of(*np.asarray(p1))
+        ny, nx = self.shape
+        if not (0 <= r0 < ny and 0 <= c0 < nx and 0 <= r1 < ny and 0 <= c1 < nx):
+            return False
+        a, b = int(labels[r0, c0]), int(labels[r1, c1])
+        return a != 0 and a == b
+
     def check_point(self, point: ArrayLike, name: str = "point") -> tuple[float, float]:
         """Validate a start or goal: finite, on the map, in a free (inflated) cell.
 

@@ -12,7 +12,7 @@ vehicle), ``B`` the indicator of cases 3-4 and ``N`` the case-2 non-regenerated 
 (§III-C), and ``P_inertial`` the mass terms (:mod:`ecoplan.models.inertial`: ``M a v + I α ω``
 and the grade, through η), fixed by the base vehicle's mass.  The model is linear in
 ``θ = (µ, K, P_br, k_nr, P_up)``, so each terrain is one bounded linear least-squares fit
-(:func:`scipy.optimize.lsq_linear`, all parameters ``>= 0``).
+(:func:`scipy.optimize.lsq_linear`, all parameters ``>= 0``, µ ``<= 5``).
 
 * **Intervals**: moving-block bootstrap over samples (blocks of ``block_s`` seconds keep the
   autocorrelation of a log), percentile intervals at a *joint* level (Bonferroni over the
@@ -345,9 +345,15 @@ def _blocks(t: FloatArray, block_s: float) -> list[FloatArray]:
     return [np.asarray(b) for b in np.split(np.arange(t.size), edges)]
 
 
+#: Upper bounds of the parameters in a bounded fit (µ: the range ``TrackedParams`` accepts).
+_UPPER = np.array([5.0, np.inf, np.inf, np.inf, np.inf])
+
+
 def _fit(x: FloatArray, y: FloatArray, free: list[int], bounded: bool) -> FloatArray:
-    lb = 0.0 if bounded else -np.inf
-    res = lsq_linear(x[:, free], y, bounds=(lb, np.inf), method="bvls")
+    if not bounded:
+        res = lsq_linear(x[:, free], y, method="bvls")
+    else:
+        res = lsq_linear(x[:, free], y, bounds=(0.0, _UPPER[free]), method="bvls")
     return np.asarray(res.x, dtype=np.float64)
 
 
@@ -422,7 +428,7 @@ def _terrain_fit(
             sims.append(solve(xn, y, True))
         shift = theta - np.mean(sims, axis=0)
         shift[fixed] = 0.0
-        theta = np.maximum(theta + shift, 0.0)
+        theta = np.clip(theta + shift, 0.0, _UPPER)
         # the linear extrapolation is itself uncertain: the interval spans the naive and the
         # corrected ones, widened by the size of the correction on both sides
         pad = np.abs(shift)

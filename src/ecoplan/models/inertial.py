@@ -23,6 +23,7 @@ the energy of braking and descending is lost, not returned).  It adds to the sta
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +37,7 @@ from ecoplan.models.wheeled import WheeledParams
 __all__ = [
     "InertialPower",
     "battery_power",
+    "climb_energy_along_j",
     "climb_energy_j",
     "inertial_battery_power",
     "inertial_power",
@@ -265,3 +267,46 @@ def inertial_battery_power(
     )
     eta = params.eta if isinstance(params, TrackedParams) else 1.0
     return ip.battery_w(eta, regen_efficiency)
+
+
+#: Elevation of the ground [m] at arrays of x and y [m] (world frame, REP-103 z up).
+Elevation = Callable[[FloatArray, FloatArray], FloatArray]
+
+
+def climb_energy_along_j(
+    elevation: Elevation,
+    p0: ArrayLike,
+    p1: ArrayLike,
+    mass_kg: float,
+    eta: float = 1.0,
+    step_m: float = 0.25,
+) -> float:
+    """Battery energy of the climbs along a straight segment, ``M g Σ max(Δz, 0) / η`` [J].
+
+    The integral of ``P_grade = M g sin(θ) v`` (wheeled eqs. 1-4, ``G(q)``) over the rising
+    parts, through the drives' η.  Descents are not credited (non-regenerative drivers, and
+    the static model's power is kept on a descent: conservative).
+
+    Parameters
+    ----------
+    elevation : callable
+        ``z = elevation(x, y)``, vectorised [m].
+    p0, p1 : array_like, shape (2,)
+        Ends of the segment [m].
+    mass_kg : float
+        Mass [kg].
+    eta : float
+        Drive efficiency in (0, 1].
+    step_m : float
+        Sampling step along the segment [m] (hills shorter than it are smoothed).
+    """
+    check_range("climb_energy_along_j", "mass_kg", mass_kg, 0.0, lo_open=True)
+    check_range("climb_energy_along_j", "eta", eta, 0.0, 1.0, lo_open=True)
+    check_range("climb_energy_along_j", "step_m", step_m, 0.0, lo_open=True)
+    a = finite_array("p0", p0)
+    b = finite_array("p1", p1)
+    n = max(2, int(np.ceil(float(np.hypot(*(b - a))) / step_m)) + 1)
+    s = np.linspace(0.0, 1.0, n)
+    z = finite_array("elevation", elevation(a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])))
+    rise = float(np.sum(np.maximum(np.diff(z), 0.0)))
+    return mass_kg * GRAVITY_MPS2 * rise / eta

@@ -295,7 +295,6 @@ def dynamic_friction_views(
 
 _SAME_TABLE = (CASE_TABLE == MotionCase.SAME_SIGN).astype(np.float64)
 _TURNING_TABLE = (CASE_TABLE > MotionCase.STRAIGHT).astype(np.float64)
-_MOVING_TABLE = (CASE_TABLE != MotionCase.STOPPED).astype(np.float64)
 
 #: Samples per block in :func:`tracked_power`: the temporaries of one block stay in cache.
 _BLOCK = 16384
@@ -584,7 +583,6 @@ def _tracked_block(
     np.take(CASE_TABLE, idx, out=case)
     np.take(k.braking_table, idx, out=br)  # cases 3 and 4
     same = np.take(_SAME_TABLE, idx)
-    moving = np.take(_MOVING_TABLE, idx)
     s = _onset(ad, idx, k)
     up.fill(k.p_up)
     np.multiply(travel, s, out=nr)
@@ -613,6 +611,4 @@ def _tracked_block(
     res_l += al
     res_l *= k.k
     left += res_l
-    np.subtract(p_mech, left, out=right)
-    left *= moving
-    right *= moving
+    np.subtract(p_mech, left, out=right)  # the pair sums to P_M, also when "stopped"

@@ -152,7 +152,9 @@ class WheeledParams:
     icr_offset_m : float
         Lateral shift of both ICRs [m].
     accel_max_mps2 : float
-        Side-speed acceleration limit [m/s²].
+        Side-speed acceleration used by the simulator and the cost [m/s²].  Default: the
+        top speed in 2.5 s, the ramp of the *tracked* paper's stationary experiments
+        (§III-C) -- an assumption; the wheeled paper states no acceleration limit.
     case_tol_mps : float
         Speeds this close to zero (or to each other) count as zero (equal) [m/s].
     """

@@ -459,6 +459,14 @@ class LatticePlanner:
             out_nodes[:, h] = np.clip(r, 0, ny - 1) * nx + np.clip(c, 0, nx - 1)
         return out_nodes, out_cost
 
+    def _rank(self, pc: PathCost) -> tuple[bool, float]:
+        """Sort key of an evaluated path: feasible first, then the search objective."""
+        if self.weights is not None:  # the penalty baseline ranks by its own costs
+            value = pc.length_m + self.weights.turn_per_rad * pc.psi_rad
+        else:
+            value = self.cost.value(pc)
+        return (not pc.feasible, value)
+
     def _evaluate(self, wps: FloatArray, heading: float | None) -> PathCost:
         return path_cost(
             wps,
@@ -553,12 +561,19 @@ class LatticePlanner:
             if len(js):
                 free, new = self._segments(pts[i], pts[js])
                 old = cum[js] - cum[i] + cum_v[js] - cum_v[i + 1]
-                # the farthest cheaper shortcut with a feasible turn; else the farthest
-                # visible point with a feasible turn; else the next point
-                cands = [int(j) for j in js[free & (new <= old)]]
-                cands += [int(j) for j in js[free]][::-1][:3]
                 prev = keep[-2]
-                nxt = next((j for j in cands if self._turn_ok(pts, prev, i, j)), i + 1)
+                # the turn at i changes too: compare old and new turn costs there
+                t_old = 0.0 if i == 0 else self._vertex_cost(pts[prev], pts[i], pts[i + 1])
+                t_old = t_old if math.isfinite(t_old) else 0.0
+                nxt = -1
+                for j in js[free & (new <= old + t_old)]:
+                    t_new = 0.0 if i == 0 else self._vertex_cost(pts[prev], pts[i], pts[j])
+                    if math.isfinite(t_new) and new[js == j][0] + t_new <= old[js == j][0] + t_old:
+                        nxt = int(j)
+                        break
+                if nxt < 0:  # else the nearest point ahead with a feasible turn
+                    cands = [i + 1, *[int(j) for j in js[free]][::-1]]
+                    nxt = next((j for j in cands if self._turn_ok(pts, prev, i, j)), i + 1)
             keep.append(nxt)
             i = nxt
         return _simplify(pts[keep[1:]])
@@ -642,17 +657,18 @@ class LatticePlanner:
         nodes = np.concatenate([[join_node], states // n_h])
         pts = self._node_xy(nodes // nx, nodes % nx)
         raw = _simplify(np.vstack([[s], pts, [g]]))
-        wps = raw
-        for densify in (True, True, False):  # smoothing passes while time remains
+        # smoothing passes while time remains; every stage is evaluated in full and the
+        # best (feasible first, then the objective) is kept, so smoothing never loses
+        wps, pc = raw, self._evaluate(raw, initial_heading_rad)
+        best_key = self._rank(pc)
+        stage = raw
+        for densify in (True, True, False):
             if deadline.expired:
                 break
-            wps = self._shortcut(wps, densify=densify)
-        pc = self._evaluate(wps, initial_heading_rad)
-        if not pc.feasible:  # smoothing made a turn infeasible: keep the lattice path
-            pc_raw = self._evaluate(raw, initial_heading_rad)
-            self.last_raw_ = (raw, pc_raw)
-            if pc_raw.feasible:
-                wps, pc = raw, pc_raw
+            stage = self._shortcut(stage, densify=densify)
+            pc_stage = self._evaluate(stage, initial_heading_rad)
+            if self._rank(pc_stage) < best_key:
+                wps, pc, best_key = stage, pc_stage, self._rank(pc_stage)
         name = "penalty" if self.weights is not None else self.cost.name
         plan = Plan(
             waypoints=wps,

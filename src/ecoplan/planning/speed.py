@@ -26,10 +26,9 @@ from scipy.optimize import minimize_scalar
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.energy.path import path_cost
-from ecoplan.energy.primitives import TurnMode, Vehicle, params_on
+from ecoplan.energy.primitives import TurnMode, Vehicle, WorldLike, params_on
 from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError, PlanningError
-from ecoplan.geometry.world import World
 
 __all__ = ["SpeedChoice", "best_speed", "energy_vs_speed"]
 
@@ -71,7 +70,7 @@ def energy_vs_speed(
     vehicle: Vehicle,
     speeds_mps: ArrayLike,
     *,
-    world: World | None = None,
+    world: WorldLike | None = None,
     initial_heading_rad: float | None = None,
     turn: TurnMode = "auto",
     ramps: bool = False,
@@ -91,7 +90,7 @@ def best_speed(
     path: ArrayLike,
     vehicle: Vehicle,
     *,
-    world: World | None = None,
+    world: WorldLike | None = None,
     initial_heading_rad: float | None = None,
     turn: TurnMode = "auto",
     ramps: bool = False,
@@ -109,7 +108,7 @@ def best_speed(
         Waypoints [m].
     vehicle : VehicleSpec or TrackedParams or WheeledParams
         The vehicle.
-    world : World, optional
+    world : World or GridMap (WorldLike), optional
         Terrain regions and fillet collision checks.
     initial_heading_rad : float, optional
         Heading at the start.

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from ecoplan.app.reports.tables import COMPONENT_LABELS
+from ecoplan.geometry.maps import GridMap
 from ecoplan.models.power import COMPONENTS
 
 if TYPE_CHECKING:
@@ -54,6 +55,12 @@ def _panel_note(r: CaseResult) -> str:
     return text
 
 
+def _flat(colour: str) -> Any:
+    from matplotlib.colors import ListedColormap
+
+    return ListedColormap([colour])
+
+
 def _draw_world(ax: Any, sc: Scenario) -> None:
     from matplotlib.patches import Patch
     from matplotlib.patches import Polygon as MplPolygon
@@ -71,7 +78,22 @@ def _draw_world(ax: Any, sc: Scenario) -> None:
         if terrain not in seen:
             handles.append(Patch(facecolor=colour, edgecolor="#8c8c8c", label=terrain))
             seen.add(terrain)
-    for infl in sc.world.inflated_obstacles:
+    if isinstance(sc.world, GridMap):  # a ROS map: terrain layer and inflated cells
+        grid = sc.world
+        ext = (x0, x1, y0, y1)
+        for label, layer_terrain in enumerate(grid.terrain_names):
+            name = str(layer_terrain or default)
+            mask = np.where(grid.labels == label, 1.0, np.nan)
+            colour = TERRAIN_COLOURS.get(name, "#cccccc")
+            if label and name not in seen:
+                handles.append(Patch(facecolor=colour, label=name))
+                seen.add(name)
+            ax.imshow(mask, origin="lower", extent=ext, cmap=_flat(colour), interpolation="none")
+        blocked = np.where(grid.blocked & ~grid.obstacle, 1.0, np.nan)
+        ax.imshow(blocked, origin="lower", extent=ext, cmap=_flat("#9a9a9a"), interpolation="none")
+        occ = np.where(grid.obstacle, 1.0, np.nan)
+        ax.imshow(occ, origin="lower", extent=ext, cmap=_flat("#3b3b3b"), interpolation="none")
+    for infl in () if isinstance(sc.world, GridMap) else sc.world.inflated_obstacles:
         for part in getattr(infl, "geoms", [infl]):
             ax.add_patch(
                 MplPolygon(

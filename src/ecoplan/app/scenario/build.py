@@ -26,7 +26,8 @@ from ecoplan.app.scenario.schema import (
     SpeedSection,
 )
 from ecoplan.errors import InputError, ScenarioError
-from ecoplan.geometry.world import GeometryError, World
+from ecoplan.geometry.maps import GridMap
+from ecoplan.geometry.world import GeometryError, World, rectangle
 from ecoplan.io.vehicles import load_vehicle
 from ecoplan.io.yaml import LineMap, error_at, one_line
 from ecoplan.presets import VehicleParams, VehicleSpec
@@ -76,8 +77,9 @@ class Scenario:
         Obstacles, not inflated.
     regions : tuple of (str, str, shapely.Polygon)
         Terrain regions as (name, terrain preset, polygon), later ones on top.
-    world : World
-        The planning world (inflated obstacles, free space, terrain lookup).
+    world : World or GridMap
+        The planning world (inflated obstacles, free space, terrain lookup): a polygon
+        world, or the inflated occupancy grid of a ``map: {ros: ...}`` scenario.
     model : CorrectedModel or None
         The corrected model of ``vehicle.model`` (:mod:`ecoplan.diagnose.loop`), if any.
     """
@@ -88,7 +90,7 @@ class Scenario:
     bounds: Polygon
     obstacles: tuple[Polygon, ...]
     regions: tuple[tuple[str, str, Polygon], ...]
-    world: World
+    world: World | GridMap
     model: Any = None
 
     @property
@@ -192,6 +194,16 @@ def build_scenario(
             veh.on(region.terrain)
         except InputError as exc:
             raise _err(source, lines, ("terrain", "regions", i, "terrain"), str(exc)) from None
+    if spec.map.ros is not None:
+        grid = _load_grid(spec, source, lines, veh)
+        xmin, ymin, xmax, ymax = (float(v) for v in grid.extent())
+        scenario = Scenario(
+            spec, source, veh, rectangle(xmin, ymin, xmax, ymax), (), (), grid, model
+        )
+        _check_speeds(scenario, lines)
+        _check_points(scenario, lines)
+        return scenario
+    assert spec.map.bounds is not None  # the schema asks for bounds or ros
     bounds = spec.map.bounds.geometry()
     obstacles = tuple(
         _valid_polygon(o, source, lines, ("map", "obstacles", i))
@@ -219,6 +231,36 @@ def build_scenario(
     _check_speeds(scenario, lines)
     _check_points(scenario, lines)
     return scenario
+
+
+def _load_grid(spec: ScenarioSpec, source: str, lines: LineMap, veh: VehicleSpec) -> GridMap:
+    """The inflated occupancy grid (and terrain layer) of ``map: {ros: FILE.yaml}``."""
+    from ecoplan.io.rosmap import load_ros_map
+
+    assert spec.map.ros is not None
+    base = Path(source).parent if source != "<string>" else Path(".")
+    layer = spec.terrain.layer
+    if layer is not None:
+        for value, terrain in layer.legend.items():
+            try:
+                veh.on(terrain)
+            except InputError as exc:
+                loc = ("terrain", "layer", "legend", value)
+                raise _err(source, lines, loc, str(exc)) from None
+    try:
+        return load_ros_map(
+            base / spec.map.ros,
+            inflation_m=spec.map.inflation_m,
+            unknown=spec.map.unknown,
+            terrain_image=None if layer is None else (base / layer.image).resolve(),
+            terrain_legend=None if layer is None else layer.legend,
+            default_terrain=veh.terrain,
+        )
+    except InputError as exc:
+        where = ("terrain", "layer") if layer is not None and "terrain" in str(exc) else ("map",)
+        raise _err(
+            source, lines, (*where, "ros") if where == ("map",) else where, str(exc)
+        ) from None
 
 
 def _load_model(spec: ScenarioSpec, source: str, lines: LineMap) -> Any:
@@ -367,6 +409,16 @@ def _check_points(sc: Scenario, lines: LineMap) -> None:
         except GeometryError as exc:
             msg = f"{exc}; the planner cannot start or end there"
             raise _err(sc.source, lines, loc, msg) from None
+    if isinstance(world, GridMap):
+        if not world.connected(spec.start.xy, sc.goal_xy):
+            raise _err(
+                sc.source,
+                lines,
+                ("goal",),
+                "unreachable: obstacles (inflated by "
+                f"{spec.map.inflation_m:g} m) separate the goal from the start",
+            )
+        return
     start = ShapelyPoint(spec.start.xy)
     goal = ShapelyPoint(sc.goal_xy)
     for part in getattr(world.free_space, "geoms", [world.free_space]):

@@ -150,14 +150,22 @@ class VehicleSection(_Section):
         return self
 
 
+class TerrainLayer(_Section):
+    """A terrain label image on the ROS map's grid: ``{image: FILE, legend: {VALUE: TERRAIN}}``."""
+
+    image: Name
+    legend: dict[Annotated[int, Field(ge=0, le=65535)], Name] = Field(min_length=1)
+
+
 class TerrainSection(_Section):
-    """Default terrain preset and optional regions of other terrains.
+    """Default terrain preset, optional regions of other terrains or a label-image layer.
 
     A plain string ``terrain: marble`` is shorthand for ``{default: marble}``.
     """
 
     default: Name | None = None
     regions: Annotated[list[Region], Field(max_length=1000)] = Field(default_factory=list)
+    layer: TerrainLayer | None = None
 
     @model_validator(mode="before")
     @classmethod
@@ -166,11 +174,26 @@ class TerrainSection(_Section):
 
 
 class MapSection(_Section):
-    """Map bounds, obstacles and footprint inflation [m]."""
+    """Map bounds, obstacles and footprint inflation [m], or a ROS ``map_server`` map.
 
-    bounds: Rectangle
+    ``ros: FILE.yaml`` reads an occupancy grid (:mod:`ecoplan.io.rosmap`, path relative
+    to the scenario file) instead of ``bounds``/``obstacles``; ``unknown`` says how its
+    unknown cells are treated.
+    """
+
+    bounds: Rectangle | None = None
     obstacles: Annotated[list[Shape], Field(max_length=10_000)] = Field(default_factory=list)
     inflation_m: Annotated[float, Field(ge=0.0, le=100.0, allow_inf_nan=False)] = 0.4
+    ros: Name | None = None
+    unknown: Literal["obstacle", "free"] = "obstacle"
+
+    @model_validator(mode="after")
+    def _one_map(self) -> MapSection:
+        if (self.bounds is None) == (self.ros is None):
+            raise ValueError("give exactly one of bounds (a polygon map) or ros (a map YAML)")
+        if self.ros is not None and self.obstacles:
+            raise ValueError("obstacles come from the ROS map; do not list them with ros")
+        return self
 
 
 class Pose(_Section):
@@ -192,9 +215,9 @@ class Pose(_Section):
 
 
 class PlannerSection(_Section):
-    """Planner choice: ``graph`` (waypoint graph), ``ompl`` (by ``name``) or ``none``."""
+    """Planner: ``graph`` (waypoint graph), ``lattice`` (grid maps), ``ompl`` or ``none``."""
 
-    type: Literal["graph", "ompl", "none"] = "graph"
+    type: Literal["graph", "lattice", "ompl", "none"] = "graph"
     name: Name | None = None
     time_s: Annotated[float, Field(gt=0.0, le=3600.0, allow_inf_nan=False)] = 1.0
     seed: Annotated[int, Field(ge=0, le=2**32 - 1)] = 0
@@ -236,10 +259,15 @@ class ControllerSection(_Section):
 
 
 class SimulationSection(_Section):
-    """Simulator settings: integration step ``dt_s`` and time limit ``t_max_s`` [s]."""
+    """Simulator settings: integration step ``dt_s`` and time limit ``t_max_s`` [s].
+
+    ``inertial: true`` adds the power of accelerating (``M a v + I α ω``,
+    :mod:`ecoplan.models.inertial`) to the static model's (default false: the papers').
+    """
 
     dt_s: Annotated[float, Field(gt=0.0, le=1.0, allow_inf_nan=False)] = 0.01
     t_max_s: Annotated[float, Field(gt=0.0, le=86_400.0, allow_inf_nan=False)] = 1200.0
+    inertial: bool = False
 
 
 class BatterySection(_Section):
