@@ -40,7 +40,7 @@ def test_the_onset_the_log_was_made_with_is_recovered(onset: float) -> None:
     frame = build_frame([log], preset)
     got = structural_onset(frame, preset)
     assert got.nonregen_onset_mps == pytest.approx(onset)  # type: ignore[union-attr]
-    cal = calibrate(frame, preset)
+    cal = calibrate(frame, preset, structural=True)
     assert cal.params.nonregen_onset_mps == pytest.approx(onset)  # type: ignore[union-attr]
 
 

@@ -489,9 +489,7 @@ def attribute(
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
-    # differenced at ~5 Hz: logged power noise is often coloured (a meter averaging over the
-    # sample, AR(1) noise) and first differences would put the floor too low
-    floor = noise_floor_mae(r0, test.frame.run.astype(np.float64), _decimation(test.frame))
+    floor = noise_floor_mae(r0, test.frame.run.astype(np.float64))
     fitted: dict[str, Effect] = {"none": base}
     residuals: dict[str, FloatArray] = {}
     power_scores: list[EffectScore] = []

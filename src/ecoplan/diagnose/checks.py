@@ -184,17 +184,20 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
     e_log = float(np.sum(np.abs(p) * dt))
     ratio = e_log / e_model if e_model > 0.0 else float("inf")
     if not np.isfinite(ratio) or ratio > MAX_ENERGY_RATIO:
+        unit = "mW" if ratio > 200.0 else "other units"
         raise InputError(
             f"{src}: column 'p_total' holds {ratio:.3g}x the energy {name} draws on these side "
-            f"speeds (mean {e_log / max(float(np.sum(dt)), 1e-12):.3g} W): power in mW "
+            f"speeds (mean {e_log / max(float(np.sum(dt)), 1e-12):.3g} W): power in {unit} "
             "(expected W), or a log of a heavier vehicle?"
         )
     if ratio < 1.0 / MAX_ENERGY_RATIO:
-        hint = (
-            "power in kW (expected W)"
-            if ratio < 0.005
-            else f"currents in A instead of power in W (a {1.0 / ratio:.0f} V bus?)"
-        )
+        inv = 1.0 / max(ratio, 1e-300)
+        if inv > 200.0:
+            hint = "power in kW (expected W)"
+        elif 10.0 <= inv <= 60.0:
+            hint = f"currents in A instead of power in W (a {inv:.0f} V bus?)"
+        else:
+            hint = "power in other units (expected W)"
         raise InputError(
             f"{src}: column 'p_total' holds 1/{1.0 / max(ratio, 1e-300):.3g} of the energy "
             f"{name} draws on these side speeds: {hint}, or a log of a lighter vehicle?"
