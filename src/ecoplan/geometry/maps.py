@@ -54,6 +54,7 @@ from ecoplan.geometry.world import (
     PointInObstacleError,
     TerrainPiece,
     World,
+    as_point,
 )
 
 __all__ = [
@@ -343,13 +344,7 @@ class GridMap:
         GeometryError, OutOfBoundsError, PointInObstacleError
             With a message naming ``name``, the point and the reason.
         """
-        try:
-            arr = np.asarray(point, dtype=np.float64).reshape(2)
-        except (TypeError, ValueError):
-            raise GeometryError(f"{name} must be an (x, y) pair, got {point!r}") from None
-        if not np.all(np.isfinite(arr)):
-            raise GeometryError(f"{name} must be finite, got {tuple(arr)}")
-        x, y = float(arr[0]), float(arr[1])
+        x, y = as_point(point, name)
         if bool(self.is_free(x, y)):
             return x, y
         row, col = self.cell_of(x, y)

@@ -45,6 +45,7 @@ __all__ = [
     "TerrainPiece",
     "TerrainRegion",
     "World",
+    "as_point",
     "circle",
     "polygon",
     "rectangle",
@@ -64,6 +65,17 @@ class OutOfBoundsError(GeometryError):
 
 class PointInObstacleError(GeometryError):
     """A start or goal lies inside an (inflated) obstacle."""
+
+
+def as_point(point: ArrayLike, name: str = "point") -> tuple[float, float]:
+    """A finite ``(x, y)`` pair [m], or a :class:`GeometryError` naming ``name``."""
+    try:
+        arr = np.asarray(point, dtype=np.float64).reshape(2)
+    except (TypeError, ValueError):
+        raise GeometryError(f"{name} must be an (x, y) pair, got {point!r}") from None
+    if not np.all(np.isfinite(arr)):
+        raise GeometryError(f"{name} must be finite, got {tuple(arr)}")
+    return float(arr[0]), float(arr[1])
 
 
 def rectangle(xmin: float, ymin: float, xmax: float, ymax: float) -> Polygon:
@@ -321,13 +333,7 @@ class World:
         GeometryError, OutOfBoundsError, PointInObstacleError
             With a message naming ``name``, the point and the reason.
         """
-        try:
-            arr = np.asarray(point, dtype=np.float64).reshape(2)
-        except (TypeError, ValueError):
-            raise GeometryError(f"{name} must be an (x, y) pair, got {point!r}") from None
-        if not np.all(np.isfinite(arr)):
-            raise GeometryError(f"{name} must be finite, got {tuple(arr)}")
-        x, y = float(arr[0]), float(arr[1])
+        x, y = as_point(point, name)
         if self.is_free(x, y):
             return x, y
         p = Point(x, y)
