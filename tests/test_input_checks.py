@@ -121,7 +121,7 @@ def _fuzz_log(
     return Log(t=t, v_left=vl, v_right=vr, p_total=p)
 
 
-def _diagnose_or_input_error(log_args: tuple[float, ...]) -> None:
+def check_diagnosis_or_input_error(log_args: tuple[float, ...]) -> None:
     # the library entry point, not only the reader: a log in any units, of any length, with
     # any motion either gets a diagnosis with a confidence in [0, 1] or one InputError line
     try:
@@ -158,7 +158,7 @@ def test_fuzzed_units_give_a_diagnosis_or_an_input_error(
     p0: float,
     seed: int,
 ) -> None:
-    _diagnose_or_input_error((n, rate_hz, v_scale, p_scale, turn, gain, p0, seed))
+    check_diagnosis_or_input_error((n, rate_hz, v_scale, p_scale, turn, gain, p0, seed))
 
 
 @settings(max_examples=24, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -173,4 +173,4 @@ def test_fuzzed_units_give_a_diagnosis_or_an_input_error(
 def test_fuzzed_plausible_logs_give_a_diagnosis_or_an_input_error(
     n: int, rate_hz: float, turn: float, gain: float, p0: float, seed: int
 ) -> None:
-    _diagnose_or_input_error((n, rate_hz, 1.0, 1.0, turn, gain, p0, seed))
+    check_diagnosis_or_input_error((n, rate_hz, 1.0, 1.0, turn, gain, p0, seed))
