@@ -58,7 +58,7 @@ def _read_log(path: Path) -> Any:
     try:
         from ecoplan.io.logcsv import read_log_csv
     except ImportError:
-        from ecoplan.diagnose.logio import read_log_csv
+        from ecoplan.io.logcsv import read_log_csv
     return read_log_csv(path)
 
 

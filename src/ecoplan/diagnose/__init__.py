@@ -2,7 +2,8 @@
 
 Modules, in the order of the pipeline:
 
-* :mod:`ecoplan.diagnose.logio` -- the log format, CSV / BorealTC / ROS 2 bag loaders;
+* the log (:class:`ecoplan.dynamics.log.Log`) comes from :mod:`ecoplan.io` (CSV, BorealTC,
+  ROS 2 bags: :func:`ecoplan.io.logs.read_logs`);
 * :mod:`ecoplan.diagnose.replay` -- the model replayed on the logged inputs, residuals;
 * :mod:`ecoplan.diagnose.calibrate` -- the preset's own parameters re-identified first;
 * :mod:`ecoplan.diagnose.localise` -- where the gap lies (regimes, time, space);

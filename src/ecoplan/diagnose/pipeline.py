@@ -315,10 +315,11 @@ def run_diagnose_cli(
     int
         Exit code (0).
     """
-    from ecoplan.diagnose.logio import load_topic_map, read_logs
     from ecoplan.diagnose.loop import corrected_model, ranking_change, save_corrected_model
     from ecoplan.diagnose.report import json_report, save_figures, save_where_time, write_json
     from ecoplan.diagnose.report_md import write_report_md
+    from ecoplan.io.logs import read_logs
+    from ecoplan.io.rosbag import load_topic_map
 
     if not log_paths:
         raise InputError("no log file given")
