@@ -577,3 +577,49 @@ def test_extra_columns_are_written_after_the_format_and_ignored_on_reading(
         Log(t=[0, 1], v_left=[0, 0], v_right=[0, 0], p_total=[1, 1], extra={"case": [0]})
     with pytest.raises(LogFormatError, match="not a plain CSV header"):
         Log(t=[0, 1], v_left=[0, 0], v_right=[0, 0], p_total=[1, 1], extra={"a,b": [0, 0]})
+
+
+_MAP_KEYS = (
+    *("v_left", "v_right", "power", "battery_topic", "battery_current_sign", "rate_hz"),
+    *("p_offset_w", "v_left_cmd", "v_right_cmd", "odom_topic", "wz", "speed"),
+)
+_MAP_VALUES = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(-3, 3),
+    st.floats(allow_nan=True),
+    st.sampled_from(["/a", "", "x[1]"]),
+    st.lists(st.integers(), max_size=2),
+    st.dictionaries(st.sampled_from(["topic", "field", "scale", "gain"]), st.text(max_size=3)),
+)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.dictionaries(
+        st.sampled_from(_MAP_KEYS),
+        _MAP_VALUES,
+        max_size=8,
+    )
+)
+def test_any_topic_map_gives_a_map_or_one_line(data: dict[str, Any]) -> None:
+    import tempfile
+
+    import yaml
+
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "map.yaml"
+        p.write_text(yaml.safe_dump(data))
+        from ecoplan.io.rosbag import load_topic_map
+
+        try:
+            tmap = load_topic_map(p)
+        except LogFormatError as exc:
+            assert "\n" not in str(exc) and str(exc).startswith(str(p))
+        else:
+            # what was accepted obeys the documented rules
+            assert (tmap.power is None) != (tmap.battery_topic is None)
+            assert tmap.battery_current_sign in (-1.0, 1.0)
+            assert tmap.rate_hz is None or 0.0 < tmap.rate_hz <= 10000.0
+            assert isinstance(tmap.v_left, FieldRef) and tmap.v_left.topic
+            assert math.isfinite(tmap.p_offset_w) and math.isfinite(tmap.v_left.scale)

@@ -46,7 +46,7 @@ class FieldRef(BaseModel):
         Factor applied to the value (e.g. the wheel radius to turn rad/s into m/s).
     """
 
-    model_config = ConfigDict(frozen=True, extra="forbid", strict=True)
+    model_config = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
 
     topic: str = Field(min_length=1)
     field: str = Field(default="data", min_length=1)
@@ -71,7 +71,7 @@ class FieldRef(BaseModel):
 class _TopicMapSchema(BaseModel):
     """The keys of a topic map and their checks (see :class:`TopicMap`)."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid", strict=True)
+    model_config = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
 
     v_left: FieldRef
     v_right: FieldRef
