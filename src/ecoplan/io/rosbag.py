@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -19,7 +20,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ecoplan._typing import FloatArray
-from ecoplan.dynamics.log import Log
+from ecoplan.dynamics.log import FLOAT_COLUMNS, Log
 from ecoplan.errors import LogFormatError
 from ecoplan.io.yaml import LineMap, format_validation, read_text, read_yaml
 
@@ -270,27 +271,45 @@ def read_rosbag(
 
     p = Path(path)
     source = str(p)
-    series: dict[str, list[tuple[float, float]]] = {}
-    extract: dict[str, list[tuple[str, Any]]] = {}
+    extract = _extractors(topics)
+    try:
+        reader = AnyReader([p], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+        reader.open()
+    except Exception as exc:  # rosbags raises several unrelated types
+        raise LogFormatError(f"{source}: cannot read ROS 2 bag: {exc}") from None
+    try:
+        series = _read_series(reader, extract, topics.use_header_stamp, source)
+    finally:
+        reader.close()
+    return _resample(series, topics, source, run_id if run_id is not None else p.stem)
 
-    def add(column: str, topic: str, fn: Any) -> None:
-        series[column] = []
-        extract.setdefault(topic, []).append((column, fn))
 
-    def ref_fn(ref: FieldRef) -> Any:
-        return lambda m: ref.scale * _field_value(m, ref.field)
+#: Per topic: the log columns it gives and how to get each value from a message.
+_Extractors = dict[str, list[tuple[str, Callable[[Any], float]]]]
 
-    add("v_left", topics.v_left.topic, ref_fn(topics.v_left))
-    add("v_right", topics.v_right.topic, ref_fn(topics.v_right))
+
+def _ref_value(ref: FieldRef) -> Callable[[Any], float]:
+    return lambda m: ref.scale * _field_value(m, ref.field)
+
+
+def _extractors(topics: TopicMap) -> _Extractors:
+    """Which topic gives which column, and how (in the column order of the log)."""
+    out: _Extractors = {}
+
+    def add(column: str, topic: str, fn: Callable[[Any], float]) -> None:
+        out.setdefault(topic, []).append((column, fn))
+
+    add("v_left", topics.v_left.topic, _ref_value(topics.v_left))
+    add("v_right", topics.v_right.topic, _ref_value(topics.v_right))
     if topics.power is not None:
-        add("p_total", topics.power.topic, ref_fn(topics.power))
+        add("p_total", topics.power.topic, _ref_value(topics.power))
     else:
         assert topics.battery_topic is not None
         sign, off = topics.battery_current_sign, topics.p_offset_w
         add("p_total", topics.battery_topic, lambda m: sign * m.voltage * m.current - off)
     if topics.v_left_cmd is not None and topics.v_right_cmd is not None:
-        add("v_left_cmd", topics.v_left_cmd.topic, ref_fn(topics.v_left_cmd))
-        add("v_right_cmd", topics.v_right_cmd.topic, ref_fn(topics.v_right_cmd))
+        add("v_left_cmd", topics.v_left_cmd.topic, _ref_value(topics.v_left_cmd))
+        add("v_right_cmd", topics.v_right_cmd.topic, _ref_value(topics.v_right_cmd))
     if topics.odom_topic is not None:
         o = topics.odom_topic
         add("x", o, lambda m: m.pose.pose.position.x)
@@ -299,35 +318,36 @@ def read_rosbag(
         if topics.wz is None:
             add("wz", o, lambda m: m.twist.twist.angular.z)
     if topics.wz is not None:
-        add("wz", topics.wz.topic, ref_fn(topics.wz))
-    try:
-        reader = AnyReader([p], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
-        reader.open()
-    except Exception as exc:  # rosbags raises several unrelated types
-        raise LogFormatError(f"{source}: cannot read ROS 2 bag: {exc}") from None
-    try:
-        available = {c.topic for c in reader.connections}
-        missing = sorted(set(extract) - available)
-        if missing:
-            raise LogFormatError(
-                f"{source}: topic(s) {', '.join(missing)} not in the bag; "
-                f"available: {', '.join(sorted(available))}"
-            )
-        conns = [c for c in reader.connections if c.topic in extract]
-        for conn, bag_ns, raw in reader.messages(connections=conns):
-            msg = reader.deserialize(raw, conn.msgtype)
-            stamp = _stamp(msg, bag_ns, topics.use_header_stamp)
-            for column, fn in extract[conn.topic]:
-                try:
-                    series[column].append((stamp, float(fn(msg))))
-                except (AttributeError, IndexError, ValueError, TypeError) as exc:
-                    raise LogFormatError(
-                        f"{source}: column {column!r} from topic {conn.topic} "
-                        f"({conn.msgtype}): cannot read the mapped field: {exc}"
-                    ) from None
-    finally:
-        reader.close()
-    return _resample(series, topics, source, run_id if run_id is not None else p.stem)
+        add("wz", topics.wz.topic, _ref_value(topics.wz))
+    return out
+
+
+def _read_series(
+    reader: Any, extract: _Extractors, use_header: bool, source: str
+) -> dict[str, list[tuple[float, float]]]:
+    """Every mapped column as (time stamp, value) pairs, in message order."""
+    available = {c.topic for c in reader.connections}
+    missing = sorted(set(extract) - available)
+    if missing:
+        raise LogFormatError(
+            f"{source}: topic(s) {', '.join(missing)} not in the bag; "
+            f"available: {', '.join(sorted(available))}"
+        )
+    wanted = {column for pairs in extract.values() for column, _ in pairs}
+    series: dict[str, list[tuple[float, float]]] = {c: [] for c in FLOAT_COLUMNS if c in wanted}
+    conns = [c for c in reader.connections if c.topic in extract]
+    for conn, bag_ns, raw in reader.messages(connections=conns):
+        msg = reader.deserialize(raw, conn.msgtype)
+        stamp = _stamp(msg, bag_ns, use_header)
+        for column, fn in extract[conn.topic]:
+            try:
+                series[column].append((stamp, float(fn(msg))))
+            except (AttributeError, IndexError, ValueError, TypeError) as exc:
+                raise LogFormatError(
+                    f"{source}: column {column!r} from topic {conn.topic} "
+                    f"({conn.msgtype}): cannot read the mapped field: {exc}"
+                ) from None
+    return series
 
 
 def _resample(
