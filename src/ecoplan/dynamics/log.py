@@ -216,27 +216,7 @@ class Log:
     extra: Mapping[str, npt.NDArray[Any]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        n: int | None = None
-        for name in FLOAT_COLUMNS:
-            val = getattr(self, name)
-            if val is None:
-                if name in REQUIRED_COLUMNS:
-                    raise LogFormatError(f"{self.source}: required column {name!r} is missing")
-                continue
-            arr = np.array(val, dtype=np.float64)
-            if arr.ndim != 1:
-                raise LogFormatError(
-                    f"{self.source}: column {name!r} must be 1-D, got shape {arr.shape}"
-                )
-            if n is None:
-                n = arr.size
-            elif arr.size != n:
-                raise LogFormatError(
-                    f"{self.source}: column {name!r} has {arr.size} samples, 't' has {n}"
-                )
-            arr.flags.writeable = False
-            object.__setattr__(self, name, arr)
-        assert n is not None
+        n = self._set_float_columns()
         if self.terrain is not None:
             lab = np.array(self.terrain, dtype=np.str_)
             if lab.shape != (n,):
@@ -253,6 +233,30 @@ class Log:
         object.__setattr__(self, "extra", self._checked_extra(n))
         cols = {c: getattr(self, c) for c in FLOAT_COLUMNS}
         check_values(cols, self.source, np.arange(n), line_label="sample")
+
+    def _set_float_columns(self) -> int:
+        """Store every numeric column as a read-only 1-D float64 array; their length."""
+        n: int | None = None
+        for name in FLOAT_COLUMNS:
+            val = getattr(self, name)
+            if val is None:
+                if name in REQUIRED_COLUMNS:
+                    raise LogFormatError(f"{self.source}: required column {name!r} is missing")
+                continue
+            arr = np.array(val, dtype=np.float64)
+            if arr.ndim != 1:
+                raise LogFormatError(
+                    f"{self.source}: column {name!r} must be 1-D, got shape {arr.shape}"
+                )
+            if n is not None and arr.size != n:
+                raise LogFormatError(
+                    f"{self.source}: column {name!r} has {arr.size} samples, 't' has {n}"
+                )
+            n = arr.size
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+        assert n is not None  # 't' is required
+        return n
 
     def _checked_extra(self, n: int) -> dict[str, npt.NDArray[Any]]:
         out: dict[str, npt.NDArray[Any]] = {}
