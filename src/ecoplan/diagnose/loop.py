@@ -43,7 +43,7 @@ from ecoplan.models.wheeled import SideCoefficients
 from ecoplan.presets import VehicleParams, vehicle
 
 if TYPE_CHECKING:
-    from ecoplan.diagnose.pipeline import Diagnosis
+    from ecoplan.diagnose.result import Diagnosis
 
 __all__ = [
     "FORMAT",

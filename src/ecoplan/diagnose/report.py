@@ -44,7 +44,7 @@ import numpy as np
 from ecoplan.errors import InputError
 
 if TYPE_CHECKING:
-    from ecoplan.diagnose.pipeline import Diagnosis
+    from ecoplan.diagnose.result import Diagnosis
 
 __all__ = [
     "JSON_KEYS",
