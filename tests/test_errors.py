@@ -148,3 +148,21 @@ def test_cli_exit_2_for_bad_names_in_diagnose_and_identify(
     assert main([a.replace("{log}", str(log)) for a in argv]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("ecoplan: error: ") and message in err and "\n" not in err
+
+
+@pytest.mark.parametrize("name", ["auriga-beta-wide", "pioneer-3at"])
+@pytest.mark.parametrize(
+    ("v_left", "v_right", "message"),
+    [
+        ("fast", 0.1, "v_left must be numbers"),
+        ([0.1, [0.2, 0.3]], 0.1, "v_left must be numbers"),
+        (np.zeros(3), np.zeros(4), r"shapes \(3,\) and \(4,\), which do not broadcast"),
+        (0.1, np.inf, "v_right must be finite"),
+    ],
+)
+def test_power_of_bad_speeds_is_an_input_error(
+    name: str, v_left: object, v_right: object, message: str
+) -> None:
+    params = vehicle(name, None)
+    with pytest.raises(InputError, match=message):
+        params.power(v_left, v_right)  # type: ignore[arg-type]

@@ -28,7 +28,7 @@ import numpy.typing as npt
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
 from ecoplan.errors import InputError
-from ecoplan.models._validate import check_range, finite_array
+from ecoplan.models._validate import check_range, finite_array, finite_pair
 from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
 
@@ -349,7 +349,7 @@ def tracked_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedParams) 
     PowerBreakdown
         Arrays broadcast from the inputs.
     """
-    vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
+    vl, vr = finite_pair("v_left", v_left, "v_right", v_right)
     shape = vl.shape
     n = vl.size
     flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)
@@ -393,7 +393,7 @@ def tracked_total_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedPa
     ndarray
         ``P_T`` [W], broadcast from the inputs.
     """
-    vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
+    vl, vr = finite_pair("v_left", v_left, "v_right", v_right)
     shape = vl.shape
     n = vl.size
     flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)

@@ -47,7 +47,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
-from ecoplan.models._validate import check_range, finite_array
+from ecoplan.models._validate import check_range, finite_pair
 from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
 
@@ -229,7 +229,7 @@ def wheeled_power(v_left: ArrayLike, v_right: ArrayLike, params: WheeledParams) 
     Large inputs are evaluated in blocks, branch-free (0/1 factors instead of
     ``np.where`` on masks), with one ``log(r + 1)`` shared by the four decay curves.
     """
-    vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
+    vl, vr = finite_pair("v_left", v_left, "v_right", v_right)
     shape = vl.shape
     n = vl.size
     flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)
