@@ -348,6 +348,16 @@ def tracked_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedParams) 
     -------
     PowerBreakdown
         Arrays broadcast from the inputs.
+
+    Examples
+    --------
+    Straight at 0.5 m/s on asphalt, no friction term: ``(K (V_l + V_r) + P_pu) / η`` with
+    K = 342 N, P_pu = 58 W (tracked §III-C), η = 0.95, i.e. 400 / 0.95 W:
+
+    >>> from ecoplan.presets import vehicle
+    >>> pb = tracked_power(0.5, 0.5, vehicle("auriga-beta-wide", "asphalt"))
+    >>> round(float(pb.total_w), 2), float(pb.friction_w)
+    (421.05, 0.0)
     """
     vl, vr = finite_pair("v_left", v_left, "v_right", v_right)
     shape = vl.shape
