@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.report import save_figures, write_json
+from ecoplan.diagnose.report import save_figures, summary, write_json
 from ecoplan.io.borealtc import load_borealtc_runs
 from ecoplan.presets import vehicle
 
@@ -65,7 +65,7 @@ def main() -> int:
             f"===== BorealTC {terrain}: {len(logs)} runs, mean power {mean_p:.0f} W "
             f"(24 V assumed); static LSQ leave-one-run-out MAE {ref:.1f} W"
         )
-        print(d.summary())
+        print(summary(d))
         if args.out:
             out = Path(args.out) / terrain.lower()
             write_json(d, out / "diagnosis.json")

@@ -21,7 +21,8 @@ from ecoplan.diagnose.loop import (
     ranking_change,
     save_corrected_model,
 )
-from ecoplan.diagnose.pipeline import Diagnosis, diagnose, run_diagnose_cli
+from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.synth import IN_LIBRARY, generate_case
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError

@@ -21,6 +21,7 @@ from hypothesis import strategies as st
 from ecoplan.cli import main
 from ecoplan.diagnose.checks import MAX_ENERGY_RATIO, check_logs
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.report import json_report, summary
 from ecoplan.diagnose.synth import generate_case
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
@@ -87,7 +88,7 @@ def test_no_turning_is_said_and_none_is_not_fully_confident() -> None:
         logs.append(Log(t=lg.t, v_left=v, v_right=v, p_total=p, source="straight"))
     d = diagnose(logs, params)
     assert d.input_notes and "turning" in d.input_notes[0]
-    assert "too little excitation" in d.summary()
+    assert "too little excitation" in summary(d)
     assert not (d.verdict == "none" and d.attribution.confidence > 0.5)
 
 
@@ -136,7 +137,7 @@ def check_diagnosis_or_input_error(log_args: tuple[float, ...]) -> None:
     event("diagnosed")
     assert 0.0 <= d.attribution.confidence <= 1.0
     assert np.isfinite(d.gap_final_w)
-    d.to_json_dict()  # validated JSON shape
+    json_report(d)  # validated JSON shape
 
 
 @settings(max_examples=40, deadline=None)

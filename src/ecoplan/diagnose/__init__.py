@@ -11,6 +11,7 @@ Modules, in the order of the pipeline:
 * :mod:`ecoplan.diagnose.attribute` -- held-out ranking, significance, verdict;
 * :mod:`ecoplan.diagnose.pipeline` -- :func:`~ecoplan.diagnose.pipeline.diagnose` and the CLI
   back end;
+* :mod:`ecoplan.diagnose.result` -- :class:`~ecoplan.diagnose.result.Diagnosis`, what it returns;
 * :mod:`ecoplan.diagnose.loop` -- the corrected model as a file, route ranking under it;
 * :mod:`ecoplan.diagnose.report` -- text summary, figures, JSON;
 * :mod:`ecoplan.diagnose.synth` -- realistic logs with withheld effects for the blind check.
