@@ -26,15 +26,14 @@ from ecoplan.diagnose.synth import (
     Trajectory,
     drive_model,
     effect_params,
-    follow_commands,
     generate_case,
     inject,
-    integrate_pose,
     spiral_commands,
     stationary_grid_commands,
     trajectory_from_commands,
     waypoint_run,
 )
+from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
 from ecoplan.models.power import MotionCase, motion_case
 from ecoplan.presets import vehicle
@@ -62,7 +61,8 @@ def _straight(
 def test_constant_track_speeds_trace_the_closed_form_arc(vl: float, vr: float) -> None:
     # Tracked eqs. (1)-(3): constant track speeds -> constant twist -> a circular arc.
     t = np.linspace(0.0, 8.0, 801)
-    x, y, yaw = integrate_pose(t, np.full(t.size, vl), np.full(t.size, vr), AURIGA.icr)
+    tr = trajectory_from_commands(t, np.full(t.size, vl), np.full(t.size, vr), AURIGA)
+    x, y, yaw = tr.x, tr.y, tr.yaw
     icr = AURIGA.icr
     wz = (vr - vl) / (icr.y_left_m - icr.y_right_m)
     vx = 0.5 * (vl + vr) + wz * 0.5 * (icr.y_left_m + icr.y_right_m)
@@ -71,8 +71,8 @@ def test_constant_track_speeds_trace_the_closed_form_arc(vl: float, vr: float) -
     else:
         xe, ye = vx / wz * np.sin(wz * t), vx / wz * (1.0 - np.cos(wz * t))
     np.testing.assert_allclose(yaw, wz * t, atol=1e-9)
-    np.testing.assert_allclose(x, xe, atol=2e-4)  # midpoint rule, dt = 0.01 s
-    np.testing.assert_allclose(y, ye, atol=2e-4)
+    np.testing.assert_allclose(x, xe, atol=1e-9)  # exact arcs (dynamics.integrate)
+    np.testing.assert_allclose(y, ye, atol=1e-9)
 
 
 def test_acceleration_limit_and_first_order_lag() -> None:
@@ -80,7 +80,7 @@ def test_acceleration_limit_and_first_order_lag() -> None:
     dt = 0.001
     t = np.arange(0.0, 6.0, dt)
     cmd = np.where(t >= 1.0, 0.5, 0.0)
-    v = follow_commands(t, cmd, a)
+    v = trajectory_from_commands(t, cmd, cmd, AURIGA).v_left
     # pure rate limit: a ramp of slope a_max (tracked §III-A: top speed in 2.5 s)
     assert np.max(np.abs(np.diff(v))) <= a * dt + 1e-12
     t_reach = t[np.argmax(v >= 0.5 - 1e-9)] - 1.0
@@ -88,7 +88,7 @@ def test_acceleration_limit_and_first_order_lag() -> None:
     # small step within the acceleration limit: a first-order lag reaches 63.2 % at tau
     tau = 0.4
     small = np.where(t >= 1.0, 0.05, 0.0)
-    lag = follow_commands(t, small, a, tau_s=tau)
+    lag = trajectory_from_commands(t, small, small, AURIGA, tau_s=tau).v_right
     i_tau = round((1.0 + tau) / dt)
     assert lag[i_tau] / 0.05 == pytest.approx(1.0 - math.exp(-1.0), abs=0.01)
 

@@ -175,6 +175,10 @@ import numpy as np
 from ecoplan._typing import FloatArray, RngLike
 from ecoplan.diagnose.effects import regenerated_w
 from ecoplan.diagnose.logio import Log
+from ecoplan.dynamics.controller import HeadingController, WaypointFollower, power_limited_radius
+from ecoplan.dynamics.drive import IcrArrays, follow_commands
+from ecoplan.dynamics.integrate import integrate_tracks
+from ecoplan.dynamics.rollout import ROLLOUT_STATE, rollout
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import TrackICR, tracks_to_twist
 from ecoplan.models.limits import check_tracks, min_radius_for_speed, vr_to_tracks
@@ -194,10 +198,8 @@ __all__ = [
     "Trajectory",
     "drive_model",
     "effect_params",
-    "follow_commands",
     "generate_case",
     "inject",
-    "integrate_pose",
     "magnitude_survey",
     "observe",
     "spiral_commands",
@@ -305,6 +307,11 @@ MAGNITUDES: dict[str, dict[str, dict[str, _Range]]] = {
 MAGNITUDE_NAMES: tuple[str, ...] = ("small", "moderate", "large")
 
 
+#: Largest side speed [m/s] counted as standing still when a way-point run ends (a lagged
+#: drive approaches zero only asymptotically).
+_REST_MPS = 1e-9
+
+
 def _rng(rng: RngLike) -> np.random.Generator:
     return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
 
@@ -367,75 +374,6 @@ class Trajectory:
         return self.vx * c - self.vy * s, self.vx * s + self.vy * c
 
 
-def _follow_step(v: float, cmd: float, dt: float, accel_max: float, tau_s: float) -> float:
-    err = cmd - v
-    step = err if tau_s <= 0.0 else err * min(dt / tau_s, 1.0)
-    lim = accel_max * dt
-    return v + min(max(step, -lim), lim)
-
-
-def follow_commands(
-    t: FloatArray, cmd: FloatArray, accel_max_mps2: float, tau_s: float = 0.0
-) -> FloatArray:
-    """Actual side speed following a command: acceleration limit and optional lag [m/s].
-
-    ``v[i] = v[i-1] + clip(e min(dt/tau, 1), -a dt, a dt)``, ``e = cmd[i-1] - v[i-1]``
-    (``tau_s = 0``: a pure rate limit), starting at ``cmd[0]``.
-
-    Parameters
-    ----------
-    t : ndarray
-        Time [s].
-    cmd : ndarray
-        Commanded speed [m/s].
-    accel_max_mps2 : float
-        Acceleration limit [m/s²].
-    tau_s : float
-        Time constant of the first-order lag [s] (``actuator_lag``).
-
-    Returns
-    -------
-    ndarray
-        Actual speed [m/s].
-    """
-    out = np.empty(cmd.size)
-    v = float(cmd[0])
-    out[0] = v
-    dts = np.diff(t).tolist()
-    cmds = cmd.tolist()
-    for i, dt in enumerate(dts, start=1):
-        v = _follow_step(v, cmds[i - 1], dt, accel_max_mps2, tau_s)
-        out[i] = v
-    return out
-
-
-def integrate_pose(
-    t: FloatArray,
-    v_left: FloatArray,
-    v_right: FloatArray,
-    icr: TrackICR,
-    pose0: tuple[float, float, float] = (0.0, 0.0, 0.0),
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """Pose by integrating the ICR kinematics (tracked eqs. 1-3), midpoint heading.
-
-    Returns
-    -------
-    tuple of ndarray
-        ``(x, y, yaw)`` [m, m, rad], yaw unwrapped.
-    """
-    tw = tracks_to_twist(v_left, v_right, icr)
-    dt = np.diff(t)
-    wz_mid = 0.5 * (tw.wz[1:] + tw.wz[:-1])
-    yaw = pose0[2] + np.concatenate(([0.0], np.cumsum(wz_mid * dt)))
-    yaw_mid = 0.5 * (yaw[1:] + yaw[:-1])
-    vx_mid = 0.5 * (tw.vx[1:] + tw.vx[:-1])
-    vy_mid = 0.5 * (tw.vy[1:] + tw.vy[:-1])
-    c, s = np.cos(yaw_mid), np.sin(yaw_mid)
-    x = pose0[0] + np.concatenate(([0.0], np.cumsum((vx_mid * c - vy_mid * s) * dt)))
-    y = pose0[1] + np.concatenate(([0.0], np.cumsum((vx_mid * s + vy_mid * c) * dt)))
-    return x, y, yaw
-
-
 def _assemble(
     t: FloatArray,
     cmd_l: FloatArray,
@@ -475,7 +413,11 @@ def trajectory_from_commands(
     pose0: tuple[float, float, float] = (0.0, 0.0, 0.0),
     manoeuvre: str = "",
 ) -> Trajectory:
-    """Open-loop run: commands -> actual speeds (:func:`follow_commands`) -> pose.
+    """Open-loop run: commands -> actual speeds -> pose, by the one drive law and integrator.
+
+    Speeds by :func:`ecoplan.dynamics.drive.follow_commands` (acceleration limit, lag),
+    pose by :func:`ecoplan.dynamics.integrate.integrate_tracks` (exact arcs of the mean
+    twist of each interval: the speeds ramp linearly between samples).
 
     Parameters
     ----------
@@ -495,10 +437,9 @@ def trajectory_from_commands(
     Trajectory
         True motion.
     """
-    a = vehicle.accel_max_mps2
-    vl = follow_commands(t, cmd_left, a, tau_s)
-    vr = follow_commands(t, cmd_right, a, tau_s)
-    pose = integrate_pose(t, vl, vr, vehicle.icr, pose0)
+    vl = follow_commands(t, cmd_left, vehicle.accel_max_mps2, tau_s)
+    vr = follow_commands(t, cmd_right, vehicle.accel_max_mps2, tau_s)
+    pose = integrate_tracks(t, vl, vr, vehicle.icr, pose0, hold="mean")
     return _assemble(t, cmd_left, cmd_right, vl, vr, vehicle.icr, pose, manoeuvre)
 
 
@@ -675,17 +616,6 @@ def spiral_commands(
     return _times(cl.size, dt_s), cl, cr
 
 
-def _saturated_turn_executable(vehicle: VehicleParams, cicr: TrackICR, w_max: float) -> bool:
-    """Whether the heading controller's tightest set point (eqs. 5-6) is executable."""
-    vmax = vehicle.top_track_speed_mps
-    pairs = []
-    for w in (w_max, -w_max):
-        lever = -cicr.y_right_m if w > 0.0 else cicr.y_left_m
-        v = max(0.0, vmax - lever * abs(w))
-        pairs.append((v - cicr.y_left_m * w, v - cicr.y_right_m * w))
-    return all(_executable(vehicle, pairs))
-
-
 def waypoint_run(
     vehicle: VehicleParams,
     waypoints: Sequence[tuple[float, float]],
@@ -702,12 +632,14 @@ def waypoint_run(
 ) -> Trajectory:
     """A->B run under the heading controller of the tracked paper §IV, eq. (23), closed loop.
 
-    ``w_sp = G phi_e``; ``|w_sp|`` clipped to ``V_max / max(y_l, -y_r)`` (eq. 6), the
-    forward set point reduced to eq. (5)'s ``V_max - lever |w_sp|``; tracks by eq. (4)
-    with the controller's ICRs (the nominal ones: the controller does not know an
-    asymmetry), actual speeds by :func:`follow_commands`'s law, pose from the true ICRs.
-    The next way point is taken within ``switch_radius_m``; at the last one the commands
-    go to zero and the run ends 1 s after the robot stops.
+    The controller is :class:`~ecoplan.dynamics.controller.WaypointFollower` (``w_sp = G
+    phi_e``, saturated by eqs. 5-6, tracks by eq. 4; power-limited turning for a wheeled
+    vehicle) with the controller's ICRs -- the nominal ones: it does not know an
+    asymmetry.  The step loop is :func:`~ecoplan.dynamics.rollout.rollout`: the drive law
+    (acceleration limit, lag ``tau_s``) and the pose from the true ICRs, the speeds ramping
+    linearly over each step (``hold="mean"``).  The next way point is taken within
+    ``switch_radius_m``; at the last one the commands go to zero.  The log starts with one
+    sample at rest before the first command and ends 1 s after the robot stops.
 
     Parameters
     ----------
@@ -741,86 +673,55 @@ def waypoint_run(
     """
     icr = vehicle.icr
     cicr = icr if controller_icr is None else controller_icr
-    vmax = vehicle.top_track_speed_mps
-    w_max = vmax / max(cicr.y_left_m, -cicr.y_right_m)
-    # a wheeled robot whose saturated turn (eqs. 5-6) breaks its side power limit is
-    # immobilised (wheeled paper §III): its turns are held to the smallest radius the limit
-    # allows at the set point and a way point is taken within 1.5 times that radius
-    # (circling a goal at the smallest radius keeps it at exactly that distance).  Judged
-    # on the nominal geometry the operator knows, not on a hidden ICR asymmetry.
-    nominal: Any = dataclasses.replace(vehicle, icr_offset_m=0.0)
-    limited = (
-        isinstance(vehicle, WheeledParams)
-        and speed_mps > 0.0
-        and not _saturated_turn_executable(nominal, cicr, w_max)
+    controller = HeadingController(gain_per_s, speed_mps, switch_radius_m, power_limited=True)
+    r_min = power_limited_radius(vehicle, speed_mps)
+    stop_step = vehicle.accel_max_mps2 * dt_s
+    policy = WaypointFollower(
+        [np.asarray(waypoints, dtype=np.float64)],
+        [controller],
+        IcrArrays.of([cicr], vehicle.top_track_speed_mps),
+        [r_min],
+        [stop_step],
     )
-    r_turn = float(min_radius_for_speed(nominal, speed_mps)) if limited else 0.0
-    if limited and math.isfinite(r_turn):
-        switch_radius_m = max(switch_radius_m, 1.5 * r_turn)
-    limited = limited and 0.0 < r_turn < math.inf
-    a = vehicle.accel_max_mps2
-    spread = icr.spread_m
-    mid = 0.5 * (icr.y_left_m + icr.y_right_m)
-    x, y, yaw = pose0
-    vl = vr = cl = cr = 0.0
-    goal = 0
-    stop_at: int | None = None
-    rows: list[tuple[float, float, float, float, float, float, float]] = []
-    n_max = round(max_duration_s / dt_s)
-    for i in range(n_max):
-        # controller (eq. 23) on the current pose
-        if goal < len(waypoints):
-            gx, gy = waypoints[goal]
-            if math.hypot(gx - x, gy - y) < switch_radius_m:
-                goal += 1
-        if i == 0:  # at rest, commands zero: the log starts before the robot moves
-            cl = cr = 0.0
-        elif goal < len(waypoints):
-            gx, gy = waypoints[goal]
-            err = math.atan2(gy - y, gx - x) - yaw
-            err = math.atan2(math.sin(err), math.cos(err))
-            w = max(-w_max, min(w_max, gain_per_s * err))
-            if limited:  # no tighter than the power limit allows: |w| <= v / r_min
-                w = max(-speed_mps / r_turn, min(speed_mps / r_turn, w))
-            lever = -cicr.y_right_m if w > 0.0 else cicr.y_left_m
-            v = max(0.0, min(speed_mps, vmax - lever * abs(w)))
-            if limited:
-                w = max(-v / r_turn, min(v / r_turn, w))
-            cl = v - cicr.y_left_m * w
-            cr = v - cicr.y_right_m * w
-        elif limited and max(abs(cl), abs(cr)) > a * dt_s:
-            # stop along the same arc: the faster side decelerates at the limit and the
-            # other in proportion (stopping one side first would pivot on it)
-            k = 1.0 - a * dt_s / max(abs(cl), abs(cr))
-            cl, cr = cl * k, cr * k
-        else:
-            cl = cr = 0.0
-            if stop_at is None and abs(vl) < 1e-9 and abs(vr) < 1e-9:
-                stop_at = i + round(1.0 / dt_s)
-        rows.append((cl, cr, vl, vr, x, y, yaw))
-        if stop_at is not None and i >= stop_at:
-            break
-        # drive (same law as follow_commands) and kinematics (eqs. 1-3), midpoint rule
-        nvl = _follow_step(vl, cl, dt_s, a, tau_s)
-        nvr = _follow_step(vr, cr, dt_s, a, tau_s)
-        wz0, wz1 = (vr - vl) / spread, (nvr - nvl) / spread
-        vx_m = 0.5 * (0.5 * (vr + vl) + wz0 * mid + 0.5 * (nvr + nvl) + wz1 * mid)
-        vy_m = -0.5 * (wz0 + wz1) * icr.x_m
-        yaw_m = yaw + 0.25 * (wz0 + wz1) * dt_s
-        x += (vx_m * math.cos(yaw_m) - vy_m * math.sin(yaw_m)) * dt_s
-        y += (vx_m * math.sin(yaw_m) + vy_m * math.cos(yaw_m)) * dt_s
-        yaw += 0.5 * (wz0 + wz1) * dt_s
-        vl, vr = nvl, nvr
-    arr = np.array(rows)
-    t = t0_s + _times(arr.shape[0], dt_s)
+    rows, end, _ = rollout(
+        [vehicle],
+        policy,
+        np.array([pose0], dtype=np.float64),
+        dt_s,
+        max_duration_s,
+        lag_s=tau_s,
+        hold="mean",
+        rest_mps=_REST_MPS,
+    )
+    st = {name: rows[: int(end[0]) + 1, j, 0] for j, name in enumerate(ROLLOUT_STATE)}
+    # the rollout's speeds are reached at the end of each step: a sample's speed is the
+    # previous row's (the explicit law of follow_commands); the pose after the last step
+    # comes from the speeds ramping to rest over it
+    vl, vr = (np.concatenate(([0.0], st[c][:-1])) for c in ("v_left", "v_right"))
+    last = (float(st["x"][-1]), float(st["y"][-1]), float(st["yaw"][-1]))
+    xe, ye, yawe = integrate_tracks(
+        [0.0, dt_s], [vl[-1], st["v_left"][-1]], [vr[-1], st["v_right"][-1]], icr, last, hold="mean"
+    )
+    # one sample at rest with zero commands first (the log starts before the robot moves)
+    # and 1 s at rest after it stops
+    n_rest = round(1.0 / dt_s) + 1
+
+    def col(values: FloatArray, first: float, rest: float) -> FloatArray:
+        return np.concatenate(([first], values, np.full(n_rest, rest)))
+
+    t = t0_s + _times(st["x"].size + 1 + n_rest, dt_s)
     return _assemble(
         t,
-        arr[:, 0],
-        arr[:, 1],
-        arr[:, 2],
-        arr[:, 3],
+        col(st["v_left_cmd"], 0.0, 0.0),
+        col(st["v_right_cmd"], 0.0, 0.0),
+        col(vl, 0.0, 0.0),
+        col(vr, 0.0, 0.0),
         icr,
-        (arr[:, 4], arr[:, 5], arr[:, 6]),
+        (
+            col(st["x"], pose0[0], xe[-1]),
+            col(st["y"], pose0[1], ye[-1]),
+            col(st["yaw"], pose0[2], yawe[-1]),
+        ),
         "waypoints",
     )
 
