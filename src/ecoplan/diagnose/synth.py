@@ -16,19 +16,21 @@ Pipeline (every step a pure function, so the diagnosis can reuse the physics)
      case 4, case 2, straight (Fig. 3 cases), with command *steps* between stages;
    * :func:`waypoint_run` -- A->B runs under the heading controller of §IV, eq. (23)
      (``w_sp = G phi_e``, next way point within ``d_th`` = 1 m, set point saturated by
-     eqs. (5)-(6), tracks by eq. (4)), closed loop on the true pose.
+     eqs. (5)-(6), tracks by eq. (4)), closed loop on the true pose: the controller of
+     :mod:`ecoplan.dynamics.controller` stepped by :func:`ecoplan.dynamics.rollout.rollout`.
 
-2. **Drive**: :func:`follow_commands` -- actual side speeds follow the commands through
-   the vehicle's acceleration limit and, for ``actuator_lag`` only, a first-order lag::
+2. **Drive**: actual side speeds follow the commands through the vehicle's acceleration
+   limit and, for ``actuator_lag`` only, a first-order lag -- the one drive law,
+   :func:`ecoplan.dynamics.drive.follow_commands`::
 
        v[i] = v[i-1] + clip(e * min(dt/tau, 1), -a_max dt, a_max dt),  e = cmd[i-1] - v[i-1]
 
-   (``tau = 0``: ``e`` unscaled, a pure rate limit; the same law as
-   ``ecoplan.diagnose.replay.rate_limit``).
+   (``tau = 0``: ``e`` unscaled, a pure rate limit).
 
-3. **Kinematics**: :func:`integrate_pose` -- ICR kinematics (tracked paper eqs. 1-3,
-   :func:`~ecoplan.models.kinematics.tracks_to_twist`) integrated for the pose (midpoint
-   heading), giving a :class:`Trajectory` of true values.
+3. **Kinematics**: ICR kinematics (tracked paper eqs. 1-3) integrated for the pose by
+   :func:`ecoplan.dynamics.integrate.integrate_tracks` (exact arcs of each interval's
+   mean twist: the speeds ramp linearly between samples), giving a :class:`Trajectory`
+   of true values.
 
 4. **Power**: :func:`inject` -- the true electrical power ``P_T`` [W] on a trajectory with
    one effect: ``inject(effect, params, vehicle, traj) -> ndarray``.  Deterministic: any
