@@ -1,4 +1,4 @@
-"""Tests of the rollout's options for logs of a real robot: lag, mean hold, rest speed.
+"""Tests of the drive-law options for logs of a real robot: lag, mean hold, rest speed.
 
 Expected values are closed forms written here: the discrete first-order step response,
 the distance of a constant-acceleration ramp ``a t² / 2``, the geometric decay of a lagged
@@ -15,6 +15,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from ecoplan._typing import BoolArray, FloatArray
+from ecoplan.dynamics.drive import follow_commands
 from ecoplan.dynamics.rollout import ROLLOUT_STATE, rollout
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
@@ -100,3 +101,18 @@ def test_a_lagged_stop_ends_at_the_rest_speed() -> None:
 def test_bad_rollout_options_are_input_errors(kwargs: dict[str, object]) -> None:
     with pytest.raises(InputError):
         rollout([AURIGA], _Hold(0.1, 5), _start(), 0.01, 1.0, **kwargs)  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("tau", [5e-324, 1e-300, 1e-12])
+def test_a_vanishing_lag_is_no_lag(tau: float) -> None:
+    # g = min(dt / tau, 1) = 1 however small tau is (no overflow to a warning)
+    dt = 0.01
+    t = np.arange(300) * dt
+    cmd = np.where(t >= 0.5, 0.6, 0.0)
+    np.testing.assert_array_equal(
+        follow_commands(t, cmd, AURIGA.accel_max_mps2, tau_s=tau),
+        follow_commands(t, cmd, AURIGA.accel_max_mps2),
+    )
+    lagged, _, _ = rollout([AURIGA], _Hold(0.6, 100), _start(), dt, 2.0, lag_s=tau)
+    plain, _, _ = rollout([AURIGA], _Hold(0.6, 100), _start(), dt, 2.0)
+    np.testing.assert_array_equal(lagged, plain)

@@ -24,6 +24,7 @@ from ecoplan.diagnose.synth import (
     OUT_OF_LIBRARY,
     SensorNoise,
     Trajectory,
+    WaypointTask,
     drive_model,
     effect_params,
     generate_case,
@@ -32,6 +33,7 @@ from ecoplan.diagnose.synth import (
     stationary_grid_commands,
     trajectory_from_commands,
     waypoint_run,
+    waypoint_runs,
 )
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
@@ -109,6 +111,31 @@ def test_waypoint_run_reaches_its_goals_within_limits() -> None:
     np.testing.assert_allclose(
         follow_commands(tr.t, tr.cmd_left, AURIGA.accel_max_mps2), tr.v_left, atol=1e-12
     )
+
+
+def test_a_batch_of_waypoint_runs_equals_the_runs_one_by_one() -> None:
+    tasks = [
+        WaypointTask(((6.0, 0.0), (6.0, 6.0)), (0.0, 0.0, 0.0), 0.5, 0.8),
+        WaypointTask(((-3.0, 4.0),), (1.0, 1.0, 2.0), 0.3, 0.5),
+    ]
+    batch = waypoint_runs(AURIGA, tasks, tau_s=0.3)
+    for task, tr in zip(tasks, batch, strict=True):
+        one = waypoint_run(
+            AURIGA,
+            task.waypoints,
+            pose0=task.pose0,
+            speed_mps=task.speed_mps,
+            gain_per_s=task.gain_per_s,
+            t0_s=7.0,
+            tau_s=0.3,
+        )
+        np.testing.assert_allclose(one.t, tr.t + 7.0, rtol=0, atol=1e-12)
+        for name in ("cmd_left", "v_right", "x", "y", "yaw"):
+            np.testing.assert_array_equal(getattr(one, name), getattr(tr, name))
+        # the run ends 1 s after the robot stops at the last way point, within d_th = 1 m
+        goal = task.waypoints[-1]
+        assert math.hypot(tr.x[-1] - goal[0], tr.y[-1] - goal[1]) < 1.0
+        assert np.all(tr.v_left[-51:] == 0.0) and tr.v_left[-52] != 0.0
 
 
 def test_stationary_grid_follows_section_iii_c() -> None:

@@ -198,6 +198,7 @@ __all__ = [
     "SynthCase",
     "SynthTruth",
     "Trajectory",
+    "WaypointTask",
     "drive_model",
     "effect_params",
     "generate_case",
@@ -208,6 +209,7 @@ __all__ = [
     "stationary_grid_commands",
     "trajectory_from_commands",
     "waypoint_run",
+    "waypoint_runs",
     "write_cases",
 ]
 
@@ -368,6 +370,10 @@ class Trajectory:
 
     def __len__(self) -> int:
         return int(self.t.size)
+
+    def shifted(self, t0_s: float) -> Trajectory:
+        """The same motion with ``t0_s`` [s] added to every time stamp."""
+        return dataclasses.replace(self, t=self.t + t0_s)
 
     @property
     def world_velocity(self) -> tuple[FloatArray, FloatArray]:
@@ -618,6 +624,140 @@ def spiral_commands(
     return _times(cl.size, dt_s), cl, cr
 
 
+@dataclass(frozen=True, slots=True)
+class WaypointTask:
+    """One A->B run of the heading controller (tracked paper §IV, eq. 23).
+
+    Attributes
+    ----------
+    waypoints : tuple of (x, y)
+        Goal points [m]; the run stops at the last one.
+    pose0 : tuple of float
+        Start pose ``(x, y, yaw)`` [m, m, rad].
+    speed_mps : float
+        Forward set point ``v_sp`` [m/s].
+    gain_per_s : float
+        Heading gain ``G`` [1/s].
+    """
+
+    waypoints: tuple[tuple[float, float], ...]
+    pose0: tuple[float, float, float]
+    speed_mps: float
+    gain_per_s: float
+
+
+def waypoint_runs(
+    vehicle: VehicleParams,
+    tasks: Sequence[WaypointTask],
+    *,
+    dt_s: float = 0.02,
+    switch_radius_m: float = 1.0,
+    controller_icr: TrackICR | None = None,
+    tau_s: float = 0.0,
+    max_duration_s: float = 300.0,
+) -> list[Trajectory]:
+    """A->B runs under the heading controller of the tracked paper §IV, eq. (23), closed loop.
+
+    The controller is :class:`~ecoplan.dynamics.controller.WaypointFollower` (``w_sp = G
+    phi_e``, saturated by eqs. 5-6, tracks by eq. 4; power-limited turning for a wheeled
+    vehicle) with the controller's ICRs -- the nominal ones: it does not know an
+    asymmetry.  The step loop is :func:`~ecoplan.dynamics.rollout.rollout`, all runs in one
+    batch: the drive law (acceleration limit, lag ``tau_s``) and the pose from the true
+    ICRs, the speeds ramping linearly over each step (``hold="mean"``).  The next way point
+    is taken within ``switch_radius_m``; at the last one the commands go to zero.  Each
+    log starts with one sample at rest before the first command and ends 1 s after the
+    robot stops.
+
+    Parameters
+    ----------
+    vehicle : TrackedParams or WheeledParams
+        The true vehicle (ICRs, acceleration limit, top speed).
+    tasks : sequence of WaypointTask
+        The runs.
+    dt_s : float
+        Control and sample period [s].
+    switch_radius_m : float
+        ``d_th`` [m] (paper: 1 m).
+    controller_icr : TrackICR, optional
+        ICRs the controller uses for eq. (4); default the vehicle's.
+    tau_s : float
+        Actuator lag [s].
+    max_duration_s : float
+        Safety bound on the run length [s].
+
+    Returns
+    -------
+    list of Trajectory
+        True motion per task, time from 0, ``manoeuvre = "waypoints"``.
+    """
+    n = len(tasks)
+    if n == 0:
+        return []
+    cicr = vehicle.icr if controller_icr is None else controller_icr
+    policy = WaypointFollower(
+        [np.asarray(task.waypoints, dtype=np.float64) for task in tasks],
+        [
+            HeadingController(task.gain_per_s, task.speed_mps, switch_radius_m, power_limited=True)
+            for task in tasks
+        ],
+        IcrArrays.of([cicr] * n, vehicle.top_track_speed_mps),
+        [power_limited_radius(vehicle, task.speed_mps) for task in tasks],
+        [vehicle.accel_max_mps2 * dt_s] * n,
+    )
+    rows, end, _ = rollout(
+        [vehicle] * n,
+        policy,
+        np.array([task.pose0 for task in tasks], dtype=np.float64),
+        dt_s,
+        max_duration_s,
+        lag_s=tau_s,
+        hold="mean",
+        rest_mps=_REST_MPS,
+    )
+    return [
+        _logged_run(rows[: int(end[i]) + 1, :, i], tasks[i].pose0, vehicle.icr, dt_s)
+        for i in range(n)
+    ]
+
+
+def _logged_run(
+    rows: FloatArray, pose0: tuple[float, float, float], icr: TrackICR, dt_s: float
+) -> Trajectory:
+    """A run's rollout rows (:data:`~ecoplan.dynamics.rollout.ROLLOUT_STATE`) as a log.
+
+    The rollout's speeds are reached at the end of each step: a sample's speed is the
+    previous row's (the explicit law of :func:`~ecoplan.dynamics.drive.follow_commands`).
+    One sample at rest with zero commands comes first (the log starts before the robot
+    moves) and 1 s at rest after the last step, whose pose is that of the speeds ramping
+    to rest over it.
+    """
+    st = {name: rows[:, j] for j, name in enumerate(ROLLOUT_STATE)}
+    vl, vr = (np.concatenate(([0.0], st[c][:-1])) for c in ("v_left", "v_right"))
+    last = (float(st["x"][-1]), float(st["y"][-1]), float(st["yaw"][-1]))
+    xe, ye, yawe = integrate_tracks(
+        [0.0, dt_s], [vl[-1], st["v_left"][-1]], [vr[-1], st["v_right"][-1]], icr, last, hold="mean"
+    )
+    n_rest = round(1.0 / dt_s) + 1
+
+    def col(values: FloatArray, first: float, rest: float) -> FloatArray:
+        return np.concatenate(([first], values, np.full(n_rest, rest)))
+
+    return _assemble(
+        np.arange(rows.shape[0] + 1 + n_rest, dtype=np.float64) * dt_s,
+        col(st["v_left_cmd"], 0.0, 0.0),
+        col(st["v_right_cmd"], 0.0, 0.0),
+        col(vl, 0.0, 0.0),
+        col(vr, 0.0, 0.0),
+        icr,
+        (
+            col(st["x"], pose0[0], xe[-1]),
+            col(st["y"], pose0[1], ye[-1]),
+            col(st["yaw"], pose0[2], yawe[-1]),
+        ),
+        "waypoints",
+    )
+
+
 def waypoint_run(
     vehicle: VehicleParams,
     waypoints: Sequence[tuple[float, float]],
@@ -632,21 +772,12 @@ def waypoint_run(
     tau_s: float = 0.0,
     max_duration_s: float = 300.0,
 ) -> Trajectory:
-    """A->B run under the heading controller of the tracked paper §IV, eq. (23), closed loop.
-
-    The controller is :class:`~ecoplan.dynamics.controller.WaypointFollower` (``w_sp = G
-    phi_e``, saturated by eqs. 5-6, tracks by eq. 4; power-limited turning for a wheeled
-    vehicle) with the controller's ICRs -- the nominal ones: it does not know an
-    asymmetry.  The step loop is :func:`~ecoplan.dynamics.rollout.rollout`: the drive law
-    (acceleration limit, lag ``tau_s``) and the pose from the true ICRs, the speeds ramping
-    linearly over each step (``hold="mean"``).  The next way point is taken within
-    ``switch_radius_m``; at the last one the commands go to zero.  The log starts with one
-    sample at rest before the first command and ends 1 s after the robot stops.
+    """One A->B run under the heading controller: :func:`waypoint_runs` for one task.
 
     Parameters
     ----------
     vehicle : TrackedParams or WheeledParams
-        The true vehicle (ICRs, acceleration limit, top speed).
+        The true vehicle.
     waypoints : sequence of (x, y)
         Goal points [m].
     pose0 : tuple of float
@@ -657,75 +788,27 @@ def waypoint_run(
         Heading gain ``G`` [1/s].
     t0_s : float
         Session time of the first sample [s].
-    dt_s : float
-        Control and sample period [s].
-    switch_radius_m : float
-        ``d_th`` [m] (paper: 1 m).
-    controller_icr : TrackICR, optional
-        ICRs the controller uses for eq. (4); default the vehicle's.
-    tau_s : float
-        Actuator lag [s].
-    max_duration_s : float
-        Safety bound on the run length [s].
+    dt_s, switch_radius_m, controller_icr, tau_s, max_duration_s
+        As :func:`waypoint_runs`.
 
     Returns
     -------
     Trajectory
         True motion, ``manoeuvre = "waypoints"``.
     """
-    icr = vehicle.icr
-    cicr = icr if controller_icr is None else controller_icr
-    controller = HeadingController(gain_per_s, speed_mps, switch_radius_m, power_limited=True)
-    r_min = power_limited_radius(vehicle, speed_mps)
-    stop_step = vehicle.accel_max_mps2 * dt_s
-    policy = WaypointFollower(
-        [np.asarray(waypoints, dtype=np.float64)],
-        [controller],
-        IcrArrays.of([cicr], vehicle.top_track_speed_mps),
-        [r_min],
-        [stop_step],
+    task = WaypointTask(
+        tuple((float(x), float(y)) for x, y in waypoints), pose0, speed_mps, gain_per_s
     )
-    rows, end, _ = rollout(
-        [vehicle],
-        policy,
-        np.array([pose0], dtype=np.float64),
-        dt_s,
-        max_duration_s,
-        lag_s=tau_s,
-        hold="mean",
-        rest_mps=_REST_MPS,
+    runs = waypoint_runs(
+        vehicle,
+        [task],
+        dt_s=dt_s,
+        switch_radius_m=switch_radius_m,
+        controller_icr=controller_icr,
+        tau_s=tau_s,
+        max_duration_s=max_duration_s,
     )
-    st = {name: rows[: int(end[0]) + 1, j, 0] for j, name in enumerate(ROLLOUT_STATE)}
-    # the rollout's speeds are reached at the end of each step: a sample's speed is the
-    # previous row's (the explicit law of follow_commands); the pose after the last step
-    # comes from the speeds ramping to rest over it
-    vl, vr = (np.concatenate(([0.0], st[c][:-1])) for c in ("v_left", "v_right"))
-    last = (float(st["x"][-1]), float(st["y"][-1]), float(st["yaw"][-1]))
-    xe, ye, yawe = integrate_tracks(
-        [0.0, dt_s], [vl[-1], st["v_left"][-1]], [vr[-1], st["v_right"][-1]], icr, last, hold="mean"
-    )
-    # one sample at rest with zero commands first (the log starts before the robot moves)
-    # and 1 s at rest after it stops
-    n_rest = round(1.0 / dt_s) + 1
-
-    def col(values: FloatArray, first: float, rest: float) -> FloatArray:
-        return np.concatenate(([first], values, np.full(n_rest, rest)))
-
-    t = t0_s + _times(st["x"].size + 1 + n_rest, dt_s)
-    return _assemble(
-        t,
-        col(st["v_left_cmd"], 0.0, 0.0),
-        col(st["v_right_cmd"], 0.0, 0.0),
-        col(vl, 0.0, 0.0),
-        col(vr, 0.0, 0.0),
-        icr,
-        (
-            col(st["x"], pose0[0], xe[-1]),
-            col(st["y"], pose0[1], ye[-1]),
-            col(st["yaw"], pose0[2], yawe[-1]),
-        ),
-        "waypoints",
-    )
+    return runs[0].shifted(t0_s)
 
 
 # --------------------------------------------------------------------------- effects
@@ -1114,41 +1197,17 @@ def _true_vehicle(
 
 @dataclass(frozen=True, slots=True, eq=False)
 class _RunPlan:
-    """One run of a session, drawn once and replayed with or without the effect."""
+    """One run of a session, drawn once and replayed with or without the effect.
+
+    Open loop: ``t`` (from 0) and the commands; closed loop: ``task``.
+    """
 
     kind: str
     pose0: tuple[float, float, float]
-    t: FloatArray | None = None  # open loop: time from 0 and commands
+    t: FloatArray | None = None
     cmd_left: FloatArray | None = None
     cmd_right: FloatArray | None = None
-    waypoints: tuple[tuple[float, float], ...] = ()  # closed loop
-    speed_mps: float = 0.0
-    gain_per_s: float = 0.0
-
-    def run(
-        self, vehicle: VehicleParams, tau_s: float, t0: float, dt_s: float, ctrl_icr: TrackICR
-    ) -> Trajectory:
-        if self.t is not None and self.cmd_left is not None and self.cmd_right is not None:
-            return trajectory_from_commands(
-                t0 + self.t,
-                self.cmd_left,
-                self.cmd_right,
-                vehicle,
-                tau_s=tau_s,
-                pose0=self.pose0,
-                manoeuvre=self.kind,
-            )
-        return waypoint_run(
-            vehicle,
-            self.waypoints,
-            pose0=self.pose0,
-            speed_mps=self.speed_mps,
-            gain_per_s=self.gain_per_s,
-            t0_s=t0,
-            dt_s=dt_s,
-            controller_icr=ctrl_icr,
-            tau_s=tau_s,
-        )
+    task: WaypointTask | None = None
 
 
 def _session_plan(
@@ -1176,15 +1235,8 @@ def _session_plan(
             for _ in range(int(g.integers(3, 6)))
         )
         speed = float(g.uniform(0.35, 0.75)) * vehicle.top_track_speed_mps
-        plans.append(
-            _RunPlan(
-                "waypoints",
-                pose0,
-                waypoints=wps,
-                speed_mps=speed,
-                gain_per_s=float(g.uniform(0.4, 1.2)),
-            )
-        )
+        task = WaypointTask(wps, pose0, speed, float(g.uniform(0.4, 1.2)))
+        plans.append(_RunPlan("waypoints", pose0, task=task))
     order = g.permutation(len(plans))
     return [plans[i] for i in order]
 
@@ -1197,10 +1249,24 @@ def _run_session(
     dt_s: float,
     ctrl_icr: TrackICR,
 ) -> list[Trajectory]:
+    """Every run of a session on one clock; the closed-loop runs rolled out in one batch."""
+    tasks = [plan.task for plan in plans if plan.task is not None]
+    closed = iter(waypoint_runs(vehicle, tasks, dt_s=dt_s, controller_icr=ctrl_icr, tau_s=tau_s))
     out: list[Trajectory] = []
     t0 = 0.0
     for plan, pause in zip(plans, pauses, strict=True):
-        traj = plan.run(vehicle, tau_s, t0, dt_s, ctrl_icr)
+        if plan.t is not None and plan.cmd_left is not None and plan.cmd_right is not None:
+            traj = trajectory_from_commands(
+                t0 + plan.t,
+                plan.cmd_left,
+                plan.cmd_right,
+                vehicle,
+                tau_s=tau_s,
+                pose0=plan.pose0,
+                manoeuvre=plan.kind,
+            )
+        else:
+            traj = next(closed).shifted(t0)
         out.append(traj)
         t0 = float(traj.t[-1]) + pause
     return out

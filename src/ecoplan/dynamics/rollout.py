@@ -121,7 +121,8 @@ def rollout(
         raise InputError(f"hold must be 'previous' or 'mean', got {hold!r}")
     if not (math.isfinite(rest_mps) and rest_mps >= 0.0):
         raise InputError(f"rest_mps must be finite and >= 0, got {rest_mps!r}")
-    gain = np.where(lag > 0.0, np.minimum(dt / np.where(lag > 0.0, lag, 1.0), 1.0), 1.0)
+    safe = np.where(lag > 0.0, lag, 1.0)
+    gain = np.where(lag > 0.0, np.minimum(dt, safe) / safe, 1.0)  # min(dt / tau, 1)
     mean = hold == "mean"
     icr = IcrArrays.of([p.icr for p in params], [p.top_track_speed_mps for p in params])
     inv_spread = 1.0 / icr.spread_m
