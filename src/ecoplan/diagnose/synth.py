@@ -1272,8 +1272,7 @@ def effect_params(
     g = _rng(rng)
     d = _draw(g, MAGNITUDES[effect][magnitude])
     sign = 1.0 if g.random() < 0.5 else -1.0
-    session = Session.of(vehicle, trajectories, sign)
-    return effect_class(effect).draw(d, vehicle, session, g)
+    return effect_class(effect).draw(d, Session.of(vehicle, trajectories, sign, g))
 
 
 def _choose_effect(g: np.random.Generator, effect: str | None) -> str:

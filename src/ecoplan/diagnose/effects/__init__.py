@@ -40,6 +40,7 @@ from ecoplan.diagnose.effects.base import (
     MotionLike,
     NoEffect,
     Parameter,
+    Params,
     Session,
     eta_of,
 )
@@ -81,6 +82,7 @@ __all__ = [
     "MotionLike",
     "NoEffect",
     "Parameter",
+    "Params",
     "PeriodicDisturbance",
     "PowerSaturation",
     "Regeneration",

@@ -46,10 +46,15 @@ __all__ = [
     "MotionLike",
     "NoEffect",
     "Parameter",
+    "Params",
     "ScalarSearch",
     "Session",
     "eta_of",
 ]
+
+
+#: An effect's parameters by name (:attr:`Effect.parameters`).
+Params = Mapping[str, float]
 
 
 def eta_of(vehicle: VehicleParams) -> float:
@@ -201,6 +206,8 @@ class Session:
 
     Attributes
     ----------
+    vehicle : TrackedParams or WheeledParams
+        The true base vehicle.
     trajectories : sequence of MotionLike
         The session's runs without the effect.
     t_start_s, t_end_s : float
@@ -211,17 +218,27 @@ class Session:
         Samples where a side moves faster than 1 mm/s.
     sign : float
         A random sign (+1 or -1) drawn for the case.
+    rng : Generator
+        The case's random source, for draws that depend on the session.
     """
 
+    vehicle: VehicleParams
     trajectories: Sequence[MotionLike]
     t_start_s: float
     t_end_s: float
     p_base_w: FloatArray
     moving: BoolArray
     sign: float
+    rng: np.random.Generator
 
     @classmethod
-    def of(cls, vehicle: VehicleParams, trajectories: Sequence[MotionLike], sign: float) -> Session:
+    def of(
+        cls,
+        vehicle: VehicleParams,
+        trajectories: Sequence[MotionLike],
+        sign: float,
+        rng: np.random.Generator,
+    ) -> Session:
         """The session of base trajectories on a vehicle."""
         t_all = np.concatenate([tr.t for tr in trajectories])
         p_base = np.concatenate(
@@ -230,7 +247,8 @@ class Session:
         moving = np.concatenate(
             [(np.abs(tr.v_left) + np.abs(tr.v_right)) > 1e-3 for tr in trajectories]
         )
-        return cls(trajectories, float(t_all[0]), float(t_all[-1]), p_base, moving, sign)
+        t0, t1 = float(t_all[0]), float(t_all[-1])
+        return cls(vehicle, trajectories, t0, t1, p_base, moving, sign, rng)
 
     @property
     def mean_p_w(self) -> float:
@@ -291,7 +309,7 @@ class Effect:
 
     # -- generation --------------------------------------------------------------------
     @classmethod
-    def values(cls, params: Mapping[str, float]) -> list[float]:
+    def values(cls, params: Params) -> list[float]:
         """The parameters in :attr:`parameters` order (defaults filled in).
 
         Raises
@@ -307,7 +325,7 @@ class Effect:
         return [float(params.get(p.name, p.default)) for p in cls.parameters]  # type: ignore[arg-type]
 
     @classmethod
-    def check(cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike) -> None:
+    def check(cls, params: Params, vehicle: VehicleParams, motion: MotionLike) -> None:
         """Reject parameters outside their physical range on this motion.
 
         Raises
@@ -322,9 +340,7 @@ class Effect:
                 )
 
     @classmethod
-    def drive(
-        cls, params: Mapping[str, float], vehicle: VehicleParams
-    ) -> tuple[VehicleParams, float]:
+    def drive(cls, params: Params, vehicle: VehicleParams) -> tuple[VehicleParams, float]:
         """The vehicle and actuator lag ``τ`` [s] that produce the motion under the effect.
 
         Default: the vehicle unchanged and no lag (the effect acts on power alone).
@@ -334,7 +350,7 @@ class Effect:
     @classmethod
     def steady_power(
         cls,
-        params: Mapping[str, float],
+        params: Params,
         vehicle: VehicleParams,
         v_left: FloatArray,
         v_right: FloatArray,
@@ -343,9 +359,7 @@ class Effect:
         return np.asarray(vehicle.power(v_left, v_right).total_w, dtype=np.float64)
 
     @classmethod
-    def apply(
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
-    ) -> FloatArray:
+    def apply(cls, params: Params, vehicle: VehicleParams, motion: MotionLike) -> FloatArray:
         """True electrical power ``P_T`` [W] on a motion with the effect (no noise).
 
         Parameters
@@ -365,16 +379,20 @@ class Effect:
         return cls.steady_power(params, vehicle, motion.v_left, motion.v_right)
 
     @classmethod
-    def draw(
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:
         """The effect's parameters from a magnitude's uniform draws on a session.
 
-        Default: the draws are the parameters.
+        Parameters
+        ----------
+        draws : mapping of str to float
+            The magnitude's uniform draws (e.g. a mass as a multiple of the vehicle's).
+        session : Session
+            The session's base motion, vehicle and random source (further draws).
+
+        Returns
+        -------
+        dict
+            The effect's :attr:`parameters`.  Default: the draws are the parameters.
         """
         return {k: float(v) for k, v in draws.items()}
 

@@ -13,7 +13,6 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -23,6 +22,7 @@ from ecoplan.diagnose.effects.base import (
     Effect,
     MotionLike,
     Parameter,
+    Params,
     ScalarSearch,
     Session,
     eta_of,
@@ -55,7 +55,7 @@ class Inertia(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         m, inertia = cls.values(params)
         p0 = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
@@ -64,15 +64,9 @@ class Inertia(Effect):
         )
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
-        m = vehicle.mass_kg * draws["mass_factor"]
-        half = 0.5 * vehicle.track_gauge_m
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        m = session.vehicle.mass_kg * draws["mass_factor"]
+        half = 0.5 * session.vehicle.track_gauge_m
         # box of the vehicle's footprint: gauge x (gauge * 1.7), scaled like the mass
         inertia = m * ((2 * half) ** 2 + (1.7 * 2 * half) ** 2) / 12.0
         return {"mass_kg": m, "yaw_inertia_kgm2": inertia}
@@ -95,31 +89,21 @@ class IcrAsymmetry(ScalarSearch):
 
     @classmethod
     def drive(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams
+        cls, params: Params, vehicle: VehicleParams
     ) -> tuple[VehicleParams, float]:
         (off,) = cls.values(params)
         return dataclasses.replace(vehicle, icr_offset_m=off), 0.0
 
     @classmethod
     def steady_power(  # noqa: D102
-        cls,
-        params: Mapping[str, float],
-        vehicle: VehicleParams,
-        v_left: FloatArray,
-        v_right: FloatArray,
+        cls, params: Params, vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray
     ) -> FloatArray:
         veh = cls.drive(params, vehicle)[0]
         return np.asarray(veh.power(v_left, v_right).total_w, dtype=np.float64)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
-        half_spread = 0.5 * vehicle.icr.spread_m
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        half_spread = 0.5 * session.vehicle.icr.spread_m
         return {"icr_offset_m": session.sign * draws["offset_fraction"] * half_spread}
 
     def _bounds(self, data: EffectData) -> tuple[float, float]:
@@ -158,7 +142,7 @@ class ActuatorLag(ScalarSearch):
 
     @classmethod
     def drive(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams
+        cls, params: Params, vehicle: VehicleParams
     ) -> tuple[VehicleParams, float]:
         (tau,) = cls.values(params)
         return vehicle, tau

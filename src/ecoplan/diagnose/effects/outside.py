@@ -12,12 +12,11 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 
 import numpy as np
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.effects.base import Effect, MotionLike, Parameter, Session, eta_of
+from ecoplan.diagnose.effects.base import Effect, MotionLike, Parameter, Params, Session, eta_of
 from ecoplan.presets import VehicleParams
 
 __all__ = ["PeriodicDisturbance", "SpikeTrain", "TrackTensionStep"]
@@ -40,23 +39,17 @@ class PeriodicDisturbance(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         amp, period, phase = cls.values(params)
         return _base_w(vehicle, motion) + amp * np.sin(2.0 * math.pi * motion.t / period + phase)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
         return {
             "amplitude_w": draws["amplitude_fraction"] * session.mean_p_w,
             "period_s": draws["period_s"],
-            "phase_rad": float(rng.uniform(0.0, 2.0 * math.pi)),
+            "phase_rad": float(session.rng.uniform(0.0, 2.0 * math.pi)),
         }
 
 
@@ -72,7 +65,7 @@ class TrackTensionStep(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         k, t_step = cls.values(params)
         pb = vehicle.power(motion.v_left, motion.v_right)
@@ -81,17 +74,11 @@ class TrackTensionStep(Effect):
         return p0 + np.where(motion.t >= t_step, extra, 0.0)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
         span = session.t_end_s - session.t_start_s
         return {
             "k_factor": draws["k_factor"],
-            "t_step_s": session.t_start_s + float(rng.uniform(0.35, 0.65)) * span,
+            "t_step_s": session.t_start_s + float(session.rng.uniform(0.35, 0.65)) * span,
         }
 
 
@@ -109,7 +96,7 @@ class SpikeTrain(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         rate_hz, amp_w, width_s, seed = cls.values(params)
         t = motion.t
@@ -123,16 +110,10 @@ class SpikeTrain(Effect):
         return _base_w(vehicle, motion) + out
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
         return {
             "rate_hz": draws["rate_hz"],
             "amplitude_w": draws["amplitude_fraction"] * session.mean_p_w,
-            "width_s": float(rng.uniform(0.2, 0.5)),
-            "seed": float(rng.integers(0, 2**31 - 1)),
+            "width_s": float(session.rng.uniform(0.2, 0.5)),
+            "seed": float(session.rng.integers(0, 2**31 - 1)),
         }

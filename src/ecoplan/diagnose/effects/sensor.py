@@ -6,13 +6,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.effects.base import MotionLike, Parameter, ScalarSearch
+from ecoplan.diagnose.effects.base import MotionLike, Parameter, Params, ScalarSearch
 from ecoplan.diagnose.effects.data import EffectData, segments
 from ecoplan.presets import VehicleParams
 
@@ -32,7 +31,7 @@ class SensorDelay(ScalarSearch):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         (delay,) = cls.values(params)
         t = motion.t

@@ -13,7 +13,6 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -23,6 +22,7 @@ from ecoplan.diagnose.effects.base import (
     Effect,
     MotionLike,
     Parameter,
+    Params,
     ScalarSearch,
     Session,
     eta_of,
@@ -87,11 +87,7 @@ class Regeneration(ScalarSearch):
 
     @classmethod
     def steady_power(  # noqa: D102
-        cls,
-        params: Mapping[str, float],
-        vehicle: VehicleParams,
-        v_left: FloatArray,
-        v_right: FloatArray,
+        cls, params: Params, vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray
     ) -> FloatArray:
         (f,) = cls.values(params)
         pb = vehicle.power(v_left, v_right)
@@ -135,24 +131,14 @@ class PowerSaturation(ScalarSearch):
 
     @classmethod
     def steady_power(  # noqa: D102
-        cls,
-        params: Mapping[str, float],
-        vehicle: VehicleParams,
-        v_left: FloatArray,
-        v_right: FloatArray,
+        cls, params: Params, vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray
     ) -> FloatArray:
         (p_max,) = cls.values(params)
         p0 = np.asarray(vehicle.power(v_left, v_right).total_w, dtype=np.float64)
         return np.asarray(np.minimum(p0, p_max), dtype=np.float64)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
         # 2 % under the quantile, so that a plateau at the quantile is clipped too
         moving = session.p_base_w[session.moving]
         return {"p_max_w": 0.98 * float(np.quantile(moving, draws["quantile"]))}
@@ -202,7 +188,7 @@ class EfficiencyDrift(Effect):
 
     @classmethod
     def check(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> None:
         super().check(params, vehicle, motion)
         rate, t0 = cls.values(params)
@@ -214,20 +200,14 @@ class EfficiencyDrift(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         rate, t0 = cls.values(params)
         p0 = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
         return np.asarray(p0 / (1.0 + rate * (motion.t - t0)), dtype=np.float64)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
         # eta falls (windings and drivers warming up); a rise would soon pass eta = 1
         span = session.t_end_s - session.t_start_s
         return {"eta_rate_per_s": -draws["total_change"] / span, "t0_s": session.t_start_s}

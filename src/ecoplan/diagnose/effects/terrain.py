@@ -15,13 +15,12 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.effects.base import Effect, MotionLike, Parameter, Session, eta_of
+from ecoplan.diagnose.effects.base import Effect, MotionLike, Parameter, Params, Session, eta_of
 from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.diagnose.replay import Frame
 from ecoplan.errors import InputError
@@ -63,7 +62,7 @@ class TerrainPatch(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         cx, cy, r, f_mu, f_k = cls.values(params)
         pb = vehicle.power(motion.v_left, motion.v_right)
@@ -73,22 +72,16 @@ class TerrainPatch(Effect):
         return p0 + np.where(inside, extra / eta_of(vehicle), 0.0)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
         trajectories = session.trajectories
         xs = np.concatenate([tr.x for tr in trajectories])
         ys = np.concatenate([tr.y for tr in trajectories])
         wz = np.abs(np.concatenate([tr.wz for tr in trajectories]))
         turning = np.flatnonzero(wz > 0.5 * np.max(wz))
-        k = int(rng.choice(turning))
+        k = int(session.rng.choice(turning))
         cx, cy = float(xs[k]), float(ys[k])
         dist = np.hypot(xs - cx, ys - cy)[session.moving]
-        radius = float(np.quantile(dist, rng.uniform(0.25, 0.4)))
+        radius = float(np.quantile(dist, session.rng.uniform(0.25, 0.4)))
         return {
             "center_x_m": cx,
             "center_y_m": cy,
@@ -192,7 +185,7 @@ class TerrainChange(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         raise InputError(
             "terrain_change is fitted on a log's own clock and cannot be generated; "
@@ -259,7 +252,7 @@ class Slope(Effect):
 
     @classmethod
     def apply(  # noqa: D102
-        cls, params: Mapping[str, float], vehicle: VehicleParams, motion: MotionLike
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         grade, up = cls.values(params)
         p0 = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
@@ -269,16 +262,10 @@ class Slope(Effect):
         return p0 + vehicle.mass_kg * GRAVITY_MPS2 * math.sin(grade) * v_up / eta_of(vehicle)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
         return {
             "grade_rad": math.radians(draws["grade_deg"]),
-            "uphill_heading_rad": float(rng.uniform(-math.pi, math.pi)),
+            "uphill_heading_rad": float(session.rng.uniform(-math.pi, math.pi)),
         }
 
     def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
@@ -302,25 +289,15 @@ class SpeedDependentResistance(Effect):
 
     @classmethod
     def steady_power(  # noqa: D102
-        cls,
-        params: Mapping[str, float],
-        vehicle: VehicleParams,
-        v_left: FloatArray,
-        v_right: FloatArray,
+        cls, params: Params, vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray
     ) -> FloatArray:
         (c,) = cls.values(params)
         p0 = np.asarray(vehicle.power(v_left, v_right).total_w, dtype=np.float64)
         return p0 + c * (v_left**2 + v_right**2) / eta_of(vehicle)
 
     @classmethod
-    def draw(  # noqa: D102
-        cls,
-        draws: Mapping[str, float],
-        vehicle: VehicleParams,
-        session: Session,
-        rng: np.random.Generator,
-    ) -> dict[str, float]:
-        return {"c_n_s_per_m": draws["c_per_kg"] * vehicle.mass_kg}
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        return {"c_n_s_per_m": draws["c_per_kg"] * session.vehicle.mass_kg}
 
     def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         f = data.frame
