@@ -11,11 +11,15 @@ adds the time-dependent part of the effect along a trajectory.
 model.  It needs no planner: polylines are driven turn-on-the-spot then straight (the
 tracked paper's A->B manoeuvre, §IV) through the drive's acceleration limit.
 
-Effects in the steady-state ``power(vl, vr)``: ``speed_dependent_resistance``, ``regeneration``,
-``power_saturation``, ``icr_asymmetry`` (in the parameters).  Only along a trajectory:
-``inertia`` (needs accelerations), ``slope`` (heading), ``terrain_patch`` (position),
-``actuator_lag`` (the trajectory's speeds are then commands), ``efficiency_drift`` (time since
-the log's clock origin).  ``sensor_delay`` is a logging artefact and changes no power.
+The effect is applied by its class in :mod:`ecoplan.diagnose.effects` (the same code that
+generates the blind cases), with the parameter names the diagnosis reports.  Effects in the
+steady-state ``power(vl, vr)`` (``Effect.steady``): ``speed_dependent_resistance``,
+``regeneration``, ``power_saturation``, ``icr_asymmetry`` (in the parameters).  Only along a
+trajectory: ``inertia`` (needs accelerations), ``slope`` (heading), ``terrain_patch``
+(position), ``actuator_lag`` (the trajectory's speeds are then commands), ``efficiency_drift``
+(time since the log's clock origin).  ``sensor_delay`` is a logging artefact and
+``terrain_change`` is tied to the log's clock: neither changes the power of a new route
+(``Effect.on_routes``).
 """
 
 from __future__ import annotations
@@ -186,18 +190,16 @@ def corrected_model(d: Diagnosis) -> CorrectedModel:
     eff = att.fitted.get(name)
     if eff is None or name in ("none", "unexplained"):
         return CorrectedModel(d.vehicle, d.terrain, d.calibration.params)
+    eparams = {k: v for k, v in eff.params_.items() if k != "chi"}
     params = d.calibration.params
     if eff.chi_ is not None:
         params = dataclasses.replace(params, chi=eff.chi_)
-    if name == "icr_asymmetry":
-        params = dataclasses.replace(params, icr_offset_m=float(eff.params_["icr_offset_m"]))
+    # the vehicle the effect drives (icr_asymmetry: its shifted ICRs)
+    params = effect_class(name).drive(eparams, params)[0]
     if eff.coef_ is not None and eff.coef_.size and name != "actuator_lag":
         data = prepare(d.test_frame, params, prior=d.preset)
         names = base_design(data.frame, params).names
         params = with_linear_params(params, names, eff.coef_[: len(names)])
-    eparams = {k: v for k, v in eff.params_.items() if k != "chi"}
-    if name == "sensor_delay":
-        return CorrectedModel(d.vehicle, d.terrain, params, "sensor_delay", eparams)
     return CorrectedModel(d.vehicle, d.terrain, params, name, eparams)
 
 
