@@ -173,7 +173,7 @@ def test_spiral_has_the_five_stages_of_fig_12(left_turn: bool) -> None:
 def test_inertia_adds_kinetic_energy_only_while_accelerating() -> None:
     tr = _straight(0.5)
     m = 500.0
-    params = {"mass_kg": m, "inertia_kgm2": 80.0}
+    params = {"mass_kg": m, "yaw_inertia_kgm2": 80.0}
     dp = inject("inertia", params, AURIGA, tr) - inject("none", {}, AURIGA, tr)
     accelerating = np.abs(tr.ax) > 1e-6
     assert float(np.max(np.abs(dp[~accelerating]))) < 1e-3
@@ -188,7 +188,7 @@ def test_inertia_adds_kinetic_energy_only_while_accelerating() -> None:
 
 def test_slope_costs_potential_energy_uphill_and_returns_it_downhill() -> None:
     grade = math.radians(4.0)
-    params = {"grade_rad": grade, "uphill_rad": 0.0}
+    params = {"grade_rad": grade, "uphill_heading_rad": 0.0}
     for yaw0, sign in ((0.0, 1.0), (math.pi, -1.0)):
         tr = _straight(0.5, yaw0=yaw0)
         dp = inject("slope", params, AURIGA, tr) - inject("none", {}, AURIGA, tr)
@@ -265,7 +265,7 @@ def test_terrain_patch_acts_only_inside_the_disk_and_when_turning() -> None:
     cmd_l = np.where(t < 20.0, 0.5, 0.2)
     cmd_r = np.where(t < 20.0, 0.5, 0.7)
     tr = trajectory_from_commands(t, cmd_l, cmd_r, AURIGA)
-    params = {"mu_factor": 1.5, "cx_m": 10.0, "cy_m": 0.0, "radius_m": 30.0}
+    params = {"friction_factor": 1.5, "center_x_m": 10.0, "center_y_m": 0.0, "radius_m": 30.0}
     base = AURIGA.power(tr.v_left, tr.v_right)
     dp = inject("terrain_patch", params, AURIGA, tr) - base.total_w
     inside = np.hypot(tr.x - 10.0, tr.y) < 30.0
@@ -282,10 +282,10 @@ def test_terrain_patch_acts_only_inside_the_disk_and_when_turning() -> None:
 def test_speed_dependent_resistance_is_quadratic_in_speed() -> None:
     c = 120.0
     lo, hi = _straight(0.3), _straight(0.6)
-    d_lo = inject("speed_dependent_resistance", {"c_nspm": c}, AURIGA, lo) - inject(
+    d_lo = inject("speed_dependent_resistance", {"c_n_s_per_m": c}, AURIGA, lo) - inject(
         "none", {}, AURIGA, lo
     )
-    d_hi = inject("speed_dependent_resistance", {"c_nspm": c}, AURIGA, hi) - inject(
+    d_hi = inject("speed_dependent_resistance", {"c_n_s_per_m": c}, AURIGA, hi) - inject(
         "none", {}, AURIGA, hi
     )
     # held at speed: 2 c v^2 / eta, four times more at twice the speed
@@ -362,7 +362,7 @@ def test_unknown_effect_and_missing_parameter_are_input_errors() -> None:
     with pytest.raises(InputError, match="unknown effect 'wind'"):
         inject("wind", {}, AURIGA, tr)
     with pytest.raises(InputError, match="mass_kg"):
-        inject("inertia", {"inertia_kgm2": 1.0}, AURIGA, tr)
+        inject("inertia", {"yaw_inertia_kgm2": 1.0}, AURIGA, tr)
     with pytest.raises(InputError, match="magnitude"):
         generate_case(1, "slope", "huge")
 
@@ -430,7 +430,7 @@ def test_effect_params_depend_on_the_session() -> None:
     patch = effect_params("terrain_patch", "moderate", AURIGA, trajs, 1)
     xs = np.concatenate([tr.x for tr in trajs])
     ys = np.concatenate([tr.y for tr in trajs])
-    inside = np.hypot(xs - patch["cx_m"], ys - patch["cy_m"]) < patch["radius_m"]
+    inside = np.hypot(xs - patch["center_x_m"], ys - patch["center_y_m"]) < patch["radius_m"]
     assert 0.05 < float(np.mean(inside)) < 0.6  # the patch covers part of the driving
     sat = effect_params("power_saturation", "moderate", AURIGA, trajs, 1)
     p = np.concatenate([AURIGA.power(tr.v_left, tr.v_right).total_w for tr in trajs])

@@ -39,22 +39,25 @@ Pipeline (every step a pure function, so the diagnosis can reuse the physics)
 5. **Sensors**: :func:`observe` -- the log: measured speeds, power, yaw rate and pose
    with white Gaussian noise (:class:`SensorNoise`); commands logged exactly.
 
-Effects (``P0`` = ``vehicle.power(v_left, v_right)`` on the actual speeds, ``eta`` the
-vehicle's electrical efficiency, 1 for the wheeled model whose powers are electrical;
+Effects (each defined once, in :mod:`ecoplan.diagnose.effects`, with the parameter names the
+diagnosis reports; ``P0`` = ``vehicle.power(v_left, v_right)`` on the actual speeds, ``eta``
+the vehicle's electrical efficiency, 1 for the wheeled model whose powers are electrical;
 ``vx``, ``wz`` the body twist of the actual speeds, ``ax``, ``alpha`` their time derivatives)
 ---------------------------------------------------------------------------------
 * ``none`` -- ``P = P0``.
-* ``inertia(mass_kg, inertia_kgm2)`` -- ``P = P0 + (m vx ax + I wz alpha) / eta``.
+* ``inertia(mass_kg, yaw_inertia_kgm2)`` -- ``P = P0 + (m vx ax + I wz alpha) / eta``.
 * ``actuator_lag(tau_s)`` -- the speeds lag the commands (step 2); ``P = P0`` *at the
   lagged speeds*, which are the logged ``v_left``/``v_right``; ``v_*_cmd`` are the commands.
 * ``icr_asymmetry(icr_offset_m)`` -- ICRs shifted laterally (a centre-of-mass offset):
   kinematics and ``P0`` both use ``vehicle.icr_offset_m = offset``.
-* ``terrain_patch(mu_factor, cx_m, cy_m, radius_m)`` -- inside the disk ``|p - c| < r``
-  the friction power is scaled, ``P = P0 + (f - 1) friction_w / eta`` (tracked: exactly
-  ``mu -> f mu``).
-* ``slope(grade_rad, uphill_rad)`` -- a tilted plane: ``P = P0 + m g sin(grade) v_up / eta``
-  with ``v_up`` the world velocity along the uphill direction (negative downhill).
-* ``speed_dependent_resistance(c_nspm)`` -- ``P = P0 + c (v_l² + v_r²) / eta``.
+* ``terrain_patch(center_x_m, center_y_m, radius_m, friction_factor, resistance_factor)`` --
+  inside the disk ``|p - c| < r`` the friction power is scaled,
+  ``P = P0 + (f - 1) friction_w / eta`` (tracked: exactly ``mu -> f mu``; the generator
+  leaves ``resistance_factor`` at 1).
+* ``slope(grade_rad, uphill_heading_rad)`` -- a tilted plane:
+  ``P = P0 + m g sin(grade) v_up / eta`` with ``v_up`` the world velocity along the uphill
+  direction (negative downhill).
+* ``speed_dependent_resistance(c_n_s_per_m)`` -- ``P = P0 + c (v_l² + v_r²) / eta``.
 * ``regeneration(fraction)`` -- ``P = P0 - min(f eta sum_sides max(-P_side, 0), loss)``: part
   of a dragged (case 2) or braking motor's negative mechanical power is recovered, at most
   the loss the model charges for not regenerating (``loss`` = ``nonregen_w / eta``, wheeled:
@@ -175,7 +178,7 @@ from typing import Any
 import numpy as np
 
 from ecoplan._typing import FloatArray, RngLike
-from ecoplan.diagnose.effects import regenerated_w
+from ecoplan.diagnose.effects import Session, effect_class
 from ecoplan.diagnose.logio import Log
 from ecoplan.dynamics.controller import HeadingController, WaypointFollower, power_limited_radius
 from ecoplan.dynamics.drive import IcrArrays, follow_commands
@@ -184,7 +187,6 @@ from ecoplan.dynamics.rollout import ROLLOUT_STATE, rollout
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import TrackICR, tracks_to_twist
 from ecoplan.models.limits import check_tracks, min_radius_for_speed, vr_to_tracks
-from ecoplan.models.tracked import GRAVITY_MPS2
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 from ecoplan.presets import vehicle as preset_vehicle
@@ -251,7 +253,7 @@ MAGNITUDES: dict[str, dict[str, dict[str, _Range]]] = {
         "moderate": {"offset_fraction": (0.40, 0.50)},
         "large": {"offset_fraction": (0.60, 0.70)},
     },
-    # |log(mu_factor)|; the factor is above or below 1 with equal chance
+    # |log(friction_factor)|; the factor is above or below 1 with equal chance
     "terrain_patch": {
         "small": {"log_mu_factor": (0.15, 0.22)},
         "moderate": {"log_mu_factor": (0.40, 0.55)},
@@ -322,10 +324,6 @@ def _rng(rng: RngLike) -> np.random.Generator:
 
 def _times(n: int, dt_s: float) -> FloatArray:
     return np.arange(n, dtype=np.float64) * float(dt_s)
-
-
-def _eta(vehicle: VehicleParams) -> float:
-    return float(getattr(vehicle, "eta", 1.0))
 
 
 # --------------------------------------------------------------------------- trajectories
@@ -820,7 +818,8 @@ def drive_model(
     """The vehicle and actuator lag that produce the *motion* under an effect.
 
     Only ``icr_asymmetry`` (ICRs shifted by ``icr_offset_m``) and ``actuator_lag``
-    (``tau_s``) change the motion; every other effect acts on power alone.
+    (``tau_s``) change the motion; every other effect acts on power alone
+    (:meth:`ecoplan.diagnose.effects.Effect.drive`).
 
     Returns
     -------
@@ -828,11 +827,7 @@ def drive_model(
         ``(vehicle, tau_s)``.
     """
     _check_effect(effect)
-    if effect == "icr_asymmetry":
-        return dataclasses.replace(vehicle, icr_offset_m=float(params["icr_offset_m"])), 0.0
-    if effect == "actuator_lag":
-        return vehicle, float(params["tau_s"])
-    return vehicle, 0.0
+    return effect_class(effect).drive(params, vehicle)
 
 
 def _check_effect(effect: str) -> None:
@@ -840,45 +835,23 @@ def _check_effect(effect: str) -> None:
         raise InputError(f"unknown effect {effect!r}; accepted: {', '.join(EFFECTS)}")
 
 
-def _need(effect: str, params: Mapping[str, float], *names: str) -> list[float]:
-    missing = [n for n in names if n not in params]
-    if missing:
-        raise InputError(
-            f"effect {effect!r} needs parameter(s) {', '.join(missing)}; got {sorted(params)}"
-        )
-    return [float(params[n]) for n in names]
-
-
-def _delay(t: FloatArray, p: FloatArray, delay_s: float) -> FloatArray:
-    return np.asarray(np.interp(t - delay_s, t, p, left=p[0], right=p[-1]), dtype=np.float64)
-
-
-def _spikes(t: FloatArray, rate_hz: float, amp_w: float, width_s: float, seed: int) -> FloatArray:
-    g = np.random.default_rng(seed)
-    # Poisson arrivals over the span of this run, on the session clock
-    span = float(t[-1] - t[0])
-    n = int(g.poisson(rate_hz * span)) if span > 0.0 else 0
-    out = np.zeros(t.size)
-    for start in t[0] + g.uniform(0.0, span, n):
-        out[(t >= start) & (t < start + width_s)] += amp_w
-    return out
-
-
 def inject(
     effect: str, params: Mapping[str, float], vehicle: VehicleParams, traj: Trajectory
 ) -> FloatArray:
     """True electrical locomotion power [W] on a trajectory with one effect (no noise).
 
-    Formulas in the module docstring.  For ``actuator_lag`` and ``icr_asymmetry`` the
-    motion itself must come from :func:`drive_model`'s vehicle and lag; ``inject`` then
-    adds the power side (``icr_asymmetry``: the shifted ICRs' friction).
+    The effect's class applies it (:meth:`ecoplan.diagnose.effects.Effect.apply`, formulas in
+    the module docstring), after checking its parameters' physical ranges.  For
+    ``actuator_lag`` and ``icr_asymmetry`` the motion itself must come from
+    :func:`drive_model`'s vehicle and lag; ``inject`` then adds the power side
+    (``icr_asymmetry``: the shifted ICRs' friction).
 
     Parameters
     ----------
     effect : str
         One of :data:`EFFECTS`.
     params : mapping of str to float
-        The effect's parameters (names in the module docstring).
+        The effect's parameters (:attr:`ecoplan.diagnose.effects.Effect.parameters`).
     vehicle : TrackedParams or WheeledParams
         The vehicle *without* the effect.
     traj : Trajectory
@@ -893,59 +866,12 @@ def inject(
     Raises
     ------
     InputError
-        Unknown effect or missing parameter.
+        Unknown effect, missing parameter or one out of its physical range.
     """
     _check_effect(effect)
-    veh = drive_model(effect, params, vehicle)[0] if effect == "icr_asymmetry" else vehicle
-    pb = veh.power(traj.v_left, traj.v_right)
-    p0 = np.asarray(pb.total_w, dtype=np.float64)
-    eta = _eta(vehicle)
-    if effect in ("none", "actuator_lag", "icr_asymmetry"):
-        return p0
-    if effect == "inertia":
-        m, inertia = _need(effect, params, "mass_kg", "inertia_kgm2")
-        return p0 + (m * traj.vx * traj.ax + inertia * traj.wz * traj.alpha) / eta
-    if effect == "terrain_patch":
-        f, cx, cy, r = _need(effect, params, "mu_factor", "cx_m", "cy_m", "radius_m")
-        inside = np.hypot(traj.x - cx, traj.y - cy) < r
-        return p0 + np.where(inside, (f - 1.0) * pb.friction_w / eta, 0.0)
-    if effect == "slope":
-        grade, up = _need(effect, params, "grade_rad", "uphill_rad")
-        xd, yd = traj.world_velocity
-        v_up = xd * math.cos(up) + yd * math.sin(up)
-        return p0 + vehicle.mass_kg * GRAVITY_MPS2 * math.sin(grade) * v_up / eta
-    if effect == "speed_dependent_resistance":
-        (c,) = _need(effect, params, "c_nspm")
-        return p0 + c * (traj.v_left**2 + traj.v_right**2) / eta
-    if effect == "regeneration":
-        (f,) = _need(effect, params, "fraction")
-        if not 0.0 <= f <= 1.0:
-            raise InputError(f"regeneration: fraction = {f} is out of range; accepted: [0, 1]")
-        return p0 - regenerated_w(vehicle, pb, f)
-    if effect == "power_saturation":
-        (p_max,) = _need(effect, params, "p_max_w")
-        return np.minimum(p0, p_max)
-    if effect == "sensor_delay":
-        (delay,) = _need(effect, params, "delay_s")
-        return _delay(traj.t, p0, delay)
-    if effect == "efficiency_drift":
-        rate, t0 = _need(effect, params, "eta_rate_per_s", "t0_s")
-        factor = 1.0 + rate * (traj.t - t0)
-        if np.any(factor <= 0.05) or np.any(eta * factor > 1.0 + 1e-9):
-            raise InputError(
-                f"efficiency_drift: eta_rate_per_s = {rate} takes eta out of (0, 1] on this run"
-            )
-        return p0 / factor
-    if effect == "periodic_disturbance":
-        amp, period, phase = _need(effect, params, "amplitude_w", "period_s", "phase_rad")
-        return p0 + amp * np.sin(2.0 * math.pi * traj.t / period + phase)
-    if effect == "track_tension_step":
-        k, t_step = _need(effect, params, "k_factor", "t_step_s")
-        return p0 + np.where(traj.t >= t_step, (k - 1.0) * pb.resistance_w / eta, 0.0)
-    rate_hz, amp, width, seed = _need(
-        effect, params, "rate_hz", "amplitude_w", "width_s", "seed"
-    )  # spike_train
-    return p0 + _spikes(traj.t, rate_hz, amp, width, int(seed))
+    cls = effect_class(effect)
+    cls.check(params, vehicle, traj)
+    return cls.apply(params, vehicle, traj)
 
 
 # --------------------------------------------------------------------------- sensors
@@ -1314,76 +1240,8 @@ def effect_params(
         raise InputError(f"unknown magnitude {magnitude!r}; accepted: {', '.join(MAGNITUDE_NAMES)}")
     g = _rng(rng)
     d = _draw(g, MAGNITUDES[effect][magnitude])
-    t_all = np.concatenate([tr.t for tr in trajectories])
-    t_start, t_end = float(t_all[0]), float(t_all[-1])
-    p_base = np.concatenate(
-        [np.asarray(vehicle.power(tr.v_left, tr.v_right).total_w) for tr in trajectories]
-    )
-    moving = np.concatenate(
-        [(np.abs(tr.v_left) + np.abs(tr.v_right)) > 1e-3 for tr in trajectories]
-    )
-    mean_p = float(np.mean(p_base))
     sign = 1.0 if g.random() < 0.5 else -1.0
-    if effect == "inertia":
-        m = vehicle.mass_kg * d["mass_factor"]
-        half = 0.5 * vehicle.track_gauge_m
-        # box of the vehicle's footprint: gauge x (gauge * 1.7), scaled like the mass
-        inertia = m * ((2 * half) ** 2 + (1.7 * 2 * half) ** 2) / 12.0
-        return {"mass_kg": m, "inertia_kgm2": inertia}
-    if effect == "actuator_lag":
-        return {"tau_s": d["tau_s"]}
-    if effect == "icr_asymmetry":
-        half_spread = 0.5 * vehicle.icr.spread_m
-        return {"icr_offset_m": sign * d["offset_fraction"] * half_spread}
-    if effect == "terrain_patch":
-        xs = np.concatenate([tr.x for tr in trajectories])
-        ys = np.concatenate([tr.y for tr in trajectories])
-        wz = np.abs(np.concatenate([tr.wz for tr in trajectories]))
-        turning = np.flatnonzero(wz > 0.5 * np.max(wz))
-        k = int(g.choice(turning))
-        cx, cy = float(xs[k]), float(ys[k])
-        dist = np.hypot(xs - cx, ys - cy)[moving]
-        radius = float(np.quantile(dist, g.uniform(0.25, 0.4)))
-        return {
-            "mu_factor": math.exp(sign * d["log_mu_factor"]),
-            "cx_m": cx,
-            "cy_m": cy,
-            "radius_m": max(radius, 0.5),
-        }
-    if effect == "slope":
-        return {
-            "grade_rad": math.radians(d["grade_deg"]),
-            "uphill_rad": float(g.uniform(-math.pi, math.pi)),
-        }
-    if effect == "speed_dependent_resistance":
-        return {"c_nspm": d["c_per_kg"] * vehicle.mass_kg}
-    if effect == "regeneration":
-        return {"fraction": d["fraction"]}
-    if effect == "power_saturation":
-        # 2 % under the quantile, so that a plateau at the quantile is clipped too
-        return {"p_max_w": 0.98 * float(np.quantile(p_base[moving], d["quantile"]))}
-    if effect == "sensor_delay":
-        return {"delay_s": d["delay_s"]}
-    if effect == "efficiency_drift":
-        # eta falls (windings and drivers warming up); a rise would soon pass eta = 1
-        return {"eta_rate_per_s": -d["total_change"] / (t_end - t_start), "t0_s": t_start}
-    if effect == "periodic_disturbance":
-        return {
-            "amplitude_w": d["amplitude_fraction"] * mean_p,
-            "period_s": d["period_s"],
-            "phase_rad": float(g.uniform(0.0, 2.0 * math.pi)),
-        }
-    if effect == "track_tension_step":
-        return {
-            "k_factor": d["k_factor"],
-            "t_step_s": t_start + float(g.uniform(0.35, 0.65)) * (t_end - t_start),
-        }
-    return {
-        "rate_hz": d["rate_hz"],
-        "amplitude_w": d["amplitude_fraction"] * mean_p,
-        "width_s": float(g.uniform(0.2, 0.5)),
-        "seed": float(g.integers(0, 2**31 - 1)),
-    }
+    return effect_class(effect).draw(d, Session.of(vehicle, trajectories, sign, g))
 
 
 def _choose_effect(g: np.random.Generator, effect: str | None) -> str:
