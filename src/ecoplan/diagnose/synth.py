@@ -318,14 +318,6 @@ MAGNITUDE_NAMES: tuple[str, ...] = ("small", "moderate", "large")
 _REST_MPS = 1e-9
 
 
-def _rng(rng: RngLike) -> np.random.Generator:
-    return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
-
-
-def _times(n: int, dt_s: float) -> FloatArray:
-    return np.arange(n, dtype=np.float64) * float(dt_s)
-
-
 # --------------------------------------------------------------------------- trajectories
 
 
@@ -373,40 +365,60 @@ class Trajectory:
         """The same motion with ``t0_s`` [s] added to every time stamp."""
         return dataclasses.replace(self, t=self.t + t0_s)
 
+    @classmethod
+    def of(
+        cls,
+        t: FloatArray,
+        cmd: tuple[FloatArray, FloatArray],
+        speeds: tuple[FloatArray, FloatArray],
+        icr: TrackICR,
+        pose: tuple[FloatArray, FloatArray, FloatArray],
+        manoeuvre: str = "",
+    ) -> Trajectory:
+        """A trajectory from its commands, actual speeds and pose; the twist by eqs. (1)-(3).
+
+        Parameters
+        ----------
+        t : ndarray
+            Time [s].
+        cmd, speeds : tuple of ndarray
+            Commanded and actual ``(left, right)`` side speeds [m/s].
+        icr : TrackICR
+            The true track ICRs.
+        pose : tuple of ndarray
+            ``(x, y, yaw)`` [m, m, rad].
+        manoeuvre : str
+            Kind of run.
+
+        Returns
+        -------
+        Trajectory
+            With ``vx, vy, wz`` from :func:`~ecoplan.models.kinematics.tracks_to_twist` and
+            their time derivatives by :func:`numpy.gradient`.
+        """
+        tw = tracks_to_twist(speeds[0], speeds[1], icr)
+        return cls(
+            t=t,
+            cmd_left=cmd[0],
+            cmd_right=cmd[1],
+            v_left=speeds[0],
+            v_right=speeds[1],
+            vx=tw.vx,
+            vy=tw.vy,
+            wz=tw.wz,
+            ax=np.gradient(tw.vx, t),
+            alpha=np.gradient(tw.wz, t),
+            x=pose[0],
+            y=pose[1],
+            yaw=pose[2],
+            manoeuvre=manoeuvre,
+        )
+
     @property
     def world_velocity(self) -> tuple[FloatArray, FloatArray]:
         """World-frame velocity ``(xdot, ydot)`` [m/s]."""
         c, s = np.cos(self.yaw), np.sin(self.yaw)
         return self.vx * c - self.vy * s, self.vx * s + self.vy * c
-
-
-def _assemble(
-    t: FloatArray,
-    cmd_l: FloatArray,
-    cmd_r: FloatArray,
-    vl: FloatArray,
-    vr: FloatArray,
-    icr: TrackICR,
-    pose: tuple[FloatArray, FloatArray, FloatArray],
-    manoeuvre: str,
-) -> Trajectory:
-    tw = tracks_to_twist(vl, vr, icr)
-    return Trajectory(
-        t=t,
-        cmd_left=cmd_l,
-        cmd_right=cmd_r,
-        v_left=vl,
-        v_right=vr,
-        vx=tw.vx,
-        vy=tw.vy,
-        wz=tw.wz,
-        ax=np.gradient(tw.vx, t),
-        alpha=np.gradient(tw.wz, t),
-        x=pose[0],
-        y=pose[1],
-        yaw=pose[2],
-        manoeuvre=manoeuvre,
-    )
 
 
 def trajectory_from_commands(
@@ -446,7 +458,7 @@ def trajectory_from_commands(
     vl = follow_commands(t, cmd_left, vehicle.accel_max_mps2, tau_s)
     vr = follow_commands(t, cmd_right, vehicle.accel_max_mps2, tau_s)
     pose = integrate_tracks(t, vl, vr, vehicle.icr, pose0, hold="mean")
-    return _assemble(t, cmd_left, cmd_right, vl, vr, vehicle.icr, pose, manoeuvre)
+    return Trajectory.of(t, (cmd_left, cmd_right), (vl, vr), vehicle.icr, pose, manoeuvre)
 
 
 # --------------------------------------------------------------------------- manoeuvres
@@ -566,7 +578,7 @@ def stationary_grid_commands(
     tuple of ndarray
         ``(t, cmd_left, cmd_right)``, ``t`` from 0.
     """
-    g = _rng(rng)
+    g = np.random.default_rng(rng)
     if isinstance(vehicle, WheeledParams):
         grid = _wheeled_grid(vehicle)
     else:
@@ -581,7 +593,7 @@ def stationary_grid_commands(
     chosen = turning[:n_turn] + straight[: n_pairs - n_turn]
     order = g.permutation(len(chosen))
     cl, cr = _ramp_hold_ramp([chosen[i] for i in order], dt_s)
-    return _times(cl.size, dt_s), cl, cr
+    return np.arange(cl.size, dtype=np.float64) * dt_s, cl, cr
 
 
 def spiral_commands(
@@ -601,7 +613,7 @@ def spiral_commands(
     tuple of ndarray
         ``(t, cmd_left, cmd_right)``, ``t`` from 0.
     """
-    g = _rng(rng)
+    g = np.random.default_rng(rng)
     vmax = vehicle.top_track_speed_mps
     v = g.uniform(0.45, 0.8) * vmax
     outer2 = g.uniform(0.6, 0.95) * vmax
@@ -619,7 +631,7 @@ def spiral_commands(
         cl_parts.append(np.full(n, left))
         cr_parts.append(np.full(n, right))
     cl, cr = np.concatenate(cl_parts), np.concatenate(cr_parts)
-    return _times(cl.size, dt_s), cl, cr
+    return np.arange(cl.size, dtype=np.float64) * dt_s, cl, cr
 
 
 @dataclass(frozen=True, slots=True)
@@ -740,12 +752,10 @@ def _logged_run(
     def col(values: FloatArray, first: float, rest: float) -> FloatArray:
         return np.concatenate(([first], values, np.full(n_rest, rest)))
 
-    return _assemble(
+    return Trajectory.of(
         np.arange(rows.shape[0] + 1 + n_rest, dtype=np.float64) * dt_s,
-        col(st["v_left_cmd"], 0.0, 0.0),
-        col(st["v_right_cmd"], 0.0, 0.0),
-        col(vl, 0.0, 0.0),
-        col(vr, 0.0, 0.0),
+        (col(st["v_left_cmd"], 0.0, 0.0), col(st["v_right_cmd"], 0.0, 0.0)),
+        (col(vl, 0.0, 0.0), col(vr, 0.0, 0.0)),
         icr,
         (
             col(st["x"], pose0[0], xe[-1]),
@@ -970,7 +980,7 @@ def observe(
         Columns ``t, v_left, v_right, p_total, v_left_cmd, v_right_cmd, x, y, yaw, wz``
         (+ ``terrain``).
     """
-    g = _rng(rng)
+    g = np.random.default_rng(rng)
     nz = SensorNoise() if noise is None else noise
     n = len(traj)
 
@@ -1238,13 +1248,34 @@ def effect_params(
         return {}
     if magnitude not in MAGNITUDE_NAMES:
         raise InputError(f"unknown magnitude {magnitude!r}; accepted: {', '.join(MAGNITUDE_NAMES)}")
-    g = _rng(rng)
+    g = np.random.default_rng(rng)
     d = _draw(g, MAGNITUDES[effect][magnitude])
     sign = 1.0 if g.random() < 0.5 else -1.0
     return effect_class(effect).draw(d, Session.of(vehicle, trajectories, sign, g))
 
 
-def _choose_effect(g: np.random.Generator, effect: str | None) -> str:
+def choose_effect(g: np.random.Generator, effect: str | None) -> str:
+    """The effect of a case: as given, or drawn for ``"random"`` / ``"out_of_library"``.
+
+    Parameters
+    ----------
+    g : Generator
+        Random source.
+    effect : str or None
+        An effect of :data:`EFFECTS`, ``"random"`` (uniform over ``none``, the ten library
+        effects and ``out_of_library``), ``"out_of_library"`` (one of
+        :data:`OUT_OF_LIBRARY`) or None (= ``"none"``).
+
+    Returns
+    -------
+    str
+        An effect of :data:`EFFECTS`.
+
+    Raises
+    ------
+    InputError
+        An unknown effect.
+    """
     if effect is None:
         return "none"
     if effect == "random":
@@ -1256,7 +1287,7 @@ def _choose_effect(g: np.random.Generator, effect: str | None) -> str:
     return effect
 
 
-def _expected_verdict(effect: str, vehicle: VehicleParams) -> str:
+def expected_verdict(effect: str, vehicle: VehicleParams) -> str:
     """The verdict a perfect diagnosis gives for ``effect`` on ``vehicle``.
 
     Out-of-library effects are ``unexplained``.  A bounded ``regeneration`` on a tracked
@@ -1266,6 +1297,18 @@ def _expected_verdict(effect: str, vehicle: VehicleParams) -> str:
     which the structural calibration re-identifies (issue 12: an effect is named only if it
     beats every re-identification of the base model).  Its expected verdict is ``none``, with
     ``k_nonregen_n`` lowered by the calibration.
+
+    Parameters
+    ----------
+    effect : str
+        An effect of :data:`EFFECTS`.
+    vehicle : TrackedParams or WheeledParams
+        The nominal vehicle.
+
+    Returns
+    -------
+    str
+        ``none``, ``unexplained`` or the effect's name.
     """
     if effect in OUT_OF_LIBRARY:
         return "unexplained"
@@ -1317,14 +1360,14 @@ def generate_case(
     SynthCase
         Logs, presets and the withheld truth.
     """
-    g = _rng(rng)
+    g = np.random.default_rng(rng)
     if not (math.isfinite(rate_hz) and 5.0 <= rate_hz <= 1000.0):
         raise InputError(f"rate_hz = {rate_hz!r} is out of range; accepted: [5, 1000]")
     if not (0.0 <= base_error < 0.5):
         raise InputError(f"base_error = {base_error!r} is out of range; accepted: [0, 0.5)")
     if magnitude not in MAGNITUDE_NAMES:
         raise InputError(f"unknown magnitude {magnitude!r}; accepted: {', '.join(MAGNITUDE_NAMES)}")
-    name = _choose_effect(g, effect)
+    name = choose_effect(g, effect)
     nominal = preset_vehicle(vehicle, terrain)
     true_vehicle, base_changes = _true_vehicle(nominal, g, base_error)
     dt = 1.0 / rate_hz
@@ -1362,7 +1405,7 @@ def generate_case(
     truth = SynthTruth(
         effect=name,
         label=name if name in IN_LIBRARY or name == "none" else "out_of_library",
-        expected_verdict=_expected_verdict(name, nominal),
+        expected_verdict=expected_verdict(name, nominal),
         magnitude="" if name == "none" else magnitude,
         params=p,
         base_params=base_changes,
