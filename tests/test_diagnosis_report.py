@@ -13,7 +13,7 @@ import numpy as np
 
 from ecoplan.cli import main
 from ecoplan.diagnose.logio import read_log_csv
-from ecoplan.diagnose.synth import generate_case
+from ecoplan.synth.cases import generate_case
 
 
 def _logs_with_an_extra_column(tmp_path):  # type: ignore[no-untyped-def]

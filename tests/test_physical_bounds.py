@@ -23,9 +23,10 @@ from ecoplan.diagnose.calibrate import calibrate, wheeled_bounds
 from ecoplan.diagnose.effects import regenerated_w
 from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.replay import build_frame
-from ecoplan.diagnose.synth import inject, trajectory_from_commands
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import vehicle
+from ecoplan.synth.trajectory import trajectory_from_commands
+from ecoplan.synth.withheld import inject
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "borealtc"
 

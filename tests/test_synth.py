@@ -18,27 +18,28 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ecoplan.diagnose.logio import read_log_csv
-from ecoplan.diagnose.synth import (
-    EFFECTS,
-    IN_LIBRARY,
-    OUT_OF_LIBRARY,
-    SensorNoise,
-    Trajectory,
-    WaypointTask,
-    drive_model,
-    effect_params,
-    generate_case,
-    inject,
-    spiral_commands,
-    stationary_grid_commands,
-    trajectory_from_commands,
-    waypoint_run,
-    waypoint_runs,
-)
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
 from ecoplan.models.power import MotionCase, motion_case
 from ecoplan.presets import vehicle
+from ecoplan.synth.cases import generate_case
+from ecoplan.synth.manoeuvres import (
+    WaypointTask,
+    spiral_commands,
+    stationary_grid_commands,
+    waypoint_run,
+    waypoint_runs,
+)
+from ecoplan.synth.sensors import SensorNoise
+from ecoplan.synth.trajectory import Trajectory, trajectory_from_commands
+from ecoplan.synth.withheld import (
+    EFFECTS,
+    IN_LIBRARY,
+    OUT_OF_LIBRARY,
+    drive_model,
+    effect_params,
+    inject,
+)
 
 AURIGA = vehicle("auriga-beta-narrow", "asphalt")
 G = 9.81
@@ -467,7 +468,7 @@ def test_wheeled_vehicle_is_supported(effect: str) -> None:
 
 
 def test_magnitude_survey_reports_effect_and_noise() -> None:
-    from ecoplan.diagnose.synth import magnitude_survey
+    from ecoplan.synth.cases import magnitude_survey
 
     out = magnitude_survey(
         "moderate", seeds=(0, 1), effects=("slope",), n_waypoint_runs=0, rate_hz=10.0
@@ -510,7 +511,7 @@ def test_every_effect_gives_finite_power_of_the_right_shape(
 
 
 def test_write_cases_one_directory_per_seed(tmp_path: Path) -> None:
-    from ecoplan.diagnose.synth import write_cases
+    from ecoplan.synth.cases import write_cases
 
     dirs = write_cases(tmp_path, [3, 4], "none", n_waypoint_runs=0, rate_hz=10.0)
     assert [d.name for d in dirs] == ["case_3", "case_4"]

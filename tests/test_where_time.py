@@ -18,8 +18,8 @@ from hypothesis import strategies as st
 
 from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.pipeline import Diagnosis, diagnose, run_diagnose_cli
-from ecoplan.diagnose.synth import generate_case
 from ecoplan.diagnose.where_time import where_time, write_where_time_csv
+from ecoplan.synth.cases import generate_case
 
 
 @settings(max_examples=20, deadline=None)

@@ -11,6 +11,7 @@ Modules, in the order of the pipeline:
 * :mod:`ecoplan.diagnose.pipeline` -- :func:`~ecoplan.diagnose.pipeline.diagnose` and the CLI
   back end;
 * :mod:`ecoplan.diagnose.loop` -- the corrected model as a file, route ranking under it;
-* :mod:`ecoplan.diagnose.report` -- text summary, figures, JSON;
-* :mod:`ecoplan.diagnose.synth` -- realistic logs with withheld effects for the blind check.
+* :mod:`ecoplan.diagnose.report` -- text summary, figures, JSON.
+
+The blind check's generator of realistic logs with withheld effects is :mod:`ecoplan.synth`.
 """
