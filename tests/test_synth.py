@@ -438,6 +438,23 @@ def test_effect_params_depend_on_the_session() -> None:
     assert float(np.min(p)) < sat["p_max_w"] < float(np.max(p))
 
 
+def test_the_generated_library_effects_are_the_blind_checks_ten_in_order() -> None:
+    # issue 6's ten withheld library effects; the order fixes what a seed draws for "random"
+    assert IN_LIBRARY == (
+        "inertia",
+        "actuator_lag",
+        "icr_asymmetry",
+        "terrain_patch",
+        "slope",
+        "speed_dependent_resistance",
+        "regeneration",
+        "power_saturation",
+        "sensor_delay",
+        "efficiency_drift",
+    )
+    assert OUT_OF_LIBRARY == ("periodic_disturbance", "track_tension_step", "spike_train")
+
+
 def test_random_effect_draws_every_class() -> None:
     seen = {
         generate_case(s, "random", n_waypoint_runs=0, rate_hz=10.0).truth.label for s in range(60)

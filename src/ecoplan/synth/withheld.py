@@ -105,7 +105,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 
 from ecoplan._typing import FloatArray, RngLike
-from ecoplan.diagnose.effects import Session, effect_class
+from ecoplan.diagnose.effects import EFFECTS as LIBRARY_EFFECTS
+from ecoplan.diagnose.effects import OUTSIDE_EFFECTS, Session, effect_class
 from ecoplan.errors import InputError
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
@@ -123,29 +124,6 @@ __all__ = [
     "expected_verdict",
     "inject",
 ]
-
-
-#: Effects of the diagnosis library (the verdict should name them).
-IN_LIBRARY: tuple[str, ...] = (
-    "inertia",
-    "actuator_lag",
-    "icr_asymmetry",
-    "terrain_patch",
-    "slope",
-    "speed_dependent_resistance",
-    "regeneration",
-    "power_saturation",
-    "sensor_delay",
-    "efficiency_drift",
-)
-
-
-#: Effects outside the library (the verdict should be ``unexplained``).
-OUT_OF_LIBRARY: tuple[str, ...] = ("periodic_disturbance", "track_tension_step", "spike_train")
-
-
-#: Every effect :func:`inject` knows.
-EFFECTS: tuple[str, ...] = ("none", *IN_LIBRARY, *OUT_OF_LIBRARY)
 
 
 _Range = tuple[float, float]
@@ -230,6 +208,16 @@ MAGNITUDES: dict[str, dict[str, dict[str, _Range]]] = {
 
 
 MAGNITUDE_NAMES: tuple[str, ...] = ("small", "moderate", "large")
+
+#: Effects of the diagnosis library that the generator withholds (the verdict should name
+#: them): the library's (:data:`ecoplan.diagnose.effects.EFFECTS`) that have magnitudes
+#: here, in the library's order.  ``terrain_change`` has none: a session's terrain label
+#: is constant.
+IN_LIBRARY: tuple[str, ...] = tuple(name for name in LIBRARY_EFFECTS if name in MAGNITUDES)
+#: Effects outside the library (the verdict should be ``unexplained``).
+OUT_OF_LIBRARY: tuple[str, ...] = tuple(OUTSIDE_EFFECTS)
+#: Every effect :func:`inject` knows.
+EFFECTS: tuple[str, ...] = ("none", *IN_LIBRARY, *OUT_OF_LIBRARY)
 
 
 def drive_model(
