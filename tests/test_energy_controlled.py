@@ -78,13 +78,19 @@ def test_power_limited_pioneer_corner_matches_the_simulator() -> None:
         assert pc.energy_j == pytest.approx(sim.energy_j, rel=0.01)
 
 
-def test_a_goal_inside_the_turning_circle_is_flagged() -> None:
-    # v / (G phi) = 0.5 / (0.18 pi/2) = 1.8 m: a goal 2 m to the side is circled forever
+def test_a_goal_inside_the_turning_circle_is_flagged_under_the_papers_law() -> None:
+    # eq. (23) at constant v orbits a goal at radius 2 v / (pi G) = 1.77 m > d_th: a goal
+    # 2 m to the side is circled for ever; the default controller slows down and reaches it
+    paper = HeadingController(0.18, 0.5, 1.0, slowdown_heading_rad=None)
     path = corner(90.0, 20.0, 2.0)
-    sim = simulate(AURIGA, [path], CTRL)[0]
-    pc = path_cost(path, AURIGA, 0.5, turn=CTRL)
-    assert not sim.completed
+    orbit, done = (simulate(AURIGA, [path], c)[0] for c in (paper, CTRL))
+    pc = path_cost(path, AURIGA, 0.5, turn=paper)
+    assert not orbit.completed
     assert not pc.feasible and pc.violations[0].constraint == ORBIT
+    assert done.completed
+    pc = path_cost(path, AURIGA, 0.5, turn=CTRL)
+    assert pc.feasible
+    assert pc.energy_j == pytest.approx(done.energy_j, rel=0.01)
 
 
 def test_tables_are_mirror_symmetric_for_a_symmetric_vehicle() -> None:
