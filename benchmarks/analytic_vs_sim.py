@@ -12,12 +12,15 @@ simulated energy with two analytic estimates by :func:`ecoplan.energy.path.path_
 
 * ``static``: the paper's static model, turns executed the cheapest way (``turn="auto"``);
 * ``controller``: the path as the heading controller drives it (``turn=controller``,
-  :mod:`ecoplan.energy.controlled`): tabulated corner excesses, or a rollout of the
+  :mod:`ecoplan.energy.controlled`): tabulated corner excesses plus the interaction of
+  corners closer than the controller settles (corner-pair table), or a rollout of the
   controller when a leg after the first is shorter than the tables reach (counted).
 
 Prints, per vehicle and estimate, the distribution of the relative error
 ``(analytic - simulated) / simulated``: percentiles, worst case, and the share of paths
-within ±3 %; then the time to tabulate the controller's corners and to cost all paths.
+within ±3 % (the acceptance figure of issue 11); then the time to tabulate the
+controller's corners and corner pairs (once per vehicle, terrain and controller) and to
+cost all paths.
 """
 
 from __future__ import annotations
@@ -29,7 +32,7 @@ import time
 import numpy as np
 
 from ecoplan.dynamics.controller import HeadingController
-from ecoplan.energy.controlled import controlled_turns
+from ecoplan.energy.controlled import controlled_turns, corner_pairs
 from ecoplan.energy.path import path_cost
 from ecoplan.presets import vehicle
 from ecoplan.sim.simulate import SimConfig, WaypointRun, simulate_batch
@@ -83,6 +86,7 @@ def main() -> None:
         e_sim = np.array([s.energy_j for s in sims])
         t0 = time.perf_counter()
         table = controlled_turns(params, ctrl)
+        corner_pairs(params, ctrl)
         t_table = time.perf_counter() - t0
         rolled = sum(
             len(p) > 2 and float(np.min(np.hypot(*np.diff(p, axis=0)[1:].T))) < table.legs_m[0]
@@ -98,7 +102,8 @@ def main() -> None:
             print(f"{label:34s} {est:10s} {describe(err)}")
         print(
             f"{'':34s} {int(done.sum())}/{len(paths)} runs completed; simulated in {t_sim:.1f} s, "
-            f"corner tables {t_table:.1f} s, {len(paths)} controller estimates {t_cost:.2f} s "
+            f"corner and pair tables {t_table:.1f} s, "
+            f"{len(paths)} controller estimates {t_cost:.2f} s "
             f"({rolled} rolled out: legs < {table.legs_m[0]:.2f} m)"
         )
 
