@@ -294,7 +294,7 @@ def test_the_papers_ab_runs_never_reach_the_slow_down() -> None:
     st.floats(-math.pi, math.pi),
     st.floats(1.5, 8.0),
     st.floats(0.1, 0.86),
-    st.floats(0.05, 0.5),
+    st.floats(0.1, 0.5),  # the paper's 0.12 and 0.18 inside (slow spirals below: docstring)
 )
 def test_any_single_goal_is_reached_without_orbiting(
     bearing: float, dist_m: float, speed: float, gain: float

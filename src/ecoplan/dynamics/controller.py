@@ -37,7 +37,11 @@ the paper's constant set point is kept.  Beyond it the speed falls with ``cos(ph
 and is zero once the goal is abeam or behind, where the robot turns on the spot at
 ``G phi_e``.  Then ``d' = -v_set cos(phi_e) <= 0``, with equality only where
 ``v_set = 0`` and ``phi_e' = -G phi_e`` turns the goal back ahead.  The distance to the
-goal never grows and no orbit exists: every goal is reached.  This was chosen over a
+goal never grows and no orbit exists: every goal is reached.  A close goal seen abeam
+is approached on an inward spiral (``phi_e`` near ``pi/2``, ``v_set`` small), whose
+closing speed falls as ``(G d)^2 / v_sp``: at the paper's gains it takes seconds, at a
+low gain minutes (``G = 0.0625``, a goal 3 m away at 57 degrees, ``v_sp = 0.75 m/s``:
+76 s).  This was chosen over a
 passed-way-point rule (switch when the robot crosses the normal through the goal),
 because that rule cannot stop the robot at its last goal (it would stop up to the orbit
 radius away).  The chosen rule is what a driver does: slow down while steering hard.

@@ -165,15 +165,8 @@ class ControlledTurns:
     def _lookup(
         self, table: FloatArray, names: NDArray[np.object_], dpsi: float, leg_m: float
     ) -> Excess:
-        a = self.angles_rad
-        x = abs(dpsi) if self.symmetric else dpsi
-        x = min(max(x, float(a[0])), float(a[-1]))
-        i = max(min(int(np.searchsorted(a, x, side="right")) - 1, a.size - 2), 0)
-        wa = (x - float(a[i])) / float(a[i + 1] - a[i])
-        lg = np.log(self.legs_m)
-        y = min(max(math.log(max(leg_m, 1e-9)), float(lg[0])), float(lg[-1]))
-        j = max(min(int(np.searchsorted(lg, y, side="right")) - 1, lg.size - 2), 0)
-        wl = (y - float(lg[j])) / float(lg[j + 1] - lg[j])
+        i, wa = _cell(self.angles_rad, abs(dpsi) if self.symmetric else dpsi)
+        j, wl = _cell(np.log(self.legs_m), math.log(max(leg_m, 1e-9)))
         row = (1.0 - wa) * ((1.0 - wl) * table[i, j] + wl * table[i, j + 1]) + wa * (
             (1.0 - wl) * table[i + 1, j] + wl * table[i + 1, j + 1]
         )
