@@ -14,7 +14,6 @@ from functools import cache
 import numpy as np
 import pytest
 
-from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.loop import (
     CorrectedModel,
     load_corrected_model,
@@ -22,8 +21,10 @@ from ecoplan.diagnose.loop import (
     ranking_change,
     save_corrected_model,
 )
-from ecoplan.diagnose.pipeline import Diagnosis, diagnose, run_diagnose_cli
+from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.synth import IN_LIBRARY, generate_case
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
 

@@ -17,7 +17,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.logio import read_log_csv
 from ecoplan.diagnose.synth import (
     EFFECTS,
     IN_LIBRARY,
@@ -36,6 +35,7 @@ from ecoplan.diagnose.synth import (
     waypoint_run,
 )
 from ecoplan.errors import InputError
+from ecoplan.io.logcsv import read_log_csv
 from ecoplan.models.power import MotionCase, motion_case
 from ecoplan.presets import vehicle
 

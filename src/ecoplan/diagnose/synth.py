@@ -174,8 +174,9 @@ import numpy as np
 
 from ecoplan._typing import FloatArray, RngLike
 from ecoplan.diagnose.effects import regenerated_w
-from ecoplan.diagnose.logio import Log
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
+from ecoplan.io.logcsv import write_log_csv
 from ecoplan.models.kinematics import TrackICR, tracks_to_twist
 from ecoplan.models.limits import check_tracks, min_radius_for_speed, vr_to_tracks
 from ecoplan.models.tracked import GRAVITY_MPS2
@@ -1179,7 +1180,7 @@ class SynthCase:
         """
         d = Path(directory)
         d.mkdir(parents=True, exist_ok=True)
-        paths = [lg.to_csv(d / f"{lg.run_id}.csv", overwrite=overwrite) for lg in self.logs]
+        paths = [write_log_csv(lg, d / f"{lg.run_id}.csv", overwrite=overwrite) for lg in self.logs]
         truth = d / "truth.json"
         if truth.exists() and not overwrite:
             raise InputError(f"{truth}: file exists; pass overwrite=True to replace it")

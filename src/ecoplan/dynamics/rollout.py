@@ -16,10 +16,11 @@ import numpy as np
 from ecoplan._typing import BoolArray, FloatArray, IntArray
 from ecoplan.dynamics.drive import IcrArrays, drive_step, saturate_tracks
 from ecoplan.dynamics.integrate import SERIES_HALF_ANGLE_MAX, arc_step
+from ecoplan.errors import InputError
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
 
-__all__ = ["ROLLOUT_STATE", "CommandPolicy", "rollout"]
+__all__ = ["MAX_ROLLOUT_STEPS", "ROLLOUT_STATE", "CommandPolicy", "rollout"]
 
 VehicleParams = TrackedParams | WheeledParams
 
@@ -42,6 +43,10 @@ class CommandPolicy(Protocol):
         """``(v_left_cmd, v_right_cmd)`` [m/s] for the poses at the current step."""
         ...
 
+
+#: Most steps one rollout may take (``t_max / dt``): 10 M steps of 8 states take 640 MB per
+#: run and minutes; more is a step or a speed given in the wrong unit.
+MAX_ROLLOUT_STEPS = 10_000_000
 
 #: Columns of a rollout row: pose at ``t_k``, commands, actual track speeds, yaw rate.
 ROLLOUT_STATE = ("x", "y", "yaw", "v_left_cmd", "v_right_cmd", "v_left", "v_right", "wz")
@@ -82,6 +87,11 @@ def rollout(
         Each run's last row.
     finished : ndarray of bool
         False for runs that hit the time limit.
+
+    Raises
+    ------
+    InputError
+        ``t_max / dt`` above :data:`MAX_ROLLOUT_STEPS` (a tiny step or speed).
     """
     n = len(params)
     icr = IcrArrays.of([p.icr for p in params], [p.top_track_speed_mps for p in params])
@@ -94,6 +104,12 @@ def rollout(
     h_top = float(np.max(1.1 * icr.top_speed_mps * inv_spread)) * dt
     series = h_top <= SERIES_HALF_ANGLE_MAX
     n_max = max(math.ceil(t_max / dt - 1e-9), 1)
+    if n_max > MAX_ROLLOUT_STEPS:
+        raise InputError(
+            f"a drive of up to {t_max:.3g} s at a step of {dt:g} s needs {n_max:.3g} steps, "
+            f"more than {MAX_ROLLOUT_STEPS:.0e}: raise the time step (simulation.dt_s) or the "
+            "speed"
+        )
     cap = min(n_max + 1, 4096)
     buf = np.empty((cap, len(ROLLOUT_STATE), n))
     x, y, yaw = pose0[:, 0].copy(), pose0[:, 1].copy(), pose0[:, 2].copy()

@@ -243,6 +243,18 @@ def path_cost(
     ------
     InputError
         Malformed path, non-positive speed, or plain parameters with terrain regions.
+
+    Examples
+    --------
+    A straight 10 m leg costs the straight-line energy (:func:`straight_energy`); its
+    breakdown adds up to the total:
+
+    >>> from ecoplan.presets import vehicle
+    >>> pc = path_cost([[0.0, 0.0], [10.0, 0.0]], vehicle("auriga-beta-wide", "asphalt"), 0.5)
+    >>> pc.length_m, pc.duration_s, round(pc.energy_j, 1)
+    (10.0, 20.0, 8421.1)
+    >>> round(sum(pc.breakdown_j.values()), 1)
+    8421.1
     """
     check_vehicle_world(vehicle, world)
     if isinstance(turn, HeadingController):
