@@ -415,7 +415,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
     out = _out(args)
     planners = parse_planners(args.planners)
-    cases = bench_cases(args.scenarios, planners, args.seeds, args.time)
+    cases = bench_cases(args.scenarios, planners, args.seeds, args.time, args.vehicle)
     folder = _prepare(args)
     with make_executor(args.scheduler, args.workers) as ex:
         with _progress(args, f"{len(cases)} cases on {ex.description}", len(cases)) as tick:
@@ -659,6 +659,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--planners", default="graph", help="comma list: graph, ompl:<name>")
     bench.add_argument("--seeds", type=int, default=3, help="seeds per OMPL planner")
     bench.add_argument("--time", type=float, default=1.0, help="planner time budget [s]")
+    _vehicle_option(bench)
     _sweep(bench)
     _common(bench)
     bench.set_defaults(func=_cmd_bench)
