@@ -22,8 +22,9 @@ def test_names_are_stable() -> None:
         "husky-a200",
         "pioneer-3at",
     ]
-    assert terrain_names("auriga-beta-wide") == ["asphalt", "hoisted", "marble"]
-    assert terrain_names("pioneer-3at") == ["asphalt", "vinyl"]
+    paper = ["asphalt", "hoisted", "marble"]
+    assert terrain_names("auriga-beta-wide") == sorted([*paper, "grass", "gravel", "sand", "snow"])
+    assert terrain_names("pioneer-3at") == ["asphalt", "grass", "gravel", "sand", "vinyl"]
     assert default_terrain("pioneer-3at") == "asphalt"
 
 
@@ -91,7 +92,7 @@ def test_vehicle_spec_on_terrains() -> None:
         (lambda: vehicle("husky"), r"unknown vehicle preset 'husky'; accepted: auriga-beta-narrow"),
         (
             lambda: vehicle("pioneer-3at", "marble"),
-            r"unknown terrain preset 'marble'.*asphalt, vinyl",
+            r"unknown terrain preset 'marble'.*asphalt, grass, gravel, sand, vinyl",
         ),
         (
             lambda: vehicle("pioneer-3at", overrides={"wheel": 1}),

@@ -86,6 +86,31 @@ def test_every_shipped_terrain_value_has_a_source(name: str) -> None:
         v.params(terrain)  # every terrain builds valid parameters
 
 
+#: Field terrains of the paper robots' files: the assumed rolling resistance beyond the
+#: hard ground's (C_rr), as the files state it.
+FIELD_CRR = {
+    "auriga-beta-wide": {"gravel": 0.03, "grass": 0.06, "sand": 0.15, "snow": 0.10},
+    "auriga-beta-narrow": {"gravel": 0.03, "grass": 0.06, "sand": 0.15, "snow": 0.10},
+    "pioneer-3at": {"gravel": 0.03, "grass": 0.06, "sand": 0.15},
+}
+
+
+@pytest.mark.parametrize("name", sorted(FIELD_CRR))
+def test_field_terrains_add_their_rolling_resistance_to_straight_driving(name: str) -> None:
+    # straight at v: the extra force C_rr M g at speed v through eta (tracked eq. 20; the
+    # wheeled model has no eta) over the asphalt power; masses: tracked Table I 286 kg,
+    # wheeled paper §III 30 kg
+    v = shipped_vehicle(name)
+    mass, eta = (286.0, 0.95) if name.startswith("auriga") else (30.0, 1.0)
+    for terrain, crr in FIELD_CRR[name].items():
+        assert v.terrain(terrain).mu is None or v.terrain(terrain).mu.source == "assumption"
+        for speed in (0.2, 0.5):
+            field = float(v.params(terrain).power(speed, speed).total_w)
+            hard = float(v.params("asphalt").power(speed, speed).total_w)
+            expected = crr * mass * G * speed / eta
+            assert field - hard == pytest.approx(expected, rel=0.01), (terrain, speed)
+
+
 def test_rolling_resistance_is_a_share_of_the_weight() -> None:
     # K of tracked eq. (18) from C_rr: the two sides share the force C_rr M g
     v = vehicle_from_mapping(ROBOT50)
