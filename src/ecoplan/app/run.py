@@ -18,6 +18,7 @@ import numpy as np
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.app.scenario.build import Case, Scenario, build_scenario
+from ecoplan.app.scenario.elevation import climb_power_w
 from ecoplan.app.scenario.schema import BatterySection, PlannerSection
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.objective import EnergyCost, LengthCost
@@ -25,6 +26,7 @@ from ecoplan.energy.path import path_cost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.models.limits import check_tracks
+from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import VehicleSpec
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
@@ -324,6 +326,7 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
             speed,
             world=sc.world,
             initial_heading_rad=spec.start.yaw_rad,
+            elevation=sc.elevation,
         )
         plan = dataclasses.replace(
             plan,
@@ -335,7 +338,7 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
     ctrl = HeadingController(spec.controller.gain, speed, spec.controller.d_th_m)
     estimate = path_cost(
         plan.waypoints, sc.vehicle, speed, world=sc.world,
-        initial_heading_rad=spec.start.yaw_rad, turn=ctrl,
+        initial_heading_rad=spec.start.yaw_rad, turn=ctrl, elevation=sc.elevation,
     )  # fmt: skip
     plan = dataclasses.replace(plan, estimate_energy_j=estimate.energy_j)
     return dataclasses.replace(plan, speed_policy=spec.speed.policy)
@@ -344,8 +347,11 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
 def _plan_with(
     sc: Scenario, planner: PlannerSection, speed_mps: float, time_budget_s: float | None
 ) -> PlanOutcome:
-    cost_cls = EnergyCost if planner.objective == "energy" else LengthCost
-    cost = cost_cls(sc.vehicle, speed_mps, world=sc.world)
+    cost: EnergyCost | LengthCost
+    if planner.objective == "energy":  # climbs cost M g dz / eta (terrain.elevation)
+        cost = EnergyCost(sc.vehicle, speed_mps, world=sc.world, elevation=sc.elevation)
+    else:
+        cost = LengthCost(sc.vehicle, speed_mps, world=sc.world)
     budget = planner.time_s if time_budget_s is None else time_budget_s  # the flag overrides
     start, goal, heading = sc.spec.start.xy, sc.goal_xy, sc.spec.start.yaw_rad
     if isinstance(sc.world, GridMap) or planner.type == "lattice":
@@ -492,6 +498,11 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
         comps = {k: np.asarray(v, dtype=np.float64) for k, v in sim.components_w.items()}
     if sc.model is not None and sc.model.effect != "none":
         p_total, comps = _with_effect(sc.model, sim, p_total, comps)
+    if sc.elevation is not None:  # G(q): the climbs along the simulated path
+        p = sc.params
+        eta = p.eta if isinstance(p, TrackedParams) else 1.0  # as energy.path charges them
+        comps["grade_w"] = climb_power_w(sc.elevation, sim.x, sim.y, dt, p.mass_kg, eta)
+        p_total = p_total + comps["grade_w"]
     violated = np.full(len(sim.t), "", dtype=object)
     for terr in sorted(set(terrain)):
         idx = np.flatnonzero(np.asarray(terrain) == terr)

@@ -8,8 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ecoplan.app.reports.tables import breakdown_components
 from ecoplan.errors import InputError
-from ecoplan.models.power import COMPONENTS
 
 if TYPE_CHECKING:
     from ecoplan.app.run import CaseResult
@@ -22,7 +22,8 @@ def write_log_csv(result: CaseResult, path: Path) -> Path:
 
     Columns: ``t, x, y, yaw, v_left_cmd, v_right_cmd, v_left, v_right, wz, p_total,
     p_left, p_right`` (the log contract), then ``case`` (Fig. 3), the breakdown
-    ``p_friction, p_resistance, ...`` [W] and the ``terrain`` label.  Power columns are
+    ``p_friction, p_resistance, ...`` [W] (``p_inertial`` too when the mass terms are
+    simulated) and the ``terrain`` label.  Power columns are
     terrain-aware.
     """
     sim = result.sim
@@ -43,7 +44,8 @@ def write_log_csv(result: CaseResult, path: Path) -> Path:
         "p_right": result.p_right_w,
         "case": sim.case,
     }
-    cols.update({f"p_{c.removesuffix('_w')}": result.components_w[c] for c in COMPONENTS})
+    comps = breakdown_components(result.components_w)  # + p_inertial when simulated
+    cols.update({f"p_{c.removesuffix('_w')}": result.components_w[c] for c in comps})
     data = np.column_stack([np.asarray(v, dtype=np.float64) for v in cols.values()])
     fmt = ["%.10g"] * len(cols)
     fmt[list(cols).index("case")] = "%d"

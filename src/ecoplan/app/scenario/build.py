@@ -18,6 +18,7 @@ from shapely import Point as ShapelyPoint
 from shapely import Polygon
 from shapely.validation import explain_validity
 
+from ecoplan.app.scenario.elevation import GroundElevation, ground_elevation
 from ecoplan.app.scenario.schema import (
     MAX_FILE_BYTES,
     PlannerSection,
@@ -102,6 +103,12 @@ class Scenario:
     def params(self) -> VehicleParams:
         """Vehicle parameters on the default terrain."""
         return self.vehicle.on()
+
+    @property
+    def elevation(self) -> GroundElevation | None:
+        """Ground elevation ``z(x, y)`` of ``terrain.elevation`` (None: flat ground)."""
+        t = self.spec.terrain
+        return None if t.elevation is None else ground_elevation(t.elevation)
 
     @property
     def default_terrain(self) -> str:
