@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -589,20 +590,24 @@ def battery_verdict(
     return BatteryVerdict(b.capacity_wh, usable, energy, completes, usable - energy, empty_at)
 
 
-def candidate_routes(sc: Scenario, vehicle: VehicleSpec) -> dict[str, Any]:
+def candidate_routes(
+    scenario: str | Path, vehicle: str, terrain: str | None = None
+) -> dict[str, Any]:
     """Candidate routes of a scenario as drive trajectories, for ranking by a diagnosis.
 
     Each case of the scenario (its ``compare`` variants, or the scenario itself) is
     planned (or takes its fixed waypoints), with the planner's alternatives when it
     returns several; every route is driven turn-on-the-spot then straight at the case's
-    speed (:func:`ecoplan.diagnose.loop.polyline_trajectory`).
+    speed (:func:`ecoplan.diagnose.loop.polyline_trajectory`) by the diagnosed vehicle.
 
     Parameters
     ----------
-    sc : Scenario
-        The scenario.
-    vehicle : VehicleSpec
-        The diagnosed vehicle on its terrain (``vehicle.terrain``).
+    scenario : str or Path
+        The scenario file (``ecoplan diagnose --scenario``).
+    vehicle : str
+        The diagnosed vehicle (``--vehicle``): the scenario must drive the same one.
+    terrain : str, optional
+        The diagnosed terrain (default: the vehicle's).
 
     Returns
     -------
@@ -612,11 +617,18 @@ def candidate_routes(sc: Scenario, vehicle: VehicleSpec) -> dict[str, Any]:
     Raises
     ------
     InputError
-        The scenario gives fewer than two routes.
+        The scenario drives another vehicle, or gives fewer than two routes.
     """
+    from ecoplan.app.scenario import load_scenario
     from ecoplan.diagnose.loop import polyline_trajectory
 
-    params = vehicle.on()
+    sc = load_scenario(scenario)
+    if sc.vehicle.name != vehicle:
+        raise InputError(
+            f"--scenario {scenario}: its vehicle is {sc.vehicle.name!r} but the logs are "
+            f"diagnosed against --vehicle {vehicle!r}; rank routes of the same vehicle"
+        )
+    params = VehicleSpec.of(vehicle, terrain).on()
     routes: dict[str, Any] = {}
     for case in sc.cases():
         plan = plan_case(case)
