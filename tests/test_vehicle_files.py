@@ -121,14 +121,19 @@ def test_impossible_vehicle_in_a_scenario_is_exit_2_with_one_line(
     assert re.search(r"vehicle.file: .*bad.yaml:\d+: " + expected, err), err
 
 
+def _robot100(tmp_path: Path) -> Path:
+    """robot50.yaml with twice the mass, as a vehicle file."""
+    heavy = yaml.safe_load((SCENARIOS / "vehicles" / "robot50.yaml").read_text())
+    heavy["name"], heavy["inertia"]["mass_kg"] = "robot100", 100.0
+    return _write(tmp_path, heavy, "robot100.yaml")
+
+
 def test_vehicle_option_replaces_the_scenarios_vehicle(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     from ecoplan.cli import main
 
-    heavy = yaml.safe_load((SCENARIOS / "vehicles" / "robot50.yaml").read_text())
-    heavy["name"], heavy["inertia"]["mass_kg"] = "robot100", 100.0
-    path = _write(tmp_path, heavy, "robot100.yaml")
+    path = _robot100(tmp_path)
     scenario = str(SCENARIOS / "own_robot.yaml")
     energy = {}
     for label, extra in (("robot50", []), ("robot100", ["--vehicle", str(path)])):
@@ -148,9 +153,7 @@ def test_vehicle_option_replaces_the_scenarios_vehicle(
 def test_bench_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from ecoplan.cli import main
 
-    heavy = yaml.safe_load((SCENARIOS / "vehicles" / "robot50.yaml").read_text())
-    heavy["name"], heavy["inertia"]["mass_kg"] = "robot100", 100.0
-    path = _write(tmp_path, heavy, "robot100.yaml")
+    path = _robot100(tmp_path)
     scenario = str(SCENARIOS / "own_robot.yaml")
     energy = {}
     for label, extra in (("robot50", []), ("robot100", ["--vehicle", str(path)])):

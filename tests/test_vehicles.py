@@ -18,7 +18,7 @@ from ecoplan.models.vehicles import (
     vehicle_from_mapping,
 )
 from ecoplan.models.wheeled import WheeledParams
-from ecoplan.presets import VehicleSpec, vehicle
+from ecoplan.presets import vehicle
 
 G = 9.81
 
@@ -133,11 +133,11 @@ def test_wheeled_rolling_resistance_adds_to_the_straight_slope() -> None:
     assert straight[1] - straight[0] == pytest.approx(0.1 * 30.0 * G * 0.4)
 
 
-def test_vehicle_spec_takes_a_file_and_overrides() -> None:
+def test_vehicle_takes_a_file_and_overrides() -> None:
     v = vehicle_from_mapping(ROBOT50)
-    spec = VehicleSpec.of(v, "sand", {"eta": 0.8})
-    assert spec.name == "robot50"
-    assert spec.on().eta == 0.8
+    spec = vehicle(v, "sand", {"eta": 0.8})
+    assert spec.name == "robot50/sand" and spec.source is v
+    assert spec.on().eta == 0.8 and spec.on("asphalt").eta == 0.8
     assert spec.on("asphalt").mu == 0.5
     with pytest.raises(InputError, match="unknown terrain preset 'snow' for robot50"):
         spec.on("snow")

@@ -28,7 +28,7 @@ from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.tracked import TrackedParams
-from ecoplan.presets import VehicleSpec
+from ecoplan.presets import vehicle as named_vehicle
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
 __all__ = [
@@ -623,12 +623,12 @@ def candidate_routes(
     from ecoplan.diagnose.loop import polyline_trajectory
 
     sc = load_scenario(scenario)
-    if sc.vehicle.name != vehicle:
+    if sc.vehicle_name != vehicle:
         raise InputError(
-            f"--scenario {scenario}: its vehicle is {sc.vehicle.name!r} but the logs are "
+            f"--scenario {scenario}: its vehicle is {sc.vehicle_name!r} but the logs are "
             f"diagnosed against --vehicle {vehicle!r}; rank routes of the same vehicle"
         )
-    params = VehicleSpec.of(vehicle, terrain).on()
+    params = named_vehicle(vehicle, terrain)
     routes: dict[str, Any] = {}
     for case in sc.cases():
         plan = plan_case(case)
