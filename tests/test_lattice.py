@@ -23,7 +23,7 @@ from ecoplan.geometry.world import PointInObstacleError
 from ecoplan.models.limits import feasible
 from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
 from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions, PenaltyWeights
-from ecoplan.presets import VehicleSpec
+from ecoplan.presets import vehicle
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
 VEHICLES = [("auriga-beta-narrow", 0.5), ("pioneer-3at", 0.4)]
@@ -61,7 +61,7 @@ def _blocked_at(grid: GridMap, pts: np.ndarray) -> np.ndarray:
 @pytest.mark.parametrize(("name", "speed"), VEHICLES)
 def test_routes_are_collision_free_and_feasible(seed: int, name: str, speed: float) -> None:
     grid = _random_grid(seed)
-    spec = VehicleSpec.of(name)
+    spec = vehicle(name)
     opts = LatticePlannerOptions(time_budget_s=30.0)
     res = LatticePlanner(grid, EnergyCost(spec, speed), opts).plan((1.5, 1.5), (28.5, 28.5))
     plan = res.best
@@ -92,7 +92,7 @@ def test_routes_are_collision_free_and_feasible(seed: int, name: str, speed: flo
 @pytest.mark.parametrize(("name", "speed"), VEHICLES)
 def test_open_floor_energy_is_near_the_straight_line_bound(name: str, speed: float) -> None:
     grid = GridMap(np.zeros((200, 300), dtype=np.int8), 0.1, inflation_m=0.3)
-    spec = VehicleSpec.of(name)
+    spec = vehicle(name)
     s, g = (1.0, 1.2), (28.0, 17.3)
     opts = LatticePlannerOptions(time_budget_s=60.0)  # every smoothing pass, even under load
     res = LatticePlanner(grid, EnergyCost(spec, speed), opts).plan(s, g)
@@ -133,7 +133,7 @@ def test_terrain_penalty_steers_the_route() -> None:
     labels = np.zeros((200, 300), dtype=np.uint8)
     labels[:150, 130:170] = 1
     grid = GridMap(occ, 0.1, terrain=labels, terrain_names=("asphalt", "vinyl"))
-    spec = VehicleSpec.of("pioneer-3at")
+    spec = vehicle("pioneer-3at")
     cost = LengthCost(spec, 0.4)
     s, g = (2.0, 2.0), (28.0, 2.0)
     opts = LatticePlannerOptions(time_budget_s=60.0)
@@ -154,7 +154,7 @@ def test_terrain_penalty_steers_the_route() -> None:
 
 def test_bad_inputs_are_one_line_errors() -> None:
     grid = _random_grid(0)
-    cost = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5)
+    cost = EnergyCost(vehicle("auriga-beta-narrow"), 0.5)
     planner = LatticePlanner(grid, cost)
     with pytest.raises(PointInObstacleError, match="start"):
         planner.plan((0.05, 0.05), (28.5, 28.5))

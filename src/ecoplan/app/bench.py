@@ -18,6 +18,7 @@ from typing import Any
 from ecoplan.app.outdir import OutDir
 from ecoplan.app.run import run_case
 from ecoplan.app.scenario import Case, load_scenario
+from ecoplan.app.scenario.load import with_vehicle
 from ecoplan.app.scenario.schema import PlannerSection
 from ecoplan.errors import InputError
 
@@ -105,7 +106,11 @@ def parse_planners(text: str) -> list[str]:
 
 
 def bench_cases(
-    scenarios: Sequence[str | Path], planners: Sequence[str], seeds: int, time_s: float
+    scenarios: Sequence[str | Path],
+    planners: Sequence[str],
+    seeds: int,
+    time_s: float,
+    vehicle: str | Path | None = None,
 ) -> list[BenchCase]:
     """Every (scenario, planner, seed) case; scenarios are validated before any work.
 
@@ -119,6 +124,10 @@ def bench_cases(
         Seeds per OMPL planner, 1..10000.
     time_s : float
         Planning time budget per case [s], in (0, 3600].
+    vehicle : str or path, optional
+        A vehicle file or preset driven instead of each scenario's vehicle (``--vehicle``;
+        see :func:`ecoplan.app.scenario.load.with_vehicle`).  A file is named by its
+        absolute path in the cases, so workers on another machine need it at that path.
 
     Returns
     -------
@@ -128,7 +137,8 @@ def bench_cases(
     Raises
     ------
     InputError
-        Bad counts or budgets, an invalid scenario or one without a goal.
+        Bad counts or budgets, an invalid scenario or one without a goal, or a vehicle
+        lacking a terrain of a scenario.
     """
     if seeds < 1 or seeds > 10_000:
         raise InputError(f"--seeds {seeds}: expected 1..10000")
@@ -137,6 +147,8 @@ def bench_cases(
     out = []
     for path in scenarios:
         sc = load_scenario(path)
+        if vehicle is not None:
+            sc = with_vehicle(sc, vehicle)
         if sc.spec.goal is None:
             raise InputError(f"{path}: bench needs a scenario with a goal (it plans the route)")
         for label in planners:

@@ -193,10 +193,10 @@ class LatticePlanner:
     >>> import numpy as np
     >>> from ecoplan.geometry.maps import GridMap
     >>> from ecoplan.energy.objective import EnergyCost
-    >>> from ecoplan.presets import VehicleSpec
+    >>> from ecoplan.presets import vehicle
     >>> occ = np.zeros((100, 200), dtype=np.int8); occ[30:70, 90:110] = 100
     >>> grid = GridMap(occ, 0.1, inflation_m=0.3)
-    >>> cost = EnergyCost(VehicleSpec.of("auriga-beta-wide"), 0.5)
+    >>> cost = EnergyCost(vehicle("auriga-beta-wide"), 0.5)
     >>> res = LatticePlanner(grid, cost).plan((1.0, 5.0), (19.0, 5.0))
     >>> bool(res.best.cost.feasible), res.best.n_waypoints >= 3
     (True, True)
