@@ -260,19 +260,44 @@ class GridMap:
         free = ~self.blocked[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)]
         return np.asarray(inside & free, dtype=np.bool_)
 
-    def _sample_free(self, a: FloatArray, b: FloatArray) -> BoolArray:
-        """Free flag of every quarter-cell sample of the segments ``a[k] -> b[k]``.
+    def segment_samples(
+        self, p0: ArrayLike, p1: ArrayLike, per_cell: int = 4
+    ) -> tuple[IntArray, IntArray, IntArray]:
+        """Cells of samples along the segments ``p0[k] -> p1[k]`` (vectorised).
 
-        The flags of all samples, concatenated segment after segment (``ceil(length /
-        (res/4)) + 1`` samples each, end points included).
+        Each segment gets ``ceil(length / (res / per_cell)) + 1`` samples, end points
+        included (``per_cell=4``: the samples of :meth:`segment_free`).
+
+        Parameters
+        ----------
+        p0, p1 : array_like, shape (n, 2)
+            End points [m].
+        per_cell : int
+            Samples per cell length.
+
+        Returns
+        -------
+        segment, row, col : ndarray of int
+            Per sample: the index of its segment (samples of a segment are contiguous,
+            in order) and its cell, which may be outside the grid.
         """
-        n = np.maximum(np.ceil(np.hypot(*(b - a).T) / (self.resolution_m / 4.0)), 1.0)
+        a = np.asarray(p0, dtype=np.float64).reshape(-1, 2)
+        b = np.asarray(p1, dtype=np.float64).reshape(-1, 2)
+        n = np.maximum(np.ceil(np.hypot(*(b - a).T) / (self.resolution_m / per_cell)), 1.0)
         counts = n.astype(np.int64) + 1
         seg = np.repeat(np.arange(len(a)), counts)
         first = np.concatenate([[0], np.cumsum(counts)[:-1]])
         t = (np.arange(len(seg)) - first[seg]) / n[seg]
         pts = a[seg] + t[:, None] * (b[seg] - a[seg])
-        return self.is_free(pts[:, 0], pts[:, 1])
+        row, col = self.cell_of(pts[:, 0], pts[:, 1])
+        return seg, row, col
+
+    def _sample_free(self, a: FloatArray, b: FloatArray) -> BoolArray:
+        """Free flag of every sample of :meth:`segment_samples`."""
+        _, row, col = self.segment_samples(a, b)
+        ny, nx = self.shape
+        free = ~self.blocked[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)]
+        return np.asarray(self._inside(row, col) & free, dtype=np.bool_)
 
     def segment_free(self, p0: ArrayLike, p1: ArrayLike) -> bool:
         """True when every sample of ``p0 -> p1`` (a quarter cell apart) is free."""
