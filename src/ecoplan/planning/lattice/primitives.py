@@ -225,14 +225,15 @@ def _fillet_offsets(
     return pairs[:, 0], pairs[:, 1]
 
 
-def _shift_valid(free: BoolGrid, d: IntArray) -> BoolGrid:
-    """True where the node ``d = (dx, dy)`` away exists and is free."""
-    ny, nx = free.shape
-    out = np.zeros_like(free)
+def _shifted(a: npt.NDArray[_G], d: IntArray, fill: object) -> npt.NDArray[_G]:
+    """``out[r, c] = a[r + dy, c + dx]`` where that exists, else ``fill``."""
+    ny, nx = a.shape
+    out = np.full_like(a, fill)
     dx, dy = int(d[0]), int(d[1])
     r0, r1 = max(0, -dy), min(ny, ny - dy)
     c0, c1 = max(0, -dx), min(nx, nx - dx)
-    out[r0:r1, c0:c1] = free[r0 + dy : r1 + dy, c0 + dx : c1 + dx]
+    if r0 < r1 and c0 < c1:
+        out[r0:r1, c0:c1] = a[r0 + dy : r1 + dy, c0 + dx : c1 + dx]
     return out
 
 
@@ -337,38 +338,38 @@ def build_lattice(grid: GridMap, costs: TerrainCosts, dirs: IntArray, k: int) ->
             )
             e += per_m[lab]
         length = math.hypot(float(d[0]), float(d[1])) * cell_m
-        ok = ~hit & node_free & _shift_valid(node_free, d)
+        ok = ~hit & node_free & _shifted(node_free, d, False)
         step[h] = np.where(ok, e / len(ts) * length, np.inf)
-    ids = np.arange(ny * nx).reshape(ny, nx)
-    r_all, c_all = np.meshgrid(np.arange(ny), np.arange(nx), indexing="ij")
     src: list[IntArray] = []
     dst: list[IntArray] = []
     wts: list[FloatArray] = []
 
+    runs: dict[tuple[int, int], FloatArray] = {}
+
+    def run(h: int, mm: int) -> FloatArray:
+        # cost of mm straight steps on heading h from each node (inf: blocked)
+        if mm == 0:
+            return np.zeros((ny, nx))
+        if (h, mm) not in runs:
+            runs[h, mm] = run(h, mm - 1) + _shifted(step[h], (mm - 1) * dirs[h], np.inf)
+        return runs[h, mm]
+
     def add(h_from: int, h_to: int, m: IntArray, w_turn: FloatArray) -> None:
         # turn at the node (h_from -> h_to), then m straight steps on h_to
         w = np.where(node_free, w_turn, np.inf)
-        d = dirs[h_to]
-        for mm in np.unique(m):
-            sel = (m == mm) & np.isfinite(w)
-            rr, cc = r_all[sel], c_all[sel]
-            acc = w[sel]
-            for _ in range(int(mm)):
-                inside = (rr >= 0) & (rr < ny) & (cc >= 0) & (cc < nx)
-                rr, cc, acc = rr[inside], cc[inside], acc[inside]
-                acc = acc + step[h_to][rr, cc]
-                rr, cc = rr + d[1], cc + d[0]
-            keep = np.isfinite(acc) & (rr >= 0) & (rr < ny) & (cc >= 0) & (cc < nx)
-            r0, c0 = rr[keep] - int(mm) * d[1], cc[keep] - int(mm) * d[0]
-            src.append(ids[r0, c0] * n_h + h_from)
-            dst.append(ids[rr[keep], cc[keep]] * n_h + h_to)
-            wts.append(acc[keep])
+        dx, dy = (int(v) for v in dirs[h_to])
+        for mm in np.unique(m).tolist():
+            acc = w + run(h_to, mm)
+            r0, c0 = np.nonzero((m == mm) & np.isfinite(acc))
+            src.append((r0 * nx + c0) * n_h + h_from)
+            dst.append(((r0 + mm * dy) * nx + c0 + mm * dx) * n_h + h_to)
+            wts.append(acc[r0, c0])
 
     for h in range(n_h):
         d = dirs[h]
         sr, sc = np.nonzero(np.isfinite(step[h]))
-        src.append(ids[sr, sc] * n_h + h)
-        dst.append(ids[sr + d[1], sc + d[0]] * n_h + h)
+        src.append((sr * nx + sc) * n_h + h)
+        dst.append(((sr + d[1]) * nx + sc + d[0]) * n_h + h)
         wts.append(step[h][sr, sc])
         for side, dh in enumerate((1, -1)):
             h2 = (h + dh) % n_h

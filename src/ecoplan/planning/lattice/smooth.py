@@ -167,10 +167,8 @@ class Smoother:
             for k in range(len(q))
         ])  # fmt: skip
 
-    def _resample(self, wps: FloatArray, densify: bool) -> tuple[FloatArray, list[int]]:
+    def _resample(self, wps: FloatArray) -> tuple[FloatArray, list[int]]:
         """Points every node spacing along ``wps`` and the index of each waypoint there."""
-        if not densify:
-            return wps, list(range(len(wps)))
         dense = [wps[:1]]
         at = [0]
         for a, b in itertools.pairwise(wps):
@@ -180,11 +178,10 @@ class Smoother:
             at.append(at[-1] + n)
         return np.concatenate(dense), at
 
-    def shortcut(self, wps: FloatArray, lookahead: int = 48, densify: bool = True) -> FloatArray:
+    def shortcut(self, wps: FloatArray, lookahead: int | None = None) -> FloatArray:
         """Any-angle smoothing of the lattice polyline (string pulling).
 
-        The polyline is resampled every node spacing (unless ``densify`` is False: a
-        second pass over the waypoints only); from each kept point the farthest
+        The polyline is resampled every node spacing; from each kept point the farthest
         of the next ``lookahead`` points joined by a free straight segment whose search
         cost is not higher than the stretch it replaces (straights and turns) is kept.
 
@@ -192,17 +189,17 @@ class Smoother:
         ----------
         wps : ndarray, shape (n, 2)
             Waypoints [m].
-        lookahead : int
-            Points ahead tried from each kept point.
-        densify : bool
-            Resample the polyline first.
+        lookahead : int, optional
+            Points ahead tried from each kept point; None: 48, or the points within
+            32 m when there are more (fine lattices: one pass straightens longer runs).
 
         Returns
         -------
         ndarray, shape (m, 2)
             Smoothed waypoints (:func:`simplify`-ed).
         """
-        pts, at = self._resample(wps, densify)
+        pts, at = self._resample(wps)
+        look = lookahead if lookahead is not None else max(48, math.ceil(32.0 / self.cell_m))
         n = len(pts)
         if n < 3:
             return pts
@@ -216,7 +213,7 @@ class Smoother:
         keep = [0, 0]
         i = 0
         while i < n - 1:
-            nxt = self._next(pts, cum, cum_v, keep[-2], i, lookahead)
+            nxt = self._next(pts, cum, cum_v, keep[-2], i, look)
             keep.append(nxt)
             i = nxt
         return simplify(pts[keep[1:]])
