@@ -188,3 +188,31 @@ def test_smoothing_never_loses_against_the_raw_lattice_path() -> None:
     opts = [LatticePlannerOptions(smoothing_passes=n, time_budget_s=30.0) for n in (0, 1)]
     e_raw, e_one = (LatticePlanner(grid, cost, o).plan(s, g).best.energy_j for o in opts)
     assert e_one < 0.99 * e_raw
+
+
+@pytest.mark.parametrize(("name", "speed"), [*VEHICLES, ("husky-a200", 0.5)])
+def test_astar_finds_the_dijkstra_optimum(name: str, speed: float) -> None:
+    # A* (reweighted, limited Dijkstra) against plain Dijkstra on the same lattice: the
+    # planner with a zero heuristic searches every state, as Dijkstra does; the optimal
+    # lattice costs must agree (to the 1e-9 per transition floor of the reweighting)
+    occ = np.zeros((300, 300), dtype=np.int8)
+    for x0, y0, x1, y1 in _random_rects(3):
+        occ[y0:y1, x0:x1] = 100
+    labels = np.minimum(np.arange(300) * 3 // 300, 2).astype(np.uint8)[None, :].repeat(300, 0)
+    names = (
+        ("asphalt", "vinyl", "asphalt")
+        if name == "pioneer-3at"
+        else ("asphalt", "marble", "asphalt")
+    )
+    if name == "husky-a200":
+        names = ("asphalt", "snow", "sandy_loam")
+    grid = GridMap(occ, 0.1, inflation_m=0.4, terrain=labels, terrain_names=names)
+    cost = EnergyCost(VehicleSpec.of(name), speed)
+    opts = LatticePlannerOptions(smoothing_passes=0, time_budget_s=30.0)
+    planner = LatticePlanner(grid, cost, opts)
+    s, g = (1.5, 1.5), (28.5, 28.5)
+    astar = planner.plan(s, g).stats["lattice_cost"]
+    n_nodes = planner.shape_[0] * planner.shape_[1]
+    planner._heuristic = lambda *_: np.zeros(n_nodes)  # type: ignore[method-assign]
+    dijkstra = planner.plan(s, g).stats["lattice_cost"]
+    assert astar == pytest.approx(dijkstra, rel=1e-9, abs=1e-6)

@@ -21,9 +21,13 @@ Every primitive's cost is computed for all nodes at once with numpy when the pla
 built (:mod:`~ecoplan.planning.lattice.primitives`), collision-checked against the
 **inflated fine grid** (:attr:`ecoplan.geometry.maps.GridMap.blocked`) through
 precomputed fine-cell offsets sampled every quarter of a fine cell, read as strided
-views of the grid (one per offset, no index arrays). A query runs Dijkstra
-(scipy.sparse.csgraph, in C) from the start node; Dijkstra is A* with the zero
-heuristic, which is admissible, so the result is optimal on the lattice. Any-angle
+views of the grid (one per offset, no index arrays). A query runs A* from the start: the
+heuristic is a 2-D Dijkstra from the goal over the straight steps alone (every
+transition is a turn of cost >= 0 and straight steps, so it is an admissible and
+consistent lower bound: terrain and obstacles included, turns left out), and the search
+is scipy's Dijkstra (in C) on the transitions reweighted by the heuristic, limited to a
+growing bound -- the states it settles are those A* expands, and the result is optimal
+on the lattice (``tests/test_lattice.py`` checks it against plain Dijkstra). Any-angle
 smoothing passes (:mod:`~ecoplan.planning.lattice.smooth`: string pulling on the grid)
 follow while the time budget lasts; every stage is evaluated in full and the best one is
 kept. The budget is checked between phases: the build is not part of a query's budget; a

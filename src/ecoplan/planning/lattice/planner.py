@@ -28,6 +28,9 @@ from ecoplan.planning.lattice.smooth import Smoother, simplify
 
 __all__ = ["LatticePlanner", "LatticePlannerOptions", "plan_lattice"]
 
+_FAR = 1e300  # reweighted cost of a transition that cannot lead to the goal
+_TINY = 1e-9  # smallest reweighted cost (rounding; adds < 1e-9 per transition)
+
 
 @dataclass(frozen=True, slots=True)
 class LatticePlannerOptions:
@@ -163,6 +166,9 @@ class LatticePlanner:
         self.n_states_ = self.lattice_.n_states
         self.n_edges_ = self.lattice_.n_edges
         self._per_m = costs.per_m
+        g = self.lattice_.graph  # the end nodes of every transition, for the reweighting
+        self._edge_u = np.repeat(np.arange(g.shape[0]) // len(self.dirs_), np.diff(g.indptr))
+        self._edge_v = g.indices // len(self.dirs_)
         self._smoother = Smoother(grid, cost, costs.per_m, self.cell_m_, weights)
         self.build_time_s_ = deadline.elapsed_s
 
@@ -258,6 +264,74 @@ class LatticePlanner:
             ramps=self.cost.ramps,
         )
 
+    def _heuristic(self, goal_nodes: IntArray, goal_cost: FloatArray) -> FloatArray:
+        """Lower bound of the cost to the goal from every node (inf: no way there).
+
+        Dijkstra from the goal over the reversed straight steps
+        (:attr:`~ecoplan.planning.lattice.primitives.LatticeGraph.reverse_steps`): turns
+        cost >= 0 and every transition is made of those steps, so the bound is
+        admissible and, being a shortest distance, consistent.
+        """
+        n = self.shape_[0] * self.shape_[1]
+        ok = np.isfinite(goal_cost)
+        sink = sparse.csr_matrix(
+            (goal_cost[ok], (np.full(int(ok.sum()), n), goal_nodes[ok])), shape=(n + 1, n + 1)
+        )
+        h = csgraph.dijkstra(self.lattice_.reverse_steps + sink, directed=True, indices=n)
+        return np.asarray(h[:n], dtype=np.float64)
+
+    def _astar(
+        self,
+        h: FloatArray,
+        starts: tuple[IntArray, FloatArray],
+        goals: tuple[IntArray, FloatArray, IntArray],
+    ) -> tuple[FloatArray, IntArray]:
+        """A* from the source to the sink: Dijkstra on the reweighted graph, limited.
+
+        Each transition ``u -> v`` costs ``w - h(u) + h(v)`` (>= 0 for a consistent
+        ``h``; raised to 1e-9), so a state's distance from the source is ``g + h`` and
+        Dijkstra limited to ``L`` settles exactly the states A* expands with ``f <= L``;
+        the sink's distance is the true cost of the path.  ``L`` grows from the smallest
+        ``f`` of a start state until the sink is reached (then the path is optimal: every
+        state on it has ``f`` at most the cost).  Returns distances and predecessors as
+        :func:`scipy.sparse.csgraph.dijkstra`.
+        """
+        g = self.lattice_.graph
+        n = g.shape[0]
+        src, snk = n - 2, n - 1
+        with np.errstate(invalid="ignore"):
+            w = g.data - h[self._edge_u] + h[self._edge_v]
+        # > 0: scipy drops explicit zeros when adding sparse matrices (lost transitions)
+        w = np.where(np.isfinite(w), np.maximum(w, _TINY), _FAR)
+        s_states, s_w = starts
+        g_states, g_w, g_nodes = goals
+        s_f = s_w + h[s_states // len(self.dirs_)]
+        g_f = np.maximum(g_w - h[g_nodes], _TINY)
+        s_ok, g_ok = np.isfinite(s_f), np.isfinite(g_f)
+        joins = sparse.csr_matrix(
+            (
+                np.concatenate([s_f[s_ok], g_f[g_ok]]),
+                (np.concatenate([np.full(int(s_ok.sum()), src), g_states[g_ok]]),
+                 np.concatenate([s_states[s_ok], np.full(int(g_ok.sum()), snk)])),
+            ),
+            shape=(n, n),
+        )  # fmt: skip
+        graph = sparse.csr_matrix((w, g.indices, g.indptr), shape=g.shape) + joins
+        f0 = float(s_f[s_ok].min()) if s_ok.any() else math.inf
+        dist = np.full(n, np.inf)
+        pred = np.full(n, -9999, dtype=np.int32)
+        if not math.isfinite(f0) or f0 >= _FAR:
+            return dist, pred
+        for grow in (1.01, 1.03, 1.06, 1.12, 1.25, 1.5, 2.0, math.inf):
+            limit = f0 * grow + EPS
+            dist, pred = csgraph.dijkstra(
+                graph, directed=True, indices=src, return_predecessors=True, limit=limit
+            )
+            if dist[snk] < _FAR:
+                break
+        dist = np.where(dist < _FAR, dist, np.inf)
+        return dist, pred
+
     def _node_xy(self, i: IntArray | int, j: IntArray | int) -> FloatArray:
         rows, cols = self.lattice_.fine_rows, self.lattice_.fine_cols
         x, y = self.grid.cell_centre(rows[i], cols[j])
@@ -317,14 +391,13 @@ class LatticePlanner:
         s_states, s_w, s_join_nodes = s_states[pick], s_w[pick], s_join_nodes[pick]
         s_ok, g_ok = np.isfinite(s_w), np.isfinite(g_w)
         s_join_of = dict(zip(s_states.tolist(), s_join_nodes.tolist(), strict=True))
-        rows = np.concatenate([np.full(int(s_ok.sum()), src), g_states[g_ok]])
-        cols = np.concatenate([s_states[s_ok], np.full(int(g_ok.sum()), snk)])
-        w = np.concatenate([s_w[s_ok], g_w[g_ok]])
-        n = self.n_states_ + 2
-        graph = self.lattice_.graph + sparse.csr_matrix((w, (rows, cols)), shape=(n, n))
         deadline.check("joining start and goal to the lattice")
         t_join = deadline.elapsed_s
-        dist, pred = csgraph.dijkstra(graph, directed=True, indices=src, return_predecessors=True)
+        g_nodes = g_join[:, 0].astype(np.int64)
+        h = self._heuristic(g_nodes, np.min(g_join[:, 1:], axis=1))
+        dist, pred = self._astar(
+            h, (s_states[s_ok], s_w[s_ok]), (g_states[g_ok], g_w[g_ok], g_nodes.repeat(n_h)[g_ok])
+        )
         t_search = deadline.elapsed_s - t_join
         total = float(dist[snk])
         if not math.isfinite(total):

@@ -276,6 +276,11 @@ class LatticeGraph:
     graph : scipy.sparse.csr_matrix
         Transition costs between states ``node * headings + heading``, with two spare
         states at the end (the query's source and sink).
+    reverse_steps : scipy.sparse.csr_matrix
+        The straight steps between nodes, reversed (``[to, from]`` holds the step's
+        cost), with a spare node at the end (the query's goal): the 2-D graph of
+        the A* heuristic.  Every transition of :attr:`graph` is a turn (cost >= 0) and
+        straight steps, so a shortest distance on it is a lower bound.
     costs : TerrainCosts
         The per-terrain primitive costs the graph was built from.
     """
@@ -286,6 +291,7 @@ class LatticeGraph:
     node_free: BoolGrid
     step: FloatArray
     graph: sparse.csr_matrix
+    reverse_steps: sparse.csr_matrix
     costs: TerrainCosts
 
     @property
@@ -387,6 +393,13 @@ def build_lattice(grid: GridMap, costs: TerrainCosts, dirs: IntArray, k: int) ->
     graph = sparse.csr_matrix(
         (np.concatenate(wts), (np.concatenate(src), np.concatenate(dst))), shape=(n, n)
     )
+    # straight edges are the first of each heading's three groups: rebuild them reversed
+    fwd = [np.nonzero(np.isfinite(step[h])) for h in range(n_h)]
+    frm = np.concatenate([r * nx + c for r, c in fwd])
+    to = np.concatenate([(r + d[1]) * nx + c + d[0] for (r, c), d in zip(fwd, dirs, strict=True)])
+    w_st = np.concatenate([step[h][r, c] for h, (r, c) in enumerate(fwd)])
+    n_nodes = ny * nx + 1
+    reverse = sparse.csr_matrix((w_st, (to, frm)), shape=(n_nodes, n_nodes))
     rows = np.arange(ny) * k + k // 2
     cols = np.arange(nx) * k + k // 2
-    return LatticeGraph((ny, nx), rows, cols, node_free, step, graph, costs)
+    return LatticeGraph((ny, nx), rows, cols, node_free, step, graph, reverse, costs)
