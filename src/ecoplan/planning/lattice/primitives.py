@@ -360,11 +360,11 @@ def build_lattice(grid: GridMap, costs: TerrainCosts, dirs: IntArray, k: int) ->
             runs[h, mm] = run(h, mm - 1) + _shifted(step[h], (mm - 1) * dirs[h], np.inf)
         return runs[h, mm]
 
-    def add(h_from: int, h_to: int, m: IntArray, w_turn: FloatArray) -> None:
+    def add(h_from: int, side: int, h_to: int, m: IntArray, w_turn: FloatArray) -> None:
         # turn at the node (h_from -> h_to), then m straight steps on h_to
         w = np.where(node_free, w_turn, np.inf)
         dx, dy = (int(v) for v in dirs[h_to])
-        for mm in np.unique(m).tolist():
+        for mm in np.unique(m_steps[:, h_from, side]).tolist():  # the few per terrain
             acc = w + run(h_to, mm)
             r0, c0 = np.nonzero((m == mm) & np.isfinite(acc))
             src.append((r0 * nx + c0) * n_h + h_from)
@@ -388,7 +388,7 @@ def build_lattice(grid: GridMap, costs: TerrainCosts, dirs: IntArray, k: int) ->
                     *_fillet_offsets(dirs[h], dirs[h2], float(radius), grid.resolution_m)
                 )
                 w_turn = np.where(hit & (r_node == radius), np.inf, w_turn)
-            add(h, h2, m_steps[node_terr, h, side], w_turn)
+            add(h, side, h2, m_steps[node_terr, h, side], w_turn)
     n = ny * nx * n_h + 2
     graph = sparse.csr_matrix(
         (np.concatenate(wts), (np.concatenate(src), np.concatenate(dst))), shape=(n, n)
