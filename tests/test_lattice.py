@@ -110,7 +110,7 @@ POLYGON_SCENARIOS = [p for p in sorted(SCENARIOS.glob("*.yaml")) if "ros:" not i
 
 @pytest.mark.slow
 @pytest.mark.parametrize("path", POLYGON_SCENARIOS, ids=lambda p: p.stem)
-def test_lattice_not_worse_than_graph_planner_on_shipped_scenarios(path: Path) -> None:
+def test_lattice_and_graph_planner_agree_on_shipped_scenarios(path: Path) -> None:
     sc = load_scenario(path)
     v = sc.spec.speed.v_mps or 0.5
     s, g = sc.spec.start.xy, sc.goal_xy
@@ -125,6 +125,11 @@ def test_lattice_not_worse_than_graph_planner_on_shipped_scenarios(path: Path) -
     assert lat.best.cost.feasible
     # the rasterised map is at most one 5 cm cell more conservative than the polygons
     assert lat.best.energy_j <= 1.02 * graph.best.energy_j
+    # and the two agree within 2 % the other way too, except where the graph planner is
+    # known to fall short (pioneer_power_limit: the lattice's route is 7.2 % cheaper; the
+    # graph planner's shortfall, reported in issue #14)
+    if path.stem != "pioneer_power_limit":
+        assert lat.best.energy_j >= 0.98 * graph.best.energy_j
 
 
 def test_terrain_penalty_steers_the_route() -> None:
