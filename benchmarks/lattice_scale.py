@@ -14,7 +14,9 @@ four labels carry two distinct terrains each; the Husky A200 (0.5 m/s) its ident
 asphalt, sandy loam, snow and flooring.
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
-of every node), query time (Dijkstra + smoothing + full evaluation), energy, feasibility.
+of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and
+the process CPU time of build + query (``cpu_s``: what the planner itself costs, less
+sensitive than wall clock to other processes on a shared machine).
 On the largest size and obstacle count the planner's energy is compared with a finer
 reference: the same lattice at half the node spacing (``cell_m / 2``) and a 60 s budget.
 
@@ -116,8 +118,10 @@ def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) ->
         row.update(disconnected=True)  # no path exists on the inflated grid: not a failure
         return row
     try:
+        cpu0 = time.process_time()
         planner = LatticePlanner(grid, cost, LatticePlannerOptions(time_budget_s=30.0))
         res = planner.plan(start, goal)
+        cpu = time.process_time() - cpu0
     except EcoplanError as exc:
         row.update(error=str(exc))
         return row
@@ -126,6 +130,7 @@ def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) ->
         build_s=planner.build_time_s_,
         query_s=res.planning_time_s,
         total_s=planner.build_time_s_ + res.planning_time_s,
+        cpu_s=cpu,
         energy_j=res.best.energy_j,
         feasible=res.best.cost.feasible,
         length_m=res.best.cost.length_m,
@@ -249,13 +254,15 @@ def before_after(
                 (a if a["tree"] == tree else b)[k] for a, b in pairs
             )
             for tree in ("this", rev)
-            for k in ("build_s", "query_s", "total_s", "energy_j")
+            for k in ("build_s", "query_s", "total_s", "cpu_s", "energy_j")
         }  # fmt: skip
         print(
             f"  {name}: build+query {med[rev, 'total_s']:.2f} -> {med['this', 'total_s']:.2f} s "
             f"(x{med['this', 'total_s'] / med[rev, 'total_s']:.2f}); "
             f"build {med[rev, 'build_s']:.2f} -> {med['this', 'build_s']:.2f} s; "
             f"query {med[rev, 'query_s']:.2f} -> {med['this', 'query_s']:.2f} s; "
+            f"CPU {med[rev, 'cpu_s']:.2f} -> {med['this', 'cpu_s']:.2f} s "
+            f"(x{med['this', 'cpu_s'] / med[rev, 'cpu_s']:.2f}); "
             f"energy x{med['this', 'energy_j'] / med[rev, 'energy_j']:.4f} (n={len(pairs)})"
         )
     return rows
@@ -340,12 +347,14 @@ def main(argv: list[str] | None = None) -> int:
         ratios = [r["ratio"] for r in sel if "ratio" in r]
         med_t, p95_t = statistics.median(tot), _pct(tot, 95)
         med_r = statistics.median(ratios) if ratios else math.nan
+        cpu = [r["cpu_s"] for r in sel]
         ok_med = "met" if med_t <= 1 else "NOT met"
         ok_p95 = "met" if p95_t <= 3 else "NOT met"
         print(
             f"  {name}: build+query median {med_t:.2f} s (<= 1 s: {ok_med}), "
             f"p95 {p95_t:.2f} s (<= 3 s: {ok_p95}); "
             f"query only median {statistics.median(qry):.2f} s, p95 {_pct(qry, 95):.2f} s; "
+            f"CPU (build+query) median {statistics.median(cpu):.2f} s, p95 {_pct(cpu, 95):.2f} s; "
             f"energy / finer reference median {med_r:.4f} "
             f"(within 2 %: {'met' if abs(med_r - 1) <= 0.02 else 'NOT met'}; n={len(ratios)})"
         )  # fmt: skip
