@@ -221,3 +221,33 @@ def test_astar_finds_the_dijkstra_optimum(name: str, speed: float) -> None:
     planner._heuristic = lambda *_: np.zeros(n_nodes)  # type: ignore[method-assign]
     dijkstra = planner.plan(s, g).stats["lattice_cost"]
     assert astar == pytest.approx(dijkstra, rel=1e-9, abs=1e-6)
+
+
+def test_start_on_a_terrain_infeasible_at_the_speed_is_named() -> None:
+    # the Pioneer's shipped file plus a heavy terrain (rolling resistance 0.15, as the
+    # sand of benchmarks/sites.py): at 0.4 m/s its wheels exceed the power limit there
+    # (wheeled paper §III-C), so a start on it gets one line naming terrain and speed
+    import importlib.resources
+
+    import yaml
+
+    from ecoplan.models.vehicles import vehicle_from_mapping
+
+    text = importlib.resources.files("ecoplan.models") / "vehicle_files" / "pioneer-3at.yaml"
+    data = yaml.safe_load(text.read_text(encoding="utf-8"))
+    heavy = dict(data["terrains"]["asphalt"])
+    heavy["rolling_resistance"] = {"value": 0.15, "source": "assumption", "ref": "test"}
+    data["terrains"]["heavy"] = heavy
+    vehicle = VehicleSpec.of(vehicle_from_mapping(data, "pioneer + heavy"))
+    labels = np.zeros((100, 200), dtype=np.uint8)
+    labels[:, :50] = 1
+    grid = GridMap(
+        np.zeros((100, 200), dtype=np.int8), 0.1, terrain=labels,
+        terrain_names=("asphalt", "heavy"),
+    )  # fmt: skip
+    cost = EnergyCost(vehicle, 0.4)
+    assert cost.straight_energy_per_m("heavy") is None  # the premise
+    planner = LatticePlanner(grid, cost)
+    with pytest.raises(PlanningError, match=r"start \(2, 5\) is on heavy, where 0.4 m/s"):
+        planner.plan((2.0, 5.0), (18.0, 5.0))
+    assert planner.plan((6.0, 5.0), (18.0, 5.0)).best.cost.feasible

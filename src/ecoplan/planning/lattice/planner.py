@@ -189,6 +189,12 @@ class LatticePlanner:
         ny, nx = self.shape_
         tid = int(g.terrain_id_at(np.array([p]))[0])
         per_m = float(self._per_m[tid])
+        if not math.isfinite(per_m):
+            raise PlanningError(
+                f"{name} ({p[0]:g}, {p[1]:g}) is on {g.terrain_names[tid] or 'the default terrain'}"
+                f", where {self.cost.speed_mps:g} m/s is infeasible for the vehicle (power "
+                "or track limits): no route can begin or end there at that speed"
+            )
         params = self.cost.params(g.terrain_names[tid])
         hdg = np.arctan2(self.dirs_[:, 1], self.dirs_[:, 0])
         out: list[FloatArray] = []
@@ -210,7 +216,7 @@ class LatticePlanner:
                     net, _ = turn_costs(params, dpsi, self.cost.speed_mps, length, self.cost.turn)
                     cost = np.where(np.isfinite(net), cost, np.inf)
                 out.append(np.concatenate([[float(i * nx + j)], cost]))
-        if not out or not math.isfinite(per_m):
+        if not out:
             raise PlanningError(
                 f"{name} ({p[0]:g}, {p[1]:g}) cannot be joined to a lattice node of "
                 f"{self.cell_m_:g} m; use a smaller cell_m"
