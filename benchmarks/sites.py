@@ -314,7 +314,8 @@ def main(argv: list[str] | None = None) -> int:
             f"{name}: {len(ok)} sites ({len(fails)} failed); median energy saved vs shortest "
             f"{100 * s_short:.1f} %, vs nav2-style (turn {best[0]}, off-road {best[1]}) "
             f"{100 * s_nav:.1f} %; plan time (build + query) median {t_med:.2f} s, p95 "
-            f"{t_p95:.2f} s (CPU {c_med:.2f} s, p95 {c_p95:.2f} s); |planned - simulated| median {100 * err:.1f} % (controller-driven "
+            f"{t_p95:.2f} s (CPU {c_med:.2f} s, p95 {c_p95:.2f} s); "
+            f"|planned - simulated| median {100 * err:.1f} % (controller-driven "
             f"estimate; static estimate {100 * err_static:.1f} %); "
             f"feasible {sum(bool(r['feasible']) for r in ok)}/{len(ok)}"
         )
