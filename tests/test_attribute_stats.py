@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from statsmodels.stats.diagnostic import acorr_ljungbox
 
-from ecoplan.diagnose.attribute import block_bootstrap, ljung_box
+from ecoplan.diagnose.attribute import block_bootstrap, coloured_noise_floor, ljung_box
 
 
 def _ar1(n: int, phi: float, seed: int) -> np.ndarray:
@@ -91,3 +91,33 @@ def test_block_bootstrap_of_one_block_has_no_spread() -> None:
     red, lo, hi, p = block_bootstrap(r, 0.5 * r, np.zeros(100), rng)
     assert red == pytest.approx(0.5 * np.mean(np.abs(r)))
     assert lo == hi == red and p == 0.5
+
+
+@given(phi=st.floats(0.0, 0.85), sigma=st.floats(0.5, 50.0), seed=st.integers(0, 2**31 - 1))
+@settings(max_examples=25, deadline=None)
+def test_coloured_noise_floor_recovers_the_ar1_noise_mae(
+    phi: float, sigma: float, seed: int
+) -> None:
+    # stationary AR(1) of standard deviation sigma: MAE sigma sqrt(2/pi) (Gaussian)
+    n = 20000
+    w = np.random.default_rng(seed).normal(0.0, sigma * math.sqrt(1.0 - phi**2), size=n)
+    x = np.empty(n)
+    x[0] = np.random.default_rng(seed + 1).normal(0.0, sigma)
+    for i in range(1, n):
+        x[i] = phi * x[i - 1] + w[i]
+    mae, phi_hat = coloured_noise_floor(x)
+    assert phi_hat == pytest.approx(phi, abs=0.06)
+    assert mae == pytest.approx(sigma * math.sqrt(2.0 / math.pi), rel=0.12)
+
+
+def test_coloured_noise_floor_ignores_slow_model_error_and_run_joins() -> None:
+    # white noise (MAE 10 W) on a slow ramp and a 500 W jump between two runs
+    rng = np.random.default_rng(11)
+    sigma = 10.0 * math.sqrt(math.pi / 2.0)
+    n = 6000
+    slow = np.linspace(0.0, 200.0, n)
+    run = np.repeat([0.0, 1.0], n // 2)
+    x = rng.normal(0.0, sigma, size=n) + slow + 500.0 * run
+    mae, phi_hat = coloured_noise_floor(x, run)
+    assert phi_hat < 0.1
+    assert mae == pytest.approx(10.0, rel=0.08)

@@ -28,7 +28,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.stats import bootstrap, chi2, norm
+from scipy.stats import bootstrap, chi2, median_abs_deviation, norm
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.effects import (
@@ -49,6 +49,7 @@ __all__ = [
     "PairEffect",
     "attribute",
     "block_bootstrap",
+    "coloured_noise_floor",
     "distinguishability",
     "ljung_box",
     "noise_floor_mae",
@@ -114,6 +115,47 @@ def noise_floor_mae(
         d = d[np.diff(run[idx]) == 0]
     sigma = float(np.sqrt(np.mean(d**2) / 2.0)) if d.size else 0.0
     return sigma * math.sqrt(2.0 / math.pi)
+
+
+def _same_run_diffs(x: FloatArray, run: FloatArray | None, lag: int) -> FloatArray:
+    d = x[lag:] - x[:-lag]
+    if run is not None:
+        d = d[run[lag:] == run[:-lag]]
+    return np.asarray(d, dtype=np.float64)
+
+
+def coloured_noise_floor(
+    residual: FloatArray, run: FloatArray | None = None
+) -> tuple[float, float]:
+    """Noise floor of a residual whose noise may be coloured (AR(1)): ``(MAE [W], phi)``.
+
+    For noise ``e_t = phi e_(t-1) + w_t`` of variance ``sigma²`` the differences at lags 1 and
+    2 have variances ``2 sigma² (1 - phi)`` and ``2 sigma² (1 - phi²)``: their ratio is
+    ``1 + phi``.  Both are read with a robust scale (:func:`scipy.stats.median_abs_deviation`,
+    normal consistency), so that the rare fast steps of real model error (a speed step) barely
+    move them; slow model error hardly changes differences over two samples.  White noise
+    gives ``phi = 0`` and the first-difference floor of :func:`noise_floor_mae`.
+
+    Returns
+    -------
+    mae_w : float
+        ``sigma √(2/π)``, the MAE the noise alone leaves [W].
+    phi : float
+        Lag-one autocorrelation of the noise, in [0, 0.9].
+    """
+    x = np.asarray(residual, dtype=np.float64)
+    runs = None if run is None else np.asarray(run, dtype=np.float64)
+    d1 = _same_run_diffs(x, runs, 1)
+    d2 = _same_run_diffs(x, runs, 2)
+    if d1.size < 3 or d2.size < 3:
+        return noise_floor_mae(x, runs), 0.0
+    s1 = float(median_abs_deviation(d1, scale="normal"))
+    s2 = float(median_abs_deviation(d2, scale="normal"))
+    if not s1 > 0.0:
+        return noise_floor_mae(x, runs), 0.0
+    phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9))
+    sigma = s1 / math.sqrt(2.0 * (1.0 - phi))
+    return sigma * math.sqrt(2.0 / math.pi), phi
 
 
 def ljung_box(residual: FloatArray, lags: int = 20, decimate: int = 1) -> tuple[float, float]:
@@ -580,7 +622,7 @@ def attribute(
             )
         )
         power_scores = [s for s in power_scores if s.name != "icr_asymmetry"]
-    verdict, conf, tied, lb_p, explained, res_after, pair_names, pair_after = _power_verdict(
+    verdict, conf, tied, lb_p, explained, res_after = _power_verdict(
         power_scores,
         residuals,
         r0,
@@ -589,11 +631,11 @@ def attribute(
         pairs,
         test,
         rng,
-        train,
         explain_min,
         len(candidates),
         material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
     )
+    pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
     kin_win.sort(key=lambda s: -s.reduction_pct)
     if kin_win:
@@ -629,6 +671,18 @@ def attribute(
     )
 
 
+def _best_pair(
+    scores: list[EffectScore], train: EffectData, test: EffectData
+) -> tuple[tuple[str, str] | None, float | None]:
+    """The best significant power candidate fitted together with the next one, and its MAE."""
+    best = next((sc for sc in scores if sc.significant), None)
+    if len(scores) < 2 or best is None:
+        return None, None
+    b = next(sc.name for sc in scores if sc is not best)
+    pe = PairEffect(make_effect(best.name), make_effect(b)).fit(train)
+    return (best.name, b), pe.score(test)
+
+
 def _power_verdict(
     scores: list[EffectScore],
     residuals: dict[str, FloatArray],
@@ -638,28 +692,18 @@ def _power_verdict(
     pairs: list[tuple[str, str, float, str]],
     test: EffectData,
     rng: np.random.Generator,
-    train: EffectData,
     explain_min: float,
     n_cand: int,
     material_w: float = 0.0,
-) -> tuple[
-    str, float, tuple[str, ...], float, float, FloatArray, tuple[str, str] | None, float | None
-]:
+) -> tuple[str, float, tuple[str, ...], float, float, FloatArray]:
     """Verdict from the power channel alone (see the module docstring)."""
     dec = _decimation(test.frame)
     if before <= material_w:
         # no gap worth modelling, however coloured the residual
         _, lb_p = ljung_box(r0, decimate=dec)
-        return "none", 1.0, (), lb_p, 0.0, r0, None, None
+        return "none", 1.0, (), lb_p, 0.0, r0
     # the best significant candidate (a larger but insignificant reduction is not evidence)
     best = next((sc for sc in scores if sc.significant), scores[0] if scores else None)
-    pair_names: tuple[str, str] | None = None
-    pair_after: float | None = None
-    if len(scores) >= 2 and best is not None and best.significant:
-        a = best.name
-        b = next(sc.name for sc in scores if sc is not best)
-        pe = PairEffect(make_effect(a), make_effect(b)).fit(train)
-        pair_names, pair_after = (a, b), pe.score(test)
     if best is None or not best.significant:
         _, lb_p = ljung_box(r0, decimate=dec)
         # a gap: clearly above the noise floor and coloured, or very strongly coloured (the
@@ -669,16 +713,16 @@ def _power_verdict(
             lb_p < 1e-6 and before > 1.05 * floor
         )
         if gap_sig:
-            return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0, pair_names, pair_after
+            return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0
         conf = 1.0
         if best is not None:
             conf = max(min(best.p_value * n_cand, 1.0), 1.0 - best.reduction / max(before, 1e-9))
-        return "none", conf, (), lb_p, 0.0, r0, pair_names, pair_after
+        return "none", conf, (), lb_p, 0.0, r0
     r_best = residuals[best.name]
     explained = float(min(max(best.reduction / max(before - floor, 1e-9), 0.0), 1.0))
     _, lb_p = ljung_box(r_best, decimate=dec)
     if explained < explain_min:
-        return ("unexplained", 1.0 - explained, (), lb_p, explained, r_best, pair_names, pair_after)
+        return "unexplained", 1.0 - explained, (), lb_p, explained, r_best
     conf = float(1.0 - min(best.p_value * n_cand, 1.0))
     second = next((sc for sc in scores if sc.significant and sc is not best), None)
     if second is not None and second.significant:
@@ -688,17 +732,8 @@ def _power_verdict(
                 residuals[second.name], r_best, test.frame.block.astype(np.float64), rng
             )
             if diff[1] <= 0.0:
-                return (
-                    "ambiguous",
-                    conf,
-                    (best.name, second.name),
-                    lb_p,
-                    explained,
-                    r_best,
-                    pair_names,
-                    pair_after,
-                )
-    return best.name, conf, (), lb_p, explained, r_best, pair_names, pair_after
+                return "ambiguous", conf, (best.name, second.name), lb_p, explained, r_best
+    return best.name, conf, (), lb_p, explained, r_best
 
 
 def _decimation(frame: Frame) -> int:
