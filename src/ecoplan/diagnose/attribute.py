@@ -12,12 +12,17 @@
   reduction's confidence interval and one-sided p-value from a bootstrap over held-out time
   blocks (the paired difference per block, so slow structure in the residual is respected),
   Bonferroni-corrected over the candidates.
+* **Noise floor** (:func:`coloured_noise_floor`): the MAE the power sensor's noise alone
+  leaves, with the noise allowed to be coloured (AR(1), its colour read from robust lag-1 and
+  lag-2 differences) -- real loggers average and filter, so white-noise floors call every
+  clean log ``unexplained``.
 * **Verdict**: ``none`` when the calibrated model's held-out gap is below 0.2 % of the mean
-  logged power, or no candidate reduces the gap significantly and the calibrated residual is
-  close to the noise floor; ``unexplained`` when the gap is significant but the
-  best candidate closes less than 80 % of it above the noise floor (its residual is then
-  coloured: Ljung-Box test); ``ambiguous`` when the two best are tied and cannot be told apart;
-  otherwise the best candidate's name.
+  logged power, or no candidate reduces the gap significantly and the gap is not model error:
+  not ``GAP_OVER_FLOOR`` above the noise floor, or its prewhitened residual white (Ljung-Box)
+  while under ``FAR_OVER_FLOOR`` times the floor; ``unexplained`` when the gap is model error
+  but no candidate reduces it significantly, or the best closes less than 80 % of it above the
+  noise floor; ``ambiguous`` when the two best are tied and cannot be told apart; otherwise the
+  best candidate's name.
 """
 
 from __future__ import annotations
@@ -53,6 +58,7 @@ __all__ = [
     "distinguishability",
     "ljung_box",
     "noise_floor_mae",
+    "prewhiten",
     "split_masks",
 ]
 
@@ -131,15 +137,17 @@ def coloured_noise_floor(
 
     For noise ``e_t = phi e_(t-1) + w_t`` of variance ``sigma²`` the differences at lags 1 and
     2 have variances ``2 sigma² (1 - phi)`` and ``2 sigma² (1 - phi²)``: their ratio is
-    ``1 + phi``.  Both are read with a robust scale (:func:`scipy.stats.median_abs_deviation`,
+    ``1 + phi``.  The ratio is read with a robust scale (:func:`scipy.stats.median_abs_deviation`,
     normal consistency), so that the rare fast steps of real model error (a speed step) barely
-    move them; slow model error hardly changes differences over two samples.  White noise
-    gives ``phi = 0`` and the first-difference floor of :func:`noise_floor_mae`.
+    move ``phi``; the level with the mean absolute first difference, ``E|Δe| = sqrt(2 (1 - phi))
+    E|e|`` for Gaussian noise, which stays right when the noise grows with the power (a mixture
+    of scales, where a median would fall short).  Slow model error hardly changes differences
+    over two samples.  White noise gives ``phi = 0``.
 
     Returns
     -------
     mae_w : float
-        ``sigma √(2/π)``, the MAE the noise alone leaves [W].
+        The MAE the noise alone leaves [W].
     phi : float
         Lag-one autocorrelation of the noise, in [0, 0.9].
     """
@@ -151,11 +159,19 @@ def coloured_noise_floor(
         return noise_floor_mae(x, runs), 0.0
     s1 = float(median_abs_deviation(d1, scale="normal"))
     s2 = float(median_abs_deviation(d2, scale="normal"))
-    if not s1 > 0.0:
-        return noise_floor_mae(x, runs), 0.0
-    phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9))
-    sigma = s1 / math.sqrt(2.0 * (1.0 - phi))
-    return sigma * math.sqrt(2.0 / math.pi), phi
+    phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9)) if s1 > 0.0 else 0.0
+    return float(np.mean(np.abs(d1))) / math.sqrt(2.0 * (1.0 - phi)), phi
+
+
+def prewhiten(residual: FloatArray, phi: float, run: FloatArray | None = None) -> FloatArray:
+    """``e_t - phi e_(t-1)`` within each run: white if the residual is AR(1) noise alone."""
+    x = np.asarray(residual, dtype=np.float64)
+    if x.size < 2 or phi == 0.0:
+        return x
+    w = x[1:] - phi * x[:-1]
+    if run is not None:
+        w = w[run[1:] == run[:-1]]
+    return np.asarray(w, dtype=np.float64)
 
 
 def ljung_box(residual: FloatArray, lags: int = 20, decimate: int = 1) -> tuple[float, float]:
@@ -444,6 +460,10 @@ class Attribution:
 
 
 KINEMATIC = ("actuator_lag", "icr_asymmetry")
+#: A held-out gap counts as model error only this far above the noise floor [-].
+GAP_OVER_FLOOR = 0.25
+#: A held-out gap this many times the noise floor is model error whatever its colour [-].
+FAR_OVER_FLOOR = 1.5
 
 
 def _score(
@@ -554,7 +574,7 @@ def attribute(
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
-    floor = noise_floor_mae(r0, test.frame.run.astype(np.float64))
+    floor, phi = coloured_noise_floor(r0, test.frame.run.astype(np.float64))
     fitted: dict[str, Effect] = {"none": base}
     residuals: dict[str, FloatArray] = {}
     power_scores: list[EffectScore] = []
@@ -634,6 +654,7 @@ def attribute(
         explain_min,
         len(candidates),
         material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
+        phi,
     )
     pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
@@ -695,9 +716,11 @@ def _power_verdict(
     explain_min: float,
     n_cand: int,
     material_w: float = 0.0,
+    phi: float = 0.0,
 ) -> tuple[str, float, tuple[str, ...], float, float, FloatArray]:
     """Verdict from the power channel alone (see the module docstring)."""
     dec = _decimation(test.frame)
+    run = test.frame.run.astype(np.float64)
     if before <= material_w:
         # no gap worth modelling, however coloured the residual
         _, lb_p = ljung_box(r0, decimate=dec)
@@ -705,13 +728,13 @@ def _power_verdict(
     # the best significant candidate (a larger but insignificant reduction is not evidence)
     best = next((sc for sc in scores if sc.significant), scores[0] if scores else None)
     if best is None or not best.significant:
-        _, lb_p = ljung_box(r0, decimate=dec)
-        # a gap: clearly above the noise floor and coloured, or very strongly coloured (the
-        # noise floor from first differences is inflated by fast real dynamics)
-        # (a gap at the noise floor is no gap, however coloured: issue 12 item 2)
-        gap_sig = ((before - floor) > 0.25 * floor and lb_p < 0.01) or (
-            lb_p < 1e-6 and before > 1.05 * floor
-        )
+        # whiteness of what the noise model leaves: coloured sensor noise is no model error
+        _, lb_p = ljung_box(prewhiten(r0, phi, run), decimate=dec)
+        # a gap: clearly above the noise floor and coloured beyond the noise's own colour, or
+        # far above the floor whatever its colour (a gap at the noise floor is no gap, however
+        # coloured: issue 12 item 2)
+        over = before / max(floor, 1e-12)
+        gap_sig = over > 1.0 + GAP_OVER_FLOOR and (lb_p < 0.01 or over > FAR_OVER_FLOOR)
         if gap_sig:
             return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0
         conf = 1.0
