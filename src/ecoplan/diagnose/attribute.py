@@ -417,8 +417,11 @@ class Attribution:
     verdict : str
         An effect name, ``"none"``, ``"unexplained"`` or ``"ambiguous"``.
     confidence : float
-        In [0, 1]: ``1 - p`` (Bonferroni) of the winner; for ``none`` the chance that the best
-        candidate's reduction is noise; for ``unexplained`` ``1 -`` the share the best explains.
+        In [0, 1]: ``1 - p`` (Bonferroni) of the winner times its margin over the runner-up
+        (``min(1, 2 (1 - runner-up reduction / winner's))``: a name is sure only when no other
+        candidate closes much of the same gap); for ``none`` the chance (Bonferroni p) that the
+        best candidate's reduction is noise; for ``unexplained`` ``1 -`` the share the best
+        explains.
     tied : tuple of str
         Names tied in an ambiguous verdict.
     indistinguishable : list of (str, str, float, str)
@@ -737,16 +740,20 @@ def _power_verdict(
         gap_sig = over > 1.0 + GAP_OVER_FLOOR and (lb_p < 0.01 or over > FAR_OVER_FLOOR)
         if gap_sig:
             return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0
-        conf = 1.0
-        if best is not None:
-            conf = max(min(best.p_value * n_cand, 1.0), 1.0 - best.reduction / max(before, 1e-9))
+        # the chance that the best candidate's reduction is noise (Bonferroni): a suggestive
+        # but insignificant reduction leaves `none` unsure
+        conf = 1.0 if best is None else min(best.p_value * n_cand, 1.0)
         return "none", conf, (), lb_p, 0.0, r0
     r_best = residuals[best.name]
     explained = float(min(max(best.reduction / max(before - floor, 1e-9), 0.0), 1.0))
     _, lb_p = ljung_box(r_best, decimate=dec)
     if explained < explain_min:
         return "unexplained", 1.0 - explained, (), lb_p, explained, r_best
-    conf = float(1.0 - min(best.p_value * n_cand, 1.0))
+    # sure of the name only when no other candidate closes much of the same gap: the margin
+    # over the runner-up scales the significance (half the best's reduction costs nothing)
+    runner_up = max((sc.reduction for sc in scores if sc is not best), default=0.0)
+    margin = min(1.0, 2.0 * (1.0 - max(runner_up, 0.0) / max(best.reduction, 1e-12)))
+    conf = float(1.0 - min(best.p_value * n_cand, 1.0)) * max(margin, 0.0)
     second = next((sc for sc in scores if sc.significant and sc is not best), None)
     if second is not None and second.significant:
         flagged = any({best.name, second.name} == {a, b} for a, b, _, _ in pairs)
