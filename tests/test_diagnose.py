@@ -1,6 +1,6 @@
 """End-to-end diagnosis on blind synthetic cases, the CLI back end and closing the loop (issue 6).
 
-Every in-library effect is generated (``ecoplan.diagnose.synth``, large magnitude, short
+Every in-library effect is generated (``ecoplan.synth``, large magnitude, short
 sessions at 20 Hz to keep the suite fast) and the diagnosis, not told the answer, must name it;
 a ``none`` case must give ``none`` and an out-of-library effect ``unexplained``.  The blind
 benchmark (benchmarks/blind_diagnosis.py) checks the moderate magnitudes on many seeds.
@@ -14,7 +14,6 @@ from functools import cache
 import numpy as np
 import pytest
 
-from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.loop import (
     CorrectedModel,
     load_corrected_model,
@@ -22,10 +21,13 @@ from ecoplan.diagnose.loop import (
     ranking_change,
     save_corrected_model,
 )
-from ecoplan.diagnose.pipeline import Diagnosis, diagnose, run_diagnose_cli
-from ecoplan.diagnose.synth import IN_LIBRARY, generate_case
+from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.diagnose.result import Diagnosis
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
+from ecoplan.synth.cases import generate_case
+from ecoplan.synth.withheld import IN_LIBRARY
 
 
 @cache

@@ -8,6 +8,7 @@ import numpy as np
 
 from ecoplan.diagnose.attribute import SEPARATING_MANOEUVRES
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.report import summary
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.presets import vehicle
 
@@ -41,4 +42,4 @@ def test_speed_steps_at_one_level_flag_inertia_and_a_sensor_delay_as_look_alikes
     assert d.verdict == "inertia"
     scores = {s.name: s.reduction_pct for s in d.attribution.scores}
     assert scores["inertia"] > 20.0 > scores["sensor_delay"]
-    assert "look alike on this log: " in d.summary() and "held out: " in d.summary()
+    assert "look alike on this log: " in summary(d) and "held out: " in summary(d)

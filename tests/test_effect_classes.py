@@ -26,15 +26,10 @@ from ecoplan.diagnose.effects import (
 )
 from ecoplan.diagnose.loop import CorrectedModel
 from ecoplan.diagnose.replay import build_frame
-from ecoplan.diagnose.synth import (
-    IN_LIBRARY,
-    OUT_OF_LIBRARY,
-    effect_params,
-    generate_case,
-    inject,
-)
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
+from ecoplan.synth.cases import generate_case
+from ecoplan.synth.withheld import IN_LIBRARY, OUT_OF_LIBRARY, effect_params, inject
 
 FAST = {"n_waypoint_runs": 1, "rate_hz": 10.0}
 AURIGA = vehicle("auriga-beta-narrow", "asphalt")

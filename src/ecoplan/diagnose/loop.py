@@ -37,19 +37,20 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.diagnose.calibrate import base_design, with_linear_params
+from ecoplan.diagnose.corrected_file import FORMAT, read_corrected_model_file
 from ecoplan.diagnose.effects import Motion, effect_class
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
+from ecoplan.io.yaml import error_at
 from ecoplan.models.kinematics import setpoint_to_tracks
 from ecoplan.models.power import PowerBreakdown
 from ecoplan.models.wheeled import SideCoefficients
 from ecoplan.presets import VehicleParams, vehicle
 
 if TYPE_CHECKING:
-    from ecoplan.diagnose.pipeline import Diagnosis
+    from ecoplan.diagnose.result import Diagnosis
 
 __all__ = [
-    "FORMAT",
     "CorrectedModel",
     "RankingChange",
     "corrected_model",
@@ -58,9 +59,6 @@ __all__ = [
     "ranking_change",
     "save_corrected_model",
 ]
-
-#: Format tag of the corrected-model file.
-FORMAT = "ecoplan-corrected-model/1"
 
 
 def _param_dict(params: VehicleParams) -> dict[str, Any]:
@@ -221,37 +219,63 @@ def save_corrected_model(d: Diagnosis | CorrectedModel, path: str | os.PathLike[
 def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
     """Load a file written by :func:`save_corrected_model`.
 
+    The file is checked against :class:`~ecoplan.diagnose.corrected_file.CorrectedModelFile`,
+    then the parameters by the vehicle's parameter class, the effect's name against the
+    library, and the model is evaluated once on a short drive so that an effect parameter the
+    effect needs and the file lacks is reported here rather than when the model is used.
+
+    Parameters
+    ----------
+    path : str or path
+        A ``.json``, ``.yaml`` or ``.yml`` file.
+
+    Returns
+    -------
+    CorrectedModel
+        The model.
+
     Raises
     ------
     InputError
-        Unreadable file, wrong format tag, unknown vehicle or parameter.
+        One line naming the file, the line and the field: unreadable file, wrong format tag,
+        unknown key, vehicle, terrain, parameter or effect, a value of the wrong type or range,
+        a missing effect parameter.
     """
-    p = Path(path)
-    try:
-        text = p.read_text()
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read corrected model: {exc}") from None
-    try:
-        if p.suffix.lower() in (".yaml", ".yml"):
-            import yaml
+    from ecoplan.diagnose.effects import make_effect
 
-            obj = yaml.safe_load(text)
-        else:
-            obj = json.loads(text)
-    except Exception as exc:
-        raise InputError(f"{p}: not a valid corrected-model file: {exc}") from None
-    if not isinstance(obj, dict) or obj.get("format") != FORMAT:
-        raise InputError(f"{p}: 'format' must be {FORMAT!r}")
-    for key in ("vehicle", "params", "effect"):
-        if key not in obj:
-            raise InputError(f"{p}: missing key {key!r}")
-    params = vehicle(obj["vehicle"], obj.get("terrain"), obj["params"])
-    eff = obj["effect"] or {}
-    name = str(eff.get("name", "none"))
-    eparams = {
-        k: (math.inf if v is None else float(v)) for k, v in (eff.get("params") or {}).items()
-    }
-    return CorrectedModel(obj["vehicle"], obj.get("terrain"), params, name, eparams)
+    spec, lines = read_corrected_model_file(path)
+    source = os.fspath(path)
+    try:
+        params = vehicle(spec.vehicle, spec.terrain)
+    except InputError as exc:
+        field = "terrain" if spec.terrain is not None and "terrain" in str(exc) else "vehicle"
+        raise error_at(source, lines, (field,), str(exc)) from None
+    if spec.kind is not None and spec.kind != params.kind:
+        raise error_at(
+            source, lines, ("kind",), f"{spec.vehicle!r} is {params.kind}, not {spec.kind}"
+        )
+    try:
+        params = vehicle(spec.vehicle, spec.terrain, spec.params)
+    except InputError as exc:
+        raise error_at(source, lines, ("params",), str(exc)) from None
+    name = spec.effect.name
+    try:
+        make_effect(name)
+    except InputError as exc:
+        raise error_at(source, lines, ("effect", "name"), str(exc)) from None
+    eparams = {k: (math.inf if v is None else v) for k, v in spec.effect.params.items()}
+    model = CorrectedModel(spec.vehicle, spec.terrain, params, name, eparams)
+    t = np.linspace(0.0, 1.0, 5)
+    drive = np.full(t.shape, 0.5 * params.top_track_speed_mps)
+    try:
+        model.trajectory_power(t, drive, 0.5 * drive)
+    except KeyError as exc:
+        raise error_at(
+            source, lines, ("effect", "params"), f"effect {name!r} needs the parameter {exc}"
+        ) from None
+    except InputError as exc:  # the effect class names the missing or out-of-range parameter
+        raise error_at(source, lines, ("effect", "params"), str(exc)) from None
+    return model
 
 
 def polyline_trajectory(

@@ -50,7 +50,7 @@ POSE_SMOOTH_S = 1.0
 
 
 class LogLike(Protocol):
-    """What the diagnosis reads from a log (:class:`ecoplan.diagnose.logio.Log` fits it).
+    """What the diagnosis reads from a log (:class:`ecoplan.dynamics.log.Log` fits it).
 
     Required arrays ``t`` [s], ``v_left``, ``v_right`` [m/s], ``p_total`` [W]; the optional
     ones (``v_left_cmd``, ``v_right_cmd``, ``x``, ``y``, ``yaw``, ``wz``) may be ``None``.
