@@ -270,12 +270,15 @@ def waypoint_runs(
     The controller is :class:`~ecoplan.dynamics.controller.WaypointFollower` (``w_sp = G
     phi_e``, saturated by eqs. 5-6, tracks by eq. 4; power-limited turning for a wheeled
     vehicle) with the controller's ICRs -- the nominal ones: it does not know an
-    asymmetry.  The step loop is :func:`~ecoplan.dynamics.rollout.rollout`, all runs in one
+    asymmetry.  It is eq. (23) as written, at a constant set point
+    (``slowdown_heading_rad=None``): the blind cases are logs of the paper's controller,
+    and the orbit of a goal abeam that the slow-down prevents ends at ``max_duration_s``
+    at worst.  The step loop is :func:`~ecoplan.dynamics.rollout.rollout`, all runs in one
     batch: the drive law (acceleration limit, lag ``tau_s``) and the pose from the true
-    ICRs, the speeds ramping linearly over each step (``hold="mean"``).  The next way point
-    is taken within ``switch_radius_m``; at the last one the commands go to zero.  Each
-    log starts with one sample at rest before the first command and ends 1 s after the
-    robot stops.
+    ICRs, the speeds ramping linearly over each step (``hold="mean"``).  The next way
+    point is taken within ``switch_radius_m``; at the last one the commands go to zero.
+    Each log starts with one sample at rest before the first command and ends 1 s after
+    the robot stops.
 
     Parameters
     ----------
@@ -306,7 +309,13 @@ def waypoint_runs(
     policy = WaypointFollower(
         [np.asarray(task.waypoints, dtype=np.float64) for task in tasks],
         [
-            HeadingController(task.gain_per_s, task.speed_mps, switch_radius_m, power_limited=True)
+            HeadingController(
+                task.gain_per_s,
+                task.speed_mps,
+                switch_radius_m,
+                power_limited=True,
+                slowdown_heading_rad=None,
+            )
             for task in tasks
         ],
         IcrArrays.of([cicr] * n, vehicle.top_track_speed_mps),
