@@ -21,9 +21,9 @@ import pytest
 
 from ecoplan.app.run import simulate_case
 from ecoplan.app.scenario import load_scenario
-from ecoplan.diagnose.logio import read_log_csv
 from ecoplan.diagnose.loop import load_corrected_model, save_corrected_model
 from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.io.logcsv import read_log_csv
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 sys.path.insert(0, str(BENCH))
