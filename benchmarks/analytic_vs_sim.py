@@ -94,8 +94,9 @@ def main() -> None:
         t0 = time.perf_counter()
         sims = simulate_batch([WaypointRun(params, p, ctrl) for p in paths], SimConfig(0.01))
         t_sim = time.perf_counter() - t0
-        done = np.array([s.completed for s in sims])
         e_sim = np.array([s.energy_j for s in sims])
+        # runs that never move (every way point within d_th of the start) have no ratio
+        done = np.array([s.completed for s in sims]) & (e_sim > 0.0)
         t0 = time.perf_counter()
         table = controlled_turns(params, ctrl)
         corner_pairs(params, ctrl)
@@ -120,7 +121,8 @@ def main() -> None:
             err = (e_ctrl[keep] / e_sim[keep] - 1.0) * 100.0
             print(f"{'':34s} {'tables':10s} {describe(err)}  ({int(keep.sum())} paths)")
         print(
-            f"{'':34s} {int(done.sum())}/{len(paths)} runs completed; simulated in {t_sim:.1f} s, "
+            f"{'':34s} {int(done.sum())}/{len(paths)} runs completed and moved; "
+            f"simulated in {t_sim:.1f} s, "
             f"corner and pair tables {t_table:.1f} s, "
             f"{len(paths)} controller estimates {t_cost:.2f} s "
             f"({rolled} rolled out: legs < {table.legs_m[0]:.2f} m)"
