@@ -31,8 +31,9 @@ eq. (23) at a constant set point can orbit a goal; the default slow-down reaches
 :mod:`ecoplan.dynamics.controller`), but tables started at ``1.5 d_th`` measured worse
 than rolling such paths out (48.8 % against 78.8 % of short-legged Auriga-beta paths
 within 3 %), so paths with a leg after the first below ``v / G`` are rolled out
-(:func:`drive_path`).  ``dpsi`` every 11.25 degrees (only ``|dpsi|`` for left-right symmetric vehicles).  Excesses are
-interpolated bilinearly in ``(dpsi, log l)``, clamped at the table's edges.
+(:func:`drive_path`).  ``dpsi`` every 11.25 degrees (only ``|dpsi|`` for left-right
+symmetric vehicles).  Excesses are interpolated bilinearly in ``(dpsi, log l)``, clamped
+at the table's edges.
 
 Corners closer than ``L`` overlap: the controller meets the second corner still turning
 out of the first (a residual heading error, a lower speed), and two same-way corners are
