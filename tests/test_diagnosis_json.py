@@ -11,8 +11,8 @@ import pytest
 
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import JSON_KEYS, to_json_dict, validate_json, write_json
-from ecoplan.diagnose.synth import generate_case
 from ecoplan.errors import InputError
+from ecoplan.synth.cases import generate_case
 
 EXTRA_KEYS = {
     "calibration",

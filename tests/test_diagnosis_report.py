@@ -12,8 +12,8 @@ import json
 import numpy as np
 
 from ecoplan.cli import main
-from ecoplan.diagnose.synth import generate_case
 from ecoplan.io.logcsv import read_log_csv
+from ecoplan.synth.cases import generate_case
 
 
 def _logs_with_an_extra_column(tmp_path):  # type: ignore[no-untyped-def]

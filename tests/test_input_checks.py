@@ -1,7 +1,7 @@
 """Check the input before explaining it (issue 12, item 3): units, vehicle, excitation, crashes.
 
 Every case of the issue is built from one simulated session of the named vehicle
-(``ecoplan.diagnose.synth``, no effect) transformed the way a user's logger would get it
+(``ecoplan.synth``, no effect) transformed the way a user's logger would get it
 wrong: power in kW (/1000) or mW (x1000), currents at a 24 V bus (/24), time in ms (x1000),
 speeds in km/h (x3.6), a robot that never moves or never turns, another vehicle's log.  The
 expected outcome is one :class:`~ecoplan.errors.InputError` line naming the column and the
@@ -22,11 +22,11 @@ from ecoplan.cli import main
 from ecoplan.diagnose.checks import MAX_ENERGY_RATIO, check_logs
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import json_report, summary
-from ecoplan.diagnose.synth import generate_case
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
 from ecoplan.io.logcsv import write_log_csv
 from ecoplan.presets import vehicle
+from ecoplan.synth.cases import generate_case
 
 R = dataclasses.replace
 

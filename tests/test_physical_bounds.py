@@ -22,10 +22,11 @@ from hypothesis import strategies as st
 from ecoplan.diagnose.calibrate import calibrate, wheeled_bounds
 from ecoplan.diagnose.effects import regenerated_w
 from ecoplan.diagnose.replay import build_frame
-from ecoplan.diagnose.synth import inject, trajectory_from_commands
 from ecoplan.dynamics.log import Log
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import vehicle
+from ecoplan.synth.trajectory import trajectory_from_commands
+from ecoplan.synth.withheld import inject
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "borealtc"
 

@@ -19,9 +19,9 @@ from hypothesis import strategies as st
 from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
 from ecoplan.diagnose.report import to_json_dict
 from ecoplan.diagnose.result import Diagnosis
-from ecoplan.diagnose.synth import generate_case
 from ecoplan.diagnose.where_time import where_time, write_where_time_csv
 from ecoplan.dynamics.log import Log
+from ecoplan.synth.cases import generate_case
 
 
 @settings(max_examples=20, deadline=None)

@@ -13,6 +13,7 @@ Modules, in the order of the pipeline:
   back end;
 * :mod:`ecoplan.diagnose.result` -- :class:`~ecoplan.diagnose.result.Diagnosis`, what it returns;
 * :mod:`ecoplan.diagnose.loop` -- the corrected model as a file, route ranking under it;
-* :mod:`ecoplan.diagnose.report` -- text summary, figures, JSON;
-* :mod:`ecoplan.diagnose.synth` -- realistic logs with withheld effects for the blind check.
+* :mod:`ecoplan.diagnose.report` -- text summary, figures, JSON.
+
+The blind check's generator of realistic logs with withheld effects is :mod:`ecoplan.synth`.
 """
