@@ -49,7 +49,7 @@ import numpy as np
 from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import EcoplanError
 from ecoplan.geometry.world import World, circle, rectangle
-from ecoplan.presets import VehicleSpec
+from ecoplan.presets import vehicle as preset
 
 VEHICLES = {"auriga-beta-narrow": 0.5, "pioneer-3at": 0.4}
 OMPL_PLANNERS = ("BITstar", "RRTstar", "InformedRRTstar")
@@ -127,9 +127,9 @@ def run_map(args: tuple[str, int, float, tuple[str, ...], bool]) -> list[dict]:
     world, start, goal = random_map(seed)
     # arc-only vehicles start free: the cost module draws no lateral displacement for an
     # initial arc turn (its documented simplification), which a Dubins path cannot match
-    spot_turns = VehicleSpec.of(vehicle).kind == "tracked"
+    spot_turns = preset(vehicle).kind == "tracked"
     heading = None if aligned or not spot_turns else initial_heading(seed)
-    spec = VehicleSpec.of(vehicle)
+    spec = preset(vehicle)
     speed = VEHICLES[vehicle]
     costs = {
         "energy": EnergyCost(spec, speed, world=world),

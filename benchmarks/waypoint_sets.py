@@ -36,7 +36,7 @@ import shapely
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import EcoplanError
 from ecoplan.experiments.ab_replay import ab_scenario, replay
-from ecoplan.presets import VehicleSpec, vehicle
+from ecoplan.presets import vehicle
 from ecoplan.sim import WaypointRun, simulate_batch
 
 V_SP, GAIN, BELT = 0.5, 0.18, "narrow"
@@ -69,7 +69,7 @@ def planner_sets(sc) -> tuple[list[tuple[str, np.ndarray]], str]:
         from ecoplan.planning.graph import plan_graph
     except ImportError as exc:  # planner not landed
         return [], f"planner rows left out: {exc}"
-    spec = VehicleSpec.of(f"auriga-beta-{BELT}", sc.terrain)
+    spec = vehicle(f"auriga-beta-{BELT}", sc.terrain)
     a, b = sc.polyline(3)[0], sc.polyline(3)[-1]
     out: list[tuple[str, np.ndarray]] = []
     for tag, margin in (("tight", 0.0), ("+d_th", 1.0)):

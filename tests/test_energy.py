@@ -8,6 +8,7 @@ Wheeled values: Pioneer 3-AT, wheeled paper Table I (asphalt) and Table II (viny
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -31,7 +32,8 @@ from ecoplan.experiments.ab_replay import ab_scenario
 from ecoplan.geometry.world import World, rectangle
 from ecoplan.models.limits import feasible
 from ecoplan.models.power import COMPONENTS
-from ecoplan.presets import VehicleSpec, vehicle
+from ecoplan.models.wheeled import WheeledParams
+from ecoplan.presets import vehicle
 from ecoplan.sim.simulate import SimConfig, simulate_tracks, simulate_waypoints
 
 K, P_PU, P_BR, K_NR, ETA = 342.0, 58.0, 164.0, 162.0, 0.95
@@ -39,8 +41,8 @@ MU_ASPHALT, CHI_ASPHALT = 0.81, 0.80
 Y_ICR = 0.42 / (2 * CHI_ASPHALT)  # eq. (12): ICR half-spread 0.2625 m
 V_TOP = 0.86
 
-TRACKED = VehicleSpec.of("auriga-beta-wide", "asphalt")
-PIONEER = VehicleSpec.of("pioneer-3at", "asphalt")
+TRACKED = vehicle("auriga-beta-wide", "asphalt")
+PIONEER = vehicle("pioneer-3at", "asphalt")
 
 
 def friction_sum_nm() -> float:
@@ -212,7 +214,7 @@ def test_malformed_paths() -> None:
 
 
 def test_terrain_regions_change_straight_energy_wheeled() -> None:
-    spec = VehicleSpec.of("pioneer-3at", "vinyl")
+    spec = vehicle("pioneer-3at", "vinyl")
     w = World(
         rectangle(-1, -5, 11, 5),
         regions=[(rectangle(4, -5, 6, 5), "asphalt")],
@@ -227,8 +229,17 @@ def test_terrain_regions_change_straight_energy_wheeled() -> None:
     pc = path_cost([(0, 0), (10, 0)], spec, v, world=w)
     assert pc.energy_j == pytest.approx(expected, rel=1e-9)
     assert EnergyCost(spec, v, world=w).segment_cost((0, 0), (10, 0)) == pytest.approx(expected)
-    with pytest.raises(InputError, match="VehicleSpec"):
-        path_cost([(0, 0), (10, 0)], vehicle("pioneer-3at"), v, world=w)
+    # one way to name a vehicle (#10 item 6): the asphalt-default preset follows the
+    # terrain too, so the same energy
+    other = vehicle("pioneer-3at")
+    assert path_cost([(0, 0), (10, 0)], other, v, world=w).energy_j == pytest.approx(expected)
+    # parameters built by hand hold one terrain: refused on a map with regions
+    with pytest.raises(InputError, match=r"presets\.vehicle"):
+        path_cost([(0, 0), (10, 0)], WheeledParams(), v, world=w)
+    # ... and so are parameters changed after building (the change would not follow)
+    changed = dataclasses.replace(spec, p_powerup_w=1.0)
+    with pytest.raises(InputError, match="overrides="):
+        path_cost([(0, 0), (10, 0)], changed, v, world=w)
 
 
 def test_trajectory_cost_matches_constant_motion() -> None:
@@ -324,7 +335,7 @@ def test_collinear_waypoints_change_nothing(x: float, y: float, frac: float) -> 
 @pytest.fixture(scope="module")
 def ab_runs() -> dict[tuple[int, float], tuple[float, float, float, float]]:
     """(waypoints, v) -> (simulated, static analytic, trajectory_cost of the sim, driven)."""
-    spec = VehicleSpec.of("auriga-beta-narrow", "asphalt")
+    spec = vehicle("auriga-beta-narrow", "asphalt")
     sc = ab_scenario()
     out = {}
     for n in (3, 4):

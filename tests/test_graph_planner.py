@@ -22,10 +22,10 @@ from ecoplan.geometry.world import (
 )
 from ecoplan.models.limits import feasible
 from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions, plan_graph
-from ecoplan.presets import VehicleSpec
+from ecoplan.presets import vehicle
 
-TRACKED = VehicleSpec.of("auriga-beta-wide", "asphalt")
-PIONEER = VehicleSpec.of("pioneer-3at", "asphalt")
+TRACKED = vehicle("auriga-beta-wide", "asphalt")
+PIONEER = vehicle("pioneer-3at", "asphalt")
 
 
 def wall_world(top: float) -> World:
@@ -64,7 +64,7 @@ def patch_world(patch: object) -> World:
 def test_detours_around_a_costly_patch_where_that_pays() -> None:
     # Pioneer on vinyl: asphalt costs ~4 % more per metre (wheeled Tables I-II).  A long,
     # narrow asphalt strip along the straight route is worth a tiny sidestep.
-    spec = VehicleSpec.of("pioneer-3at", "vinyl")
+    spec = vehicle("pioneer-3at", "vinyl")
     patch = rectangle(5, -0.5, 45, 0.5)
     w = patch_world(patch)
     e = plan_graph(w, (1, 0), (49, 0), EnergyCost(spec, 0.5, world=w)).best
@@ -76,7 +76,7 @@ def test_detours_around_a_costly_patch_where_that_pays() -> None:
 
 
 def test_does_not_detour_where_that_does_not_pay() -> None:
-    spec = VehicleSpec.of("pioneer-3at", "vinyl")
+    spec = vehicle("pioneer-3at", "vinyl")
     w = patch_world(rectangle(20, -20, 22, 20))  # a band across the route: 2 m of asphalt
     e = plan_graph(w, (1, 0), (49, 0), EnergyCost(spec, 0.5, world=w)).best
     assert np.allclose(e.waypoints, [[1, 0], [49, 0]])

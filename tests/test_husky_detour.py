@@ -17,7 +17,7 @@ import shapely
 from ecoplan.energy.objective import EnergyCost
 from ecoplan.geometry.world import World, rectangle
 from ecoplan.planning.graph import GraphPlanner
-from ecoplan.presets import VehicleSpec, vehicle
+from ecoplan.presets import vehicle
 
 V = 0.5  # m/s
 START, GOAL = (2.0, 10.0), (38.0, 10.0)
@@ -48,7 +48,7 @@ def _inside_m(patch: tuple[float, float, float, float], terrain: str) -> float:
     """Length of the planned path inside the patch [m]."""
     w = World(rectangle(0, 0, 40, 20), [], regions=[(rectangle(*patch), terrain)],
               default_terrain="asphalt")  # fmt: skip
-    res = GraphPlanner(w, EnergyCost(VehicleSpec.of("husky-a200"), V, world=w)).plan(
+    res = GraphPlanner(w, EnergyCost(vehicle("husky-a200"), V, world=w)).plan(
         START, GOAL, initial_heading_rad=0.0
     )
     wp = np.asarray(res.best.waypoints)

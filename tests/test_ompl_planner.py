@@ -27,10 +27,10 @@ from ecoplan.models.limits import feasible, min_radius_for_speed, vr_to_tracks
 from ecoplan.planning.base import PlanResult
 from ecoplan.planning.ompl import OmplOptions, OmplPlanner
 from ecoplan.planning.ompl_motions import CurveMotions
-from ecoplan.presets import VehicleSpec, vehicle
+from ecoplan.presets import vehicle
 
-AURIGA = VehicleSpec.of("auriga-beta-narrow")
-PIONEER = VehicleSpec.of("pioneer-3at")
+AURIGA = vehicle("auriga-beta-narrow")
+PIONEER = vehicle("pioneer-3at")
 OBSTACLE = rectangle(2.2, 4.3, 4.0, 6.3)
 START, GOAL, NORTH = (1.0, 5.0), (9.0, 5.0), math.pi / 2
 
@@ -246,11 +246,11 @@ def test_terminal_stays_clean() -> None:
     script = textwrap.dedent(
         """
         from ecoplan.energy.objective import EnergyCost
-        from ecoplan.presets import VehicleSpec
+        from ecoplan.presets import vehicle
         from ecoplan.planning.ompl import OmplOptions, OmplPlanner
         from ecoplan.geometry.world import World, rectangle
         w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
-        c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
+        c = EnergyCost(vehicle("auriga-beta-narrow"), 0.5, world=w)
         for seed in (1, 2):
             opts = OmplOptions("RRTstar", 2.0, seed, max_iterations=300)
             res = OmplPlanner(w, c, opts).plan((1, 5), (9, 5))

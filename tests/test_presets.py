@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
+from pathlib import Path
+
 import pytest
 
 from ecoplan.errors import InputError
+from ecoplan.io.vehicles import load_vehicle
 from ecoplan.models import TrackedParams, WheeledParams
-from ecoplan.presets import VehicleSpec, default_terrain, terrain_names, vehicle, vehicle_names
+from ecoplan.presets import default_terrain, terrain_names, vehicle, vehicle_names
 
 
 def _t(name: str, terrain: str) -> TrackedParams:
@@ -22,8 +26,9 @@ def test_names_are_stable() -> None:
         "husky-a200",
         "pioneer-3at",
     ]
-    assert terrain_names("auriga-beta-wide") == ["asphalt", "hoisted", "marble"]
-    assert terrain_names("pioneer-3at") == ["asphalt", "vinyl"]
+    paper = ["asphalt", "hoisted", "marble"]
+    assert terrain_names("auriga-beta-wide") == sorted([*paper, "grass", "gravel", "sand", "snow"])
+    assert terrain_names("pioneer-3at") == ["asphalt", "grass", "gravel", "sand", "vinyl"]
     assert default_terrain("pioneer-3at") == "asphalt"
 
 
@@ -77,12 +82,30 @@ def test_every_value_can_be_overridden() -> None:
     assert w.p_side_max_w == 15 and w.outer.a_inf == 11.0 and w.outer.a_alpha == 250.0
 
 
-def test_vehicle_spec_on_terrains() -> None:
-    spec = VehicleSpec.of("auriga-beta-narrow", "marble", {"eta": 0.9})
-    assert spec.kind == "tracked"
-    assert spec.on().mu == 0.63 and spec.on("asphalt").mu == 0.81
-    assert spec.on("asphalt").name == "auriga-beta-narrow/asphalt"
-    assert spec.on() is spec.on()  # cached
+def test_a_vehicle_follows_the_terrain_with_its_overrides() -> None:
+    p = vehicle("auriga-beta-narrow", "marble", {"eta": 0.9})
+    assert p.kind == "tracked" and p.terrain == "marble"
+    # tracked §III-C: mu 0.63 on marble, 0.81 on asphalt; the override holds on both
+    assert (p.mu, p.on("asphalt").mu) == (0.63, 0.81)
+    assert p.on("asphalt").eta == 0.9 and p.on("ASPHALT").name == "auriga-beta-narrow/asphalt"
+    assert p.on() is p and p.on("marble") is p
+    assert p.on("asphalt") is p.on("asphalt")  # cached
+    assert p.on("asphalt").on("marble") == p
+    # a change made after building would not follow the terrain: refused, with the way out
+    changed = dataclasses.replace(p, mu=0.5)
+    assert changed.source is None
+    with pytest.raises(InputError, match=r"dataclasses\.replace.*overrides="):
+        changed.on("asphalt")
+
+
+def test_a_vehicle_file_is_named_the_same_way() -> None:
+    robot = load_vehicle(Path(__file__).resolve().parents[1] / "scenarios/vehicles/robot50.yaml")
+    p = vehicle(robot, "grass")
+    assert p.terrain == "grass" and p.on("asphalt").terrain == "asphalt"
+    # C_rr M g / 2 per side (robot50.yaml: C_rr 0.08 on grass, 0.02 on asphalt, M = 50 kg)
+    assert p.k_resistance_n - p.on("asphalt").k_resistance_n == pytest.approx(
+        (0.08 - 0.02) * 50.0 * 9.81 / 2.0
+    )
 
 
 @pytest.mark.parametrize(
@@ -91,7 +114,7 @@ def test_vehicle_spec_on_terrains() -> None:
         (lambda: vehicle("husky"), r"unknown vehicle preset 'husky'; accepted: auriga-beta-narrow"),
         (
             lambda: vehicle("pioneer-3at", "marble"),
-            r"unknown terrain preset 'marble'.*asphalt, vinyl",
+            r"unknown terrain preset 'marble'.*asphalt, grass, gravel, sand, vinyl",
         ),
         (
             lambda: vehicle("pioneer-3at", overrides={"wheel": 1}),
@@ -107,7 +130,8 @@ def test_vehicle_spec_on_terrains() -> None:
         ),
         (lambda: vehicle("auriga-beta-wide", overrides={"chi": 1.0}), r"chi = 1.0.*\(0, 1\)"),
         (lambda: vehicle("auriga-beta-wide", overrides={"mu": "high"}), r"mu = 'high'"),
-        (lambda: VehicleSpec("auriga-beta-wide", (("eta", 2.0),)), r"eta = 2.0.*\(0, 1\]"),
+        (lambda: vehicle("auriga-beta-wide", overrides={"eta": 2.0}), r"eta = 2.0.*\(0, 1\]"),
+        (lambda: TrackedParams().on("asphalt"), r"built by hand.*presets\.vehicle"),
     ],
 )
 def test_bad_presets_and_overrides_name_the_problem(call: object, pattern: str) -> None:

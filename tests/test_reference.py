@@ -12,10 +12,10 @@ from ecoplan.errors import PlanningError
 from ecoplan.geometry.world import PointInObstacleError, World, rectangle
 from ecoplan.planning.graph import plan_graph
 from ecoplan.planning.reference import MOVES, LatticeOptions, plan_reference
-from ecoplan.presets import VehicleSpec
+from ecoplan.presets import VehicleParams, vehicle
 
-TRACKED = VehicleSpec.of("auriga-beta-wide", "asphalt")
-PIONEER = VehicleSpec.of("pioneer-3at", "asphalt")
+TRACKED = vehicle("auriga-beta-wide", "asphalt")
+PIONEER = vehicle("pioneer-3at", "asphalt")
 FAST = LatticeOptions(resolution_m=0.5, refine_evals=150)
 
 
@@ -41,7 +41,7 @@ def test_off_lattice_goal_is_reached_straight_after_refinement() -> None:
 
 
 @pytest.mark.parametrize("spec", [TRACKED, PIONEER])
-def test_close_to_the_graph_planner_on_one_obstacle(spec: VehicleSpec) -> None:
+def test_close_to_the_graph_planner_on_one_obstacle(spec: VehicleParams) -> None:
     w = World(rectangle(0, 0, 30, 16), [rectangle(12, 5, 17, 11)], inflation_m=0.3)
     cost = EnergyCost(spec, 0.5, world=w)
     ref = plan_reference(w, (2, 8), (28, 8.5), cost, options=FAST).best

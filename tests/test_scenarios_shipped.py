@@ -24,7 +24,7 @@ from ecoplan.cli import main
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.path import path_cost
 from ecoplan.planning.speed import best_speed
-from ecoplan.presets import VehicleSpec
+from ecoplan.presets import vehicle
 from ecoplan.sim.simulate import SimConfig, simulate_waypoints
 
 SCENARIOS = Path(__file__).resolve().parents[1] / "scenarios"
@@ -73,20 +73,21 @@ def _check_against_library(
     wps = np.asarray(case["waypoints"])
     np.testing.assert_allclose(wps[0], spec.start.xy)
     if spec.vehicle.file is not None:  # a vehicle file: the one the scenario loaded
-        assert sc.vehicle.file is not None
-        vehicle = VehicleSpec.of(sc.vehicle.file, spec.terrain.default, spec.vehicle.overrides)
+        assert sc.vehicle.source is not None
+        name: Any = sc.vehicle.source
     else:
-        vehicle = VehicleSpec.of(spec.vehicle.preset, spec.terrain.default, spec.vehicle.overrides)
+        name = spec.vehicle.preset
+    veh = vehicle(name, spec.terrain.default, spec.vehicle.overrides)
     # the route's analytic energy is the cost module's
     yaw0 = spec.start.yaw_rad
     v_sp = case["speed_mps"]
     if speed.policy == "fixed":
         assert v_sp == speed.v_mps
     else:  # the energy-optimal speed of the route, by the speed module
-        choice = best_speed(wps, vehicle, world=sc.world, initial_heading_rad=yaw0)
+        choice = best_speed(wps, veh, world=sc.world, initial_heading_rad=yaw0)
         assert v_sp == pytest.approx(choice.speed_mps)
     driven = HeadingController(controller.gain, v_sp, controller.d_th_m)
-    pc = path_cost(wps, vehicle, v_sp, world=sc.world, initial_heading_rad=yaw0, turn=driven)
+    pc = path_cost(wps, veh, v_sp, world=sc.world, initial_heading_rad=yaw0, turn=driven)
     assert case["estimate_energy_j"] == pytest.approx(pc.energy_j, rel=1e-6)
     # issue 11, item 6: the analytic estimate is within 3 % of the simulated energy
     assert case["estimate_energy_j"] == pytest.approx(case["energy_j"], rel=0.03), case["name"]
@@ -98,14 +99,14 @@ def _check_against_library(
     p = np.empty_like(log["t"])
     for terrain in set(log["terrain"].tolist()):
         rows = log["terrain"] == terrain
-        p[rows] = vehicle.on(terrain).power(log["v_left"][rows], log["v_right"][rows]).total_w
+        p[rows] = veh.on(terrain).power(log["v_left"][rows], log["v_right"][rows]).total_w
     np.testing.assert_allclose(log["p_total"], p, rtol=1e-8, atol=1e-8)
     assert case["energy_j"] == pytest.approx(float(np.sum(p[:-1]) * dt), rel=1e-7)
     assert case["time_s"] == pytest.approx(log["t"][-1], abs=1e-9)
     if resimulate and not (sc.regions or sc.world.has_regions):
         # without terrain regions (or a terrain layer) the simulator's own result is reported
         sim = simulate_waypoints(
-            vehicle.on(),
+            veh.on(),
             wps,
             HeadingController(controller.gain, v_sp, controller.d_th_m),
             start_yaw_rad=spec.start.yaw_rad,

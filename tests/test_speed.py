@@ -9,13 +9,13 @@ import pytest
 
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.planning.speed import best_speed, energy_vs_speed
-from ecoplan.presets import VehicleSpec
+from ecoplan.presets import vehicle
 
 # A ~52 m A->B path around an obstacle with one and with two intermediate waypoints, like
 # the paper's navigation experiment on asphalt (Fig. 14, Table III).
 ONE_WAYPOINT = [(0.0, 0.0), (26.0, 8.0), (52.0, 0.0)]
 TWO_WAYPOINTS = [(0.0, 0.0), (18.0, 8.0), (34.0, 8.0), (52.0, 0.0)]
-NARROW = VehicleSpec.of("auriga-beta-narrow", "asphalt")
+NARROW = vehicle("auriga-beta-narrow", "asphalt")
 
 
 @pytest.mark.parametrize("path", [ONE_WAYPOINT, TWO_WAYPOINTS])
@@ -39,7 +39,7 @@ def test_two_waypoints_cost_more_than_one() -> None:
 
 def test_power_limit_caps_the_speed_by_hand() -> None:
     # Straight path, P_T(v, v) = (2 K v + P_pu) / eta <= 400 W  ->  v <= (400 eta - P_pu) / 2K
-    spec = VehicleSpec.of("auriga-beta-narrow", "asphalt", overrides={"p_total_max_w": 400.0})
+    spec = vehicle("auriga-beta-narrow", "asphalt", overrides={"p_total_max_w": 400.0})
     v_cap = (400.0 * 0.95 - 58.0) / (2 * 324.0)
     choice = best_speed([(0, 0), (30, 0)], spec)
     assert choice.speed_mps == pytest.approx(v_cap, abs=2e-3)
@@ -50,7 +50,7 @@ def test_power_limit_caps_the_speed_by_hand() -> None:
 
 def test_pioneer_respects_its_side_power_limit_on_turns() -> None:
     path = [(0.0, 0.0), (30.0, 0.0), (30.0, 30.0)]
-    choice = best_speed(path, VehicleSpec.of("pioneer-3at"))
+    choice = best_speed(path, vehicle("pioneer-3at"))
     assert choice.cost.feasible
     assert all(t.mode == "arc" for t in choice.cost.turns)
     assert choice.speed_mps < 0.9  # the top speed allows no turn at all (eq. 5)
@@ -58,7 +58,7 @@ def test_pioneer_respects_its_side_power_limit_on_turns() -> None:
 
 def test_per_segment_never_worse() -> None:
     path = [(0.0, 0.0), (20.0, 0.0), (35.0, 6.0), (50.0, 6.0)]
-    spec = VehicleSpec.of("pioneer-3at")
+    spec = vehicle("pioneer-3at")
     single = best_speed(path, spec)
     multi = best_speed(path, spec, per_segment=True, n_scan=15, sweeps=1)
     assert multi.energy_j <= single.energy_j + 1e-9
@@ -72,5 +72,5 @@ def test_bad_ranges_and_infeasible_paths() -> None:
         best_speed(ONE_WAYPOINT, NARROW, v_min_mps=0.0)
     # a hairpin between 1 m segments: no Pioneer speed turns that sharply
     with pytest.raises(PlanningError, match="no speed"):
-        best_speed([(0, 0), (1, 0), (0, 0.1)], VehicleSpec.of("pioneer-3at"), n_scan=5)
-    assert math.isnan(energy_vs_speed([(0, 0), (1, 0)], VehicleSpec.of("pioneer-3at"), [0.95])[0])
+        best_speed([(0, 0), (1, 0), (0, 0.1)], vehicle("pioneer-3at"), n_scan=5)
+    assert math.isnan(energy_vs_speed([(0, 0), (1, 0)], vehicle("pioneer-3at"), [0.95])[0])

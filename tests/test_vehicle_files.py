@@ -121,14 +121,19 @@ def test_impossible_vehicle_in_a_scenario_is_exit_2_with_one_line(
     assert re.search(r"vehicle.file: .*bad.yaml:\d+: " + expected, err), err
 
 
+def _robot100(tmp_path: Path) -> Path:
+    """robot50.yaml with twice the mass, as a vehicle file."""
+    heavy = yaml.safe_load((SCENARIOS / "vehicles" / "robot50.yaml").read_text())
+    heavy["name"], heavy["inertia"]["mass_kg"] = "robot100", 100.0
+    return _write(tmp_path, heavy, "robot100.yaml")
+
+
 def test_vehicle_option_replaces_the_scenarios_vehicle(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     from ecoplan.cli import main
 
-    heavy = yaml.safe_load((SCENARIOS / "vehicles" / "robot50.yaml").read_text())
-    heavy["name"], heavy["inertia"]["mass_kg"] = "robot100", 100.0
-    path = _write(tmp_path, heavy, "robot100.yaml")
+    path = _robot100(tmp_path)
     scenario = str(SCENARIOS / "own_robot.yaml")
     energy = {}
     for label, extra in (("robot50", []), ("robot100", ["--vehicle", str(path)])):
@@ -141,6 +146,28 @@ def test_vehicle_option_replaces_the_scenarios_vehicle(
     assert energy["robot100"] - energy["robot50"] >= at_least
     # the Husky's file has no grass: one line naming the region's terrain, exit 2
     assert main(["plan", scenario, "--vehicle", "husky-a200"]) == 2
+    err = capsys.readouterr().err
+    assert "terrain.regions[0].terrain" in err and "'grass'" in err
+
+
+def test_bench_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from ecoplan.cli import main
+
+    path = _robot100(tmp_path)
+    scenario = str(SCENARIOS / "own_robot.yaml")
+    energy = {}
+    for label, extra in (("robot50", []), ("robot100", ["--vehicle", str(path)])):
+        js = tmp_path / f"{label}.json"
+        args = ["bench", scenario, "--planners", "graph", "--workers", "1", "--json", str(js)]
+        assert main([*args, "-q", *extra]) == 0
+        [row] = json.loads(js.read_text())["runs"]
+        assert row["error"] is None
+        energy[label] = row["energy_j"]
+    # simulated energy: 50 kg more costs at least the extra rolling resistance over the
+    # straight-line distance (as in test_vehicle_option_replaces_the_scenarios_vehicle)
+    at_least = 0.02 * 50.0 * 9.81 * 0.6 / 0.9 * (24.0 / 0.6)
+    assert energy["robot100"] - energy["robot50"] >= at_least
+    assert main(["bench", scenario, "--vehicle", "husky-a200", "--workers", "1"]) == 2
     err = capsys.readouterr().err
     assert "terrain.regions[0].terrain" in err and "'grass'" in err
 

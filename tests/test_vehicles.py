@@ -18,7 +18,7 @@ from ecoplan.models.vehicles import (
     vehicle_from_mapping,
 )
 from ecoplan.models.wheeled import WheeledParams
-from ecoplan.presets import VehicleSpec, vehicle
+from ecoplan.presets import vehicle
 
 G = 9.81
 
@@ -86,6 +86,31 @@ def test_every_shipped_terrain_value_has_a_source(name: str) -> None:
         v.params(terrain)  # every terrain builds valid parameters
 
 
+#: Field terrains of the paper robots' files: the assumed rolling resistance beyond the
+#: hard ground's (C_rr), as the files state it.
+FIELD_CRR = {
+    "auriga-beta-wide": {"gravel": 0.03, "grass": 0.06, "sand": 0.15, "snow": 0.10},
+    "auriga-beta-narrow": {"gravel": 0.03, "grass": 0.06, "sand": 0.15, "snow": 0.10},
+    "pioneer-3at": {"gravel": 0.03, "grass": 0.06, "sand": 0.15},
+}
+
+
+@pytest.mark.parametrize("name", sorted(FIELD_CRR))
+def test_field_terrains_add_their_rolling_resistance_to_straight_driving(name: str) -> None:
+    # straight at v: the extra force C_rr M g at speed v through eta (tracked eq. 20; the
+    # wheeled model has no eta) over the asphalt power; masses: tracked Table I 286 kg,
+    # wheeled paper §III 30 kg
+    v = shipped_vehicle(name)
+    mass, eta = (286.0, 0.95) if name.startswith("auriga") else (30.0, 1.0)
+    for terrain, crr in FIELD_CRR[name].items():
+        assert v.terrain(terrain).mu is None or v.terrain(terrain).mu.source == "assumption"
+        for speed in (0.2, 0.5):
+            field = float(v.params(terrain).power(speed, speed).total_w)
+            hard = float(v.params("asphalt").power(speed, speed).total_w)
+            expected = crr * mass * G * speed / eta
+            assert field - hard == pytest.approx(expected, rel=0.01), (terrain, speed)
+
+
 def test_rolling_resistance_is_a_share_of_the_weight() -> None:
     # K of tracked eq. (18) from C_rr: the two sides share the force C_rr M g
     v = vehicle_from_mapping(ROBOT50)
@@ -108,11 +133,11 @@ def test_wheeled_rolling_resistance_adds_to_the_straight_slope() -> None:
     assert straight[1] - straight[0] == pytest.approx(0.1 * 30.0 * G * 0.4)
 
 
-def test_vehicle_spec_takes_a_file_and_overrides() -> None:
+def test_vehicle_takes_a_file_and_overrides() -> None:
     v = vehicle_from_mapping(ROBOT50)
-    spec = VehicleSpec.of(v, "sand", {"eta": 0.8})
-    assert spec.name == "robot50"
-    assert spec.on().eta == 0.8
+    spec = vehicle(v, "sand", {"eta": 0.8})
+    assert spec.name == "robot50/sand" and spec.source is v
+    assert spec.on().eta == 0.8 and spec.on("asphalt").eta == 0.8
     assert spec.on("asphalt").mu == 0.5
     with pytest.raises(InputError, match="unknown terrain preset 'snow' for robot50"):
         spec.on("snow")

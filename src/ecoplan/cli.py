@@ -8,15 +8,14 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import os
 import sys
-from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from contextlib import AbstractContextManager
 from pathlib import Path
-from typing import IO, Any
+from typing import Any
 
+from ecoplan.app.console import CommandOutput, progress
 from ecoplan.errors import EcoplanError, InputError
 
 __all__ = ["main"]
@@ -43,84 +42,16 @@ exit codes: 0 ok, 2 bad input, 1 failure on valid input.
 # ------------------------------------------------------------------ output helpers
 
 
-@dataclass
-class _Out:
-    """Where human text and JSON go for one command."""
-
-    json_target: str | None
-    quiet: bool = False
-
-    @property
-    def json_to_stdout(self) -> bool:
-        return self.json_target == "-"
-
-    def say(self, text: str = "") -> None:
-        """Human-readable line: stdout, or stderr when stdout carries JSON."""
-        if self.quiet:
-            return
-        stream: IO[str] = sys.stderr if self.json_to_stdout else sys.stdout
-        print(text, file=stream)
-
-    def emit(self, payload: Any) -> None:
-        """Write the JSON payload if --json was given."""
-        if self.json_target is None:
-            return
-        text = json.dumps(payload, indent=1, default=_json_default)
-        if self.json_to_stdout:
-            print(text)
-        else:
-            path = Path(self.json_target)
-            if path.suffix in (".yaml", ".yml"):
-                raise InputError(
-                    f"--json {path}: looks like a scenario; put --json after the scenario "
-                    "or give it a .json file name"
-                )
-            try:
-                path.write_text(text + "\n")
-            except OSError as exc:
-                raise InputError(f"--json {path}: cannot write: {exc.strerror or exc}") from None
-            self.say(f"JSON written to {path}")
+def _out(args: argparse.Namespace) -> CommandOutput:
+    return CommandOutput(getattr(args, "json", None), quiet=getattr(args, "quiet", False))
 
 
-def _json_default(obj: Any) -> Any:
-    if hasattr(obj, "tolist"):
-        return obj.tolist()
-    if isinstance(obj, Path):
-        return str(obj)
-    return str(obj)
-
-
-def _out(args: argparse.Namespace) -> _Out:
-    return _Out(getattr(args, "json", None), quiet=getattr(args, "quiet", False))
-
-
-@contextmanager
 def _progress(
     args: argparse.Namespace, label: str, total: int
-) -> Iterator[Callable[[int, int], None]]:
-    """A rich progress bar on stderr (off for --json, --quiet or when not a terminal)."""
-    enabled = (
-        sys.stderr.isatty()
-        and getattr(args, "json", None) is None
-        and not getattr(args, "quiet", False)
-        and total > 1
-    )
-    if not enabled:
-        yield lambda done, total: None
-        return
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
-    with Progress(
-        "[progress.description]{task.description}",
-        BarColumn(),
-        MofNCompleteColumn(),
-        TimeElapsedColumn(),
-        console=Console(stderr=True),
-        transient=True,
-    ) as bar:
-        task = bar.add_task(label, total=total)
-        yield lambda done, total: bar.update(task, completed=done, total=total)
+) -> AbstractContextManager[Callable[[int, int], None]]:
+    """A progress bar on stderr unless --json or --quiet."""
+    quiet = getattr(args, "json", None) is not None or getattr(args, "quiet", False)
+    return progress(not quiet, label, total)
 
 
 # ----------------------------------------------------------------------- commands
@@ -156,7 +87,7 @@ def _report(
     args: argparse.Namespace,
     sc: Any,
     results: Sequence[Any],
-    out: _Out,
+    out: CommandOutput,
     *,
     quiet: bool = False,
     **kw: Any,
@@ -193,14 +124,14 @@ def _cmd_run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_files(out: _Out, args: argparse.Namespace, files: Sequence[Path]) -> None:
+def _print_files(out: CommandOutput, args: argparse.Namespace, files: Sequence[Path]) -> None:
     if files:
         out.say(f"report written to {args.out}/ ({len(files)} files):")
         for f in files:
             out.say(f"  {f}")
 
 
-def _print_case(out: _Out, r: Any) -> None:
+def _print_case(out: CommandOutput, r: Any) -> None:
     from ecoplan.app.reports.tables import case_lines
 
     for line in case_lines(r):
@@ -238,7 +169,7 @@ def _cmd_plan(args: argparse.Namespace) -> int:
     return 0
 
 
-def _route_files(args: argparse.Namespace, plan: Any, out: _Out) -> list[Path]:
+def _route_files(args: argparse.Namespace, plan: Any, out: CommandOutput) -> list[Path]:
     """``plan --out``: the route as a nav_msgs/Path bag (MCAP), GeoJSON and CSV."""
     folder = _prepare(args)
     if folder is None:
@@ -324,21 +255,6 @@ def _cmd_compare(args: argparse.Namespace) -> int:
     return 0
 
 
-def _scenario_routes(args: argparse.Namespace) -> dict[str, Any]:
-    """Candidate routes of ``--scenario``, checked before the diagnosis starts."""
-    from ecoplan.app.run import candidate_routes
-    from ecoplan.app.scenario import load_scenario
-    from ecoplan.presets import VehicleSpec
-
-    sc = load_scenario(args.scenario)
-    if sc.vehicle.name != args.vehicle:
-        raise InputError(
-            f"--scenario {args.scenario}: its vehicle is {sc.vehicle.name!r} but the logs are "
-            f"diagnosed against --vehicle {args.vehicle!r}; rank routes of the same vehicle"
-        )
-    return candidate_routes(sc, VehicleSpec.of(args.vehicle, args.terrain))
-
-
 def _cmd_diagnose(args: argparse.Namespace) -> int:
     try:
         from ecoplan.diagnose.pipeline import run_diagnose_cli
@@ -356,7 +272,11 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
                 "another file); put --json FILE after the logs"
             )
     folder = _prepare(args)
-    routes = None if args.scenario is None else _scenario_routes(args)
+    routes = None
+    if args.scenario is not None:  # checked before the diagnosis starts
+        from ecoplan.app.run import candidate_routes
+
+        routes = candidate_routes(args.scenario, args.vehicle, args.terrain)
     with contextlib.nullcontext() if folder is None else folder.recording():
         code = run_diagnose_cli(
             [str(p) for p in args.logs],
@@ -415,7 +335,7 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
     out = _out(args)
     planners = parse_planners(args.planners)
-    cases = bench_cases(args.scenarios, planners, args.seeds, args.time)
+    cases = bench_cases(args.scenarios, planners, args.seeds, args.time, args.vehicle)
     folder = _prepare(args)
     with make_executor(args.scheduler, args.workers) as ex:
         with _progress(args, f"{len(cases)} cases on {ex.description}", len(cases)) as tick:
@@ -659,6 +579,7 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--planners", default="graph", help="comma list: graph, ompl:<name>")
     bench.add_argument("--seeds", type=int, default=3, help="seeds per OMPL planner")
     bench.add_argument("--time", type=float, default=1.0, help="planner time budget [s]")
+    _vehicle_option(bench)
     _sweep(bench)
     _common(bench)
     bench.set_defaults(func=_cmd_bench)

@@ -12,6 +12,8 @@ each are the keys of its file's ``terrains`` table.  This module keeps the by-na
 (0.63, 342.0)
 
 Every value can be overridden: ``vehicle("pioneer-3at", overrides={"p_side_max_w": 15})``.
+The parameters follow the terrain (``p.on("asphalt")``), so the same value plans on maps
+with terrain regions; a vehicle file is named the same way, ``vehicle(load_vehicle(path))``.
 
 Efficiency index χ (tracked Table II, lost in the seed)
 ------------------------------------------------------
@@ -71,7 +73,6 @@ Power limits (not in the seeds' text)
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
@@ -81,7 +82,6 @@ from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
     "VehicleParams",
-    "VehicleSpec",
     "default_terrain",
     "terrain_names",
     "vehicle",
@@ -107,85 +107,40 @@ def default_terrain(vehicle_name: str) -> str:
 
 
 def vehicle(
-    name: str, terrain: str | None = None, overrides: Mapping[str, Any] | None = None
+    name: str | Vehicle,
+    terrain: str | None = None,
+    overrides: Mapping[str, Any] | None = None,
 ) -> VehicleParams:
-    """Parameters of a vehicle preset on a terrain preset, with optional overrides.
+    """A vehicle on a terrain: the one way to name a vehicle, preset or file.
+
+    The parameters follow the terrain: ``p.on("asphalt")`` is the same vehicle with the
+    same overrides on asphalt, so ``p`` plans and is costed on maps with terrain regions
+    as well (the energy module evaluates it on the terrain under each piece of path; its
+    own ``terrain`` is the default).
 
     Parameters
     ----------
-    name : str
-        Vehicle preset (see :func:`vehicle_names`).
+    name : str or Vehicle
+        Vehicle preset (see :func:`vehicle_names`), or a vehicle file read with
+        :func:`ecoplan.io.vehicles.load_vehicle`.
     terrain : str, optional
-        Terrain preset (see :func:`terrain_names`); default :func:`default_terrain`.
+        Terrain (a key of the vehicle's terrain table, see :func:`terrain_names`);
+        default :func:`default_terrain`.
     overrides : mapping, optional
-        Field name -> value replacing the preset's value (any field of
+        Field name -> value replacing the preset's value on every terrain (any field of
         :class:`~ecoplan.models.tracked.TrackedParams` or
         :class:`~ecoplan.models.wheeled.WheeledParams`; side coefficients as mappings).
 
     Returns
     -------
     TrackedParams or WheeledParams
-        Frozen, validated parameters.
+        Frozen, validated parameters (:meth:`~ecoplan.models.tracked.TrackedParams.on`
+        moves them to another terrain).
 
     Raises
     ------
     InputError
-        Unknown preset or field name, or a value out of its accepted range.
+        Unknown preset, terrain or field name, or a value out of its accepted range.
     """
-    return shipped_vehicle(name).params(terrain, overrides)
-
-
-@dataclasses.dataclass(frozen=True, slots=True)
-class VehicleSpec:
-    """A vehicle (preset or file) plus overrides, evaluated on any terrain.
-
-    Attributes
-    ----------
-    name : str
-        Vehicle preset name, or the name inside ``file``.
-    overrides : tuple of (str, value)
-        Field overrides applied on every terrain (hashable form of a mapping).
-    terrain : str or None
-        Default terrain of the vehicle in this scenario.
-    file : Vehicle or None
-        A vehicle file read by the user (None: the preset ``name``).
-    """
-
-    name: str
-    overrides: tuple[tuple[str, Any], ...] = ()
-    terrain: str | None = None
-    file: Vehicle | None = None
-
-    def __post_init__(self) -> None:
-        self.on(self.terrain)  # validate eagerly: bad names and values fail here
-
-    @classmethod
-    def of(
-        cls,
-        name: str | Vehicle,
-        terrain: str | None = None,
-        overrides: Mapping[str, Any] | None = None,
-    ) -> VehicleSpec:
-        """Build a spec from a preset name or a :class:`~ecoplan.models.vehicles.Vehicle`."""
-        items = tuple(sorted((overrides or {}).items()))
-        if isinstance(name, Vehicle):
-            return cls(name.name, items, terrain, name)
-        return cls(name, items, terrain)
-
-    @property
-    def vehicle(self) -> Vehicle:
-        """The vehicle file behind the spec."""
-        return self.file if self.file is not None else shipped_vehicle(self.name)
-
-    def on(self, terrain: str | None = None) -> VehicleParams:
-        """Parameters on ``terrain`` (default: the spec's terrain)."""
-        return self.vehicle.params(terrain or self.terrain, dict(self.overrides))
-
-    @property
-    def kind(self) -> str:
-        """``"tracked"`` or ``"wheeled"``: the power model's family.
-
-        Contact-friction vehicles (also wheeled ones) are evaluated with the tracked
-        paper's model, so their parameters are ``TrackedParams``.
-        """
-        return str(self.on().kind)
+    source = name if isinstance(name, Vehicle) else shipped_vehicle(name)
+    return source.params(terrain, overrides)

@@ -12,12 +12,14 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.app.scenario.build import Case, Scenario, build_scenario
+from ecoplan.app.scenario.elevation import climb_power_w
 from ecoplan.app.scenario.schema import BatterySection, PlannerSection
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.objective import EnergyCost, LengthCost
@@ -25,7 +27,8 @@ from ecoplan.energy.path import path_cost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.models.limits import check_tracks
-from ecoplan.presets import VehicleSpec
+from ecoplan.models.tracked import TrackedParams
+from ecoplan.presets import vehicle as named_vehicle
 from ecoplan.sim.simulate import SimConfig, SimResult, simulate_waypoints
 
 __all__ = [
@@ -324,6 +327,7 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
             speed,
             world=sc.world,
             initial_heading_rad=spec.start.yaw_rad,
+            elevation=sc.elevation,
         )
         plan = dataclasses.replace(
             plan,
@@ -335,7 +339,7 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
     ctrl = HeadingController(spec.controller.gain, speed, spec.controller.d_th_m)
     estimate = path_cost(
         plan.waypoints, sc.vehicle, speed, world=sc.world,
-        initial_heading_rad=spec.start.yaw_rad, turn=ctrl,
+        initial_heading_rad=spec.start.yaw_rad, turn=ctrl, elevation=sc.elevation,
     )  # fmt: skip
     plan = dataclasses.replace(plan, estimate_energy_j=estimate.energy_j)
     return dataclasses.replace(plan, speed_policy=spec.speed.policy)
@@ -344,8 +348,11 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
 def _plan_with(
     sc: Scenario, planner: PlannerSection, speed_mps: float, time_budget_s: float | None
 ) -> PlanOutcome:
-    cost_cls = EnergyCost if planner.objective == "energy" else LengthCost
-    cost = cost_cls(sc.vehicle, speed_mps, world=sc.world)
+    cost: EnergyCost | LengthCost
+    if planner.objective == "energy":  # climbs cost M g dz / eta (terrain.elevation)
+        cost = EnergyCost(sc.vehicle, speed_mps, world=sc.world, elevation=sc.elevation)
+    else:
+        cost = LengthCost(sc.vehicle, speed_mps, world=sc.world)
     budget = planner.time_s if time_budget_s is None else time_budget_s  # the flag overrides
     start, goal, heading = sc.spec.start.xy, sc.goal_xy, sc.spec.start.yaw_rad
     if isinstance(sc.world, GridMap) or planner.type == "lattice":
@@ -492,6 +499,11 @@ def _account(sc: Scenario, name: str, plan: PlanOutcome, sim: SimResult) -> Case
         comps = {k: np.asarray(v, dtype=np.float64) for k, v in sim.components_w.items()}
     if sc.model is not None and sc.model.effect != "none":
         p_total, comps = _with_effect(sc.model, sim, p_total, comps)
+    if sc.elevation is not None:  # G(q): the climbs along the simulated path
+        p = sc.params
+        eta = p.eta if isinstance(p, TrackedParams) else 1.0  # as energy.path charges them
+        comps["grade_w"] = climb_power_w(sc.elevation, sim.x, sim.y, dt, p.mass_kg, eta)
+        p_total = p_total + comps["grade_w"]
     violated = np.full(len(sim.t), "", dtype=object)
     for terr in sorted(set(terrain)):
         idx = np.flatnonzero(np.asarray(terrain) == terr)
@@ -578,20 +590,24 @@ def battery_verdict(
     return BatteryVerdict(b.capacity_wh, usable, energy, completes, usable - energy, empty_at)
 
 
-def candidate_routes(sc: Scenario, vehicle: VehicleSpec) -> dict[str, Any]:
+def candidate_routes(
+    scenario: str | Path, vehicle: str, terrain: str | None = None
+) -> dict[str, Any]:
     """Candidate routes of a scenario as drive trajectories, for ranking by a diagnosis.
 
     Each case of the scenario (its ``compare`` variants, or the scenario itself) is
     planned (or takes its fixed waypoints), with the planner's alternatives when it
     returns several; every route is driven turn-on-the-spot then straight at the case's
-    speed (:func:`ecoplan.diagnose.loop.polyline_trajectory`).
+    speed (:func:`ecoplan.diagnose.loop.polyline_trajectory`) by the diagnosed vehicle.
 
     Parameters
     ----------
-    sc : Scenario
-        The scenario.
-    vehicle : VehicleSpec
-        The diagnosed vehicle on its terrain (``vehicle.terrain``).
+    scenario : str or Path
+        The scenario file (``ecoplan diagnose --scenario``).
+    vehicle : str
+        The diagnosed vehicle (``--vehicle``): the scenario must drive the same one.
+    terrain : str, optional
+        The diagnosed terrain (default: the vehicle's).
 
     Returns
     -------
@@ -601,11 +617,18 @@ def candidate_routes(sc: Scenario, vehicle: VehicleSpec) -> dict[str, Any]:
     Raises
     ------
     InputError
-        The scenario gives fewer than two routes.
+        The scenario drives another vehicle, or gives fewer than two routes.
     """
+    from ecoplan.app.scenario import load_scenario
     from ecoplan.diagnose.loop import polyline_trajectory
 
-    params = vehicle.on()
+    sc = load_scenario(scenario)
+    if sc.vehicle_name != vehicle:
+        raise InputError(
+            f"--scenario {scenario}: its vehicle is {sc.vehicle_name!r} but the logs are "
+            f"diagnosed against --vehicle {vehicle!r}; rank routes of the same vehicle"
+        )
+    params = named_vehicle(vehicle, terrain)
     routes: dict[str, Any] = {}
     for case in sc.cases():
         plan = plan_case(case)

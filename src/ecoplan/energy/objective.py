@@ -56,7 +56,7 @@ class CostObjective:
     Parameters
     ----------
     vehicle : TerrainVehicle or TrackedParams or WheeledParams
-        The vehicle (e.g. ``VehicleSpec.of(name)``; plain parameters only without terrain
+        The vehicle (e.g. ``vehicle(name)``; plain parameters only without terrain
         regions).
     speed_mps : float
         Cruise speed [m/s] (see :mod:`ecoplan.planning.speed` to choose it).
@@ -218,8 +218,8 @@ class EnergyCost(CostObjective):
 
     Examples
     --------
-    >>> from ecoplan.presets import VehicleSpec
-    >>> c = EnergyCost(VehicleSpec.of("auriga-beta-wide"), 0.5)
+    >>> from ecoplan.presets import vehicle
+    >>> c = EnergyCost(vehicle("auriga-beta-wide"), 0.5)
     >>> round(c.segment_cost((0, 0), (10, 0)))  # P_T(0.5, 0.5) * 10 m / 0.5 m/s
     8421
     """

@@ -209,7 +209,7 @@ def path_cost(
     path : array_like, shape (N, 2)
         Waypoints [m], N >= 2, no repeated consecutive points.  For a
         :class:`TrackTrajectory` speed, only ``path[0]`` is used (start position).
-    vehicle : VehicleSpec or TrackedParams or WheeledParams
+    vehicle : TrackedParams or WheeledParams
         The vehicle; a spec is needed when the world has terrain regions.
     speed : float, sequence of float or TrackTrajectory
         One speed [m/s], one per segment, or a timed track-speed trajectory

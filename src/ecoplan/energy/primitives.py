@@ -47,7 +47,7 @@ VehicleParams = TrackedParams | WheeledParams
 
 
 class TerrainVehicle(Protocol):
-    """A vehicle whose parameters follow the terrain (e.g. :class:`ecoplan.presets.VehicleSpec`)."""
+    """A vehicle whose parameters follow the terrain (parameters from a vehicle file)."""
 
     def on(self, terrain: str | None = None) -> VehicleParams:
         """Parameters on ``terrain`` (None: the vehicle's default terrain)."""
@@ -111,23 +111,25 @@ _N_YAW = 256  # yaw-rate grid for the best on-the-spot turn
 def params_on(vehicle: Vehicle, terrain: str | None = None) -> VehicleParams:
     """Vehicle parameters on ``terrain``.
 
-    A :class:`TerrainVehicle` is evaluated on the terrain (``None``: its own default);
-    plain parameters are returned as they are, which is only right in a world without
-    terrain regions (:func:`check_vehicle_world` checks that).
+    Parameters from a vehicle file (:func:`ecoplan.presets.vehicle`) are evaluated on the
+    terrain (``None``: their own); parameters built by hand are returned as they are, which
+    is only right in a world without terrain regions (:func:`check_vehicle_world`).
     """
-    if isinstance(vehicle, TrackedParams | WheeledParams):
+    if isinstance(vehicle, TrackedParams | WheeledParams) and vehicle.source is None:
         return vehicle
     return vehicle.on(terrain)
 
 
 def check_vehicle_world(vehicle: Vehicle, world: WorldLike | None) -> None:
-    """Refuse plain parameters in a world with terrain regions (one clear line)."""
+    """Refuse hand-built parameters in a world with terrain regions (one clear line)."""
     if world is None or not isinstance(vehicle, TrackedParams | WheeledParams):
         return
-    if world.has_regions or world.default_terrain is not None:
+    if vehicle.source is None and (world.has_regions or world.default_terrain is not None):
         raise InputError(
-            "the world has terrain regions: pass the vehicle as a presets.VehicleSpec "
-            "(VehicleSpec.of(name)) so that its parameters follow the terrain"
+            "the world has terrain regions: build the vehicle with "
+            "ecoplan.presets.vehicle(name or vehicle file, terrain, overrides=...) so that "
+            "its parameters follow the terrain (parameters built by hand or changed with "
+            "dataclasses.replace hold one terrain)"
         )
 
 

@@ -13,7 +13,7 @@ vertices, keeps the full clearance (a conservative inflation).
 Terrain regions are polygons carrying a terrain preset name (e.g. an asphalt patch on a
 marble floor); points outside every region are on ``default_terrain``.  Where regions
 overlap, the **last** one listed wins (like layers of paint).  ``None`` as a terrain means
-"the vehicle's own default terrain" (see :class:`ecoplan.presets.VehicleSpec`).
+"the vehicle's own default terrain" (see :func:`ecoplan.presets.vehicle`).
 
 >>> from ecoplan.geometry.world import World, rectangle
 >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 4, 6, 6)], inflation_m=0.5)

@@ -21,7 +21,7 @@ vectorised array operations.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
@@ -31,6 +31,7 @@ from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array, finite_pair
 from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
+from ecoplan.models.terrain_link import FollowsTerrain, TerrainSource
 
 __all__ = [
     "DEFAULT_NONREGEN_ONSET_MPS",
@@ -60,7 +61,7 @@ DEFAULT_NONREGEN_ONSET_MPS = 0.05
 
 
 @dataclass(frozen=True, slots=True)
-class TrackedParams:
+class TrackedParams(FollowsTerrain):
     """Parameters of a tracked skid-steer vehicle on one terrain (SI units).
 
     Attributes
@@ -139,6 +140,14 @@ class TrackedParams:
         Limit on total electrical locomotion power ``P_T`` [W]; None = unlimited.
     p_motor_max_w : float or None
         Limit on each motor's mechanical power ``|P_M^{l,r}|`` [W]; None = unlimited.
+    terrain : str or None
+        Terrain of the vehicle file these parameters are for (None: built by hand or
+        changed with ``dataclasses.replace``; set by
+        :meth:`ecoplan.models.vehicles.Vehicle.params`, not an argument).
+    source : TerrainSource or None
+        The vehicle file they come from (:meth:`on` evaluates it on other terrains).
+    overrides : tuple of (str, value)
+        Field overrides they were built with (kept on every terrain).
     """
 
     name: str = "tracked"
@@ -161,6 +170,11 @@ class TrackedParams:
     accel_max_mps2: float = STATIONARY_RAMP_MPS2
     p_total_max_w: float | None = 3040.0
     p_motor_max_w: float | None = None
+    terrain: str | None = field(default=None, init=False, compare=False)
+    source: TerrainSource | None = field(default=None, init=False, repr=False, compare=False)
+    overrides: tuple[tuple[str, Any], ...] = field(
+        default=(), init=False, repr=False, compare=False
+    )
     _friction: _FrictionConstants = field(init=False, repr=False, compare=False)
     _kernel: _KernelConstants = field(init=False, repr=False, compare=False)
 

@@ -577,9 +577,13 @@ def _build_params(
             val = SideCoefficients(**{**base, **val})
         values[name] = val
     try:
-        return cls(**values)
+        params = cls(**values)
     except TypeError as exc:  # wrong type for a field
         raise InputError(f"invalid parameter for {vehicle.name}: {exc}") from None
+    # where they come from, so that they follow the terrain (TrackedParams.on)
+    for name, val in (("terrain", key), ("source", vehicle), ("overrides", overrides)):
+        object.__setattr__(params, name, val)
+    return params
 
 
 def vehicle_from_mapping(data: Any, source: str = "<mapping>") -> Vehicle:

@@ -42,7 +42,8 @@ draw of a side is ``|P|``.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -50,6 +51,7 @@ from ecoplan._typing import ArrayLike, FloatArray, IntArray
 from ecoplan.models._validate import check_range, finite_pair
 from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
+from ecoplan.models.terrain_link import FollowsTerrain, TerrainSource
 
 __all__ = [
     "ASPHALT_RADII_M",
@@ -136,7 +138,7 @@ def side_power(r_m: ArrayLike, v_mps: ArrayLike, side: SideCoefficients) -> Floa
 
 
 @dataclass(frozen=True, slots=True)
-class WheeledParams:
+class WheeledParams(FollowsTerrain):
     """Parameters of a wheeled skid-steer vehicle on one terrain (SI units).
 
     Attributes
@@ -168,6 +170,14 @@ class WheeledParams:
         (§III-C) -- an assumption; the wheeled paper states no acceleration limit.
     case_tol_mps : float
         Speeds this close to zero (or to each other) count as zero (equal) [m/s].
+    terrain : str or None
+        Terrain of the vehicle file these parameters are for (None: built by hand or
+        changed with ``dataclasses.replace``; set by
+        :meth:`ecoplan.models.vehicles.Vehicle.params`, not an argument).
+    source : TerrainSource or None
+        The vehicle file they come from (:meth:`on` evaluates it on other terrains).
+    overrides : tuple of (str, value)
+        Field overrides they were built with (kept on every terrain).
     """
 
     name: str = "wheeled"
@@ -184,6 +194,11 @@ class WheeledParams:
     accel_max_mps2: float = 0.9 / 2.5
     case_tol_mps: float = 1e-3
 
+    terrain: str | None = field(default=None, init=False, compare=False)
+    source: TerrainSource | None = field(default=None, init=False, repr=False, compare=False)
+    overrides: tuple[tuple[str, Any], ...] = field(
+        default=(), init=False, repr=False, compare=False
+    )
     kind = "wheeled"
 
     def __post_init__(self) -> None:

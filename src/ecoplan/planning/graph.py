@@ -210,10 +210,10 @@ class GraphPlanner:
     Examples
     --------
     >>> from ecoplan.energy.objective import EnergyCost
-    >>> from ecoplan.presets import VehicleSpec
+    >>> from ecoplan.presets import vehicle
     >>> from ecoplan.geometry.world import World, rectangle
     >>> w = World(rectangle(0, 0, 20, 10), [rectangle(8, 3, 12, 7)], inflation_m=0.3)
-    >>> cost = EnergyCost(VehicleSpec.of("auriga-beta-wide"), 0.5, world=w)
+    >>> cost = EnergyCost(vehicle("auriga-beta-wide"), 0.5, world=w)
     >>> res = GraphPlanner(w, cost).plan((2, 5), (18, 5))
     >>> res.best.cost.feasible, len(res.best.waypoints) >= 3
     (True, True)

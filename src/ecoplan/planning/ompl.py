@@ -243,9 +243,9 @@ class OmplPlanner:
     --------
     >>> from ecoplan.geometry.world import World, rectangle
     >>> from ecoplan.energy.objective import EnergyCost
-    >>> from ecoplan.presets import VehicleSpec
+    >>> from ecoplan.presets import vehicle
     >>> w = World(rectangle(0, 0, 10, 10), [rectangle(4, 3, 6, 7)], inflation_m=0.3)
-    >>> c = EnergyCost(VehicleSpec.of("auriga-beta-narrow"), 0.5, world=w)
+    >>> c = EnergyCost(vehicle("auriga-beta-narrow"), 0.5, world=w)
     >>> opts = OmplOptions("RRTstar", time_budget_s=1.0, max_iterations=400, seed=3)
     >>> res = OmplPlanner(w, c, opts).plan((1, 5), (9, 5))
     >>> res.best.cost.feasible, res.planner

@@ -106,7 +106,7 @@ def best_speed(
     ----------
     path : array_like, shape (N, 2)
         Waypoints [m].
-    vehicle : VehicleSpec or TrackedParams or WheeledParams
+    vehicle : TrackedParams or WheeledParams
         The vehicle.
     world : World or GridMap (WorldLike), optional
         Terrain regions and fillet collision checks.

@@ -8,9 +8,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ecoplan.app.reports.tables import COMPONENT_LABELS
+from ecoplan.app.reports.tables import COMPONENT_LABELS, breakdown_components
 from ecoplan.geometry.maps import GridMap
-from ecoplan.models.power import COMPONENTS
 
 if TYPE_CHECKING:
     from ecoplan.app.run import CaseResult
@@ -33,6 +32,8 @@ _COMPONENT_COLOURS = {
     "braking_w": "#9467bd",
     "nonregen_w": "#ff7f0e",
     "elec_loss_w": "#bcbd22",
+    "inertial_w": "#17becf",
+    "grade_w": "#8c564b",
 }
 
 
@@ -280,19 +281,30 @@ def plot_power(sc: Scenario, results: Sequence[CaseResult]) -> Any:
 
 
 def plot_breakdown(sc: Scenario, results: Sequence[CaseResult]) -> Any:
-    """Energy by component, one stacked horizontal bar per case [kJ]."""
+    """Energy by component, one stacked horizontal bar per case [kJ].
+
+    The static model's components, then the mass terms when the scenario simulates them
+    (``inertial_w``: accelerating, :mod:`ecoplan.models.inertial`; ``grade_w``: climbing).  A
+    component is drawn where it is positive (net energy regained while braking or
+    descending shortens the total printed at the bar's end, not the bar).
+    """
     import matplotlib.pyplot as plt
 
     rs = [r for r in results if r.sim is not None]
     fig, ax = plt.subplots(figsize=(9, 1.4 + 0.6 * len(rs)), layout="constrained")
     names = [r.name for r in rs]
     left = np.zeros(len(rs))
-    for comp in COMPONENTS:
-        vals = np.array([r.breakdown_j[comp] / 1e3 for r in rs])
+    comps = breakdown_components({k for r in rs for k in r.breakdown_j})
+    for comp in comps:
+        vals = np.array([max(r.breakdown_j.get(comp, 0.0), 0.0) / 1e3 for r in rs])
         if not np.any(vals > 0):
             continue
         ax.barh(
-            names, vals, left=left, color=_COMPONENT_COLOURS[comp], label=COMPONENT_LABELS[comp]
+            names,
+            vals,
+            left=left,
+            color=_COMPONENT_COLOURS.get(comp, "#e377c2"),
+            label=COMPONENT_LABELS.get(comp, comp),
         )
         for i, v in enumerate(vals):
             total = rs[i].energy_j / 1e3

@@ -30,11 +30,11 @@ from ecoplan.app.reports.figures import plot_breakdown, plot_map, plot_power
 from ecoplan.app.reports.tables import (
     COMPONENT_LABELS,
     SUMMARY_COLUMNS,
+    breakdown_components,
     summary_row,
     summary_table,
 )
 from ecoplan.io.logcsv import write_log_csv
-from ecoplan.models.power import COMPONENTS
 
 if TYPE_CHECKING:
     from ecoplan.app.run import CaseResult
@@ -196,10 +196,10 @@ def _case_markdown(r: CaseResult, *, single: bool) -> list[str]:
         "| component | energy [kJ] | share |",
         "|---|---|---|",
     ]
-    for comp in COMPONENTS:
+    for comp in breakdown_components(r.breakdown_j):
         e = r.breakdown_j[comp]
         share = 100.0 * e / r.energy_j if r.energy_j else 0.0
-        lines.append(f"| {COMPONENT_LABELS[comp]} | {e / 1e3:.2f} | {share:.1f} % |")
+        lines.append(f"| {COMPONENT_LABELS.get(comp, comp)} | {e / 1e3:.2f} | {share:.1f} % |")
     if r.violation_s:
         what = ", ".join(f"{k} for {v:.2f} s" for k, v in r.violation_s.items())
         lines += ["", f"**Limits.** The simulated commands violate {what}."]

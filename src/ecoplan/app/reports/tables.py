@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
+
+from ecoplan.models.power import COMPONENTS
 
 if TYPE_CHECKING:
     from ecoplan.app.run import CaseResult, PlanOutcome
@@ -12,6 +14,7 @@ if TYPE_CHECKING:
 __all__ = [
     "COMPONENT_LABELS",
     "SUMMARY_COLUMNS",
+    "breakdown_components",
     "case_lines",
     "plan_lines",
     "summary_row",
@@ -26,7 +29,39 @@ COMPONENT_LABELS = {
     "braking_w": "driver braking",
     "nonregen_w": "non-regenerated",
     "elec_loss_w": "electrical loss",
+    "inertial_w": "inertia",
+    "grade_w": "climbing",
 }
+
+
+def breakdown_components(components: Iterable[str]) -> list[str]:
+    """The components a report shows, in report order.
+
+    The static model's six (:data:`ecoplan.models.power.COMPONENTS`) first, then the
+    mass terms: ``inertial_w`` (``M a v + I α ω``, present when a scenario sets
+    ``simulation: {inertial: true}``) and ``grade_w`` (the climbs of
+    ``terrain: {elevation: ...}``), then any other key of ``components``.
+
+    Parameters
+    ----------
+    components : iterable of str
+        Keys of a breakdown (``CaseResult.breakdown_j`` or ``components_w``).
+
+    Returns
+    -------
+    list of str
+
+    Examples
+    --------
+    >>> breakdown_components(["inertial_w", "friction_w", "resistance_w"])[:2]
+    ['friction_w', 'resistance_w']
+    >>> breakdown_components(["inertial_w", *COMPONENTS])[-1]
+    'inertial_w'
+    """
+    keys = set(components)
+    order = [*COMPONENTS, "inertial_w", "grade_w"]
+    return [k for k in order if k in keys] + sorted(keys - set(order))
+
 
 #: Columns of ``summary.csv``, one row per case.
 SUMMARY_COLUMNS = (

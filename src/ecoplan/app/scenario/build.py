@@ -18,6 +18,7 @@ from shapely import Point as ShapelyPoint
 from shapely import Polygon
 from shapely.validation import explain_validity
 
+from ecoplan.app.scenario.elevation import GroundElevation, ground_elevation
 from ecoplan.app.scenario.schema import (
     MAX_FILE_BYTES,
     PlannerSection,
@@ -30,7 +31,7 @@ from ecoplan.geometry.maps import GridMap
 from ecoplan.geometry.world import GeometryError, World, rectangle
 from ecoplan.io.vehicles import load_vehicle
 from ecoplan.io.yaml import LineMap, error_at, one_line
-from ecoplan.presets import VehicleParams, VehicleSpec
+from ecoplan.presets import VehicleParams, vehicle
 
 __all__ = ["Case", "Scenario", "build_scenario"]
 
@@ -69,7 +70,7 @@ class Scenario:
         The validated file contents.
     source : str
         Where it came from (a path or ``"<string>"``), for messages and reports.
-    vehicle : VehicleSpec
+    vehicle : TrackedParams or WheeledParams
         Vehicle preset, overrides and default terrain (``.on(terrain)`` gives parameters).
     bounds : shapely.Polygon
         Map bounds.
@@ -86,7 +87,7 @@ class Scenario:
 
     spec: ScenarioSpec
     source: str
-    vehicle: VehicleSpec
+    vehicle: VehicleParams
     bounds: Polygon
     obstacles: tuple[Polygon, ...]
     regions: tuple[tuple[str, str, Polygon], ...]
@@ -101,12 +102,24 @@ class Scenario:
     @property
     def params(self) -> VehicleParams:
         """Vehicle parameters on the default terrain."""
-        return self.vehicle.on()
+        return self.vehicle
+
+    @property
+    def elevation(self) -> GroundElevation | None:
+        """Ground elevation ``z(x, y)`` of ``terrain.elevation`` (None: flat ground)."""
+        t = self.spec.terrain
+        return None if t.elevation is None else ground_elevation(t.elevation)
 
     @property
     def default_terrain(self) -> str:
         """Default terrain preset name."""
-        return self.vehicle.terrain or self.vehicle.vehicle.default_terrain
+        return str(self.vehicle.terrain)
+
+    @property
+    def vehicle_name(self) -> str:
+        """The vehicle's stable name (its preset or file name)."""
+        src = self.vehicle.source
+        return self.vehicle.name if src is None else src.name
 
     @property
     def goal_xy(self) -> tuple[float, float]:
@@ -189,13 +202,15 @@ def build_scenario(
     lines = LineMap() if lines is None else lines
     model = _load_model(spec, source, lines) if spec.vehicle.model is not None else None
     veh = _build_vehicle(spec, source, lines, model)
+    # terrain outside every region: the scenario's (the corrected model's) default
+    default = spec.terrain.default if model is None else model.terrain
     for i, region in enumerate(spec.terrain.regions):
         try:
             veh.on(region.terrain)
         except InputError as exc:
             raise _err(source, lines, ("terrain", "regions", i, "terrain"), str(exc)) from None
     if spec.map.ros is not None:
-        grid = _load_grid(spec, source, lines, veh)
+        grid = _load_grid(spec, source, lines, veh, default)
         xmin, ymin, xmax, ymax = (float(v) for v in grid.extent())
         scenario = Scenario(
             spec, source, veh, rectangle(xmin, ymin, xmax, ymax), (), (), grid, model
@@ -223,7 +238,7 @@ def build_scenario(
             obstacles,
             inflation_m=spec.map.inflation_m,
             regions=[(poly, terrain) for _, terrain, poly in regions],
-            default_terrain=veh.terrain,
+            default_terrain=default,
         )
     except GeometryError as exc:
         raise _err(source, lines, ("map",), str(exc)) from None
@@ -233,7 +248,9 @@ def build_scenario(
     return scenario
 
 
-def _load_grid(spec: ScenarioSpec, source: str, lines: LineMap, veh: VehicleSpec) -> GridMap:
+def _load_grid(
+    spec: ScenarioSpec, source: str, lines: LineMap, veh: VehicleParams, default: str | None
+) -> GridMap:
     """The inflated occupancy grid (and terrain layer) of ``map: {ros: FILE.yaml}``."""
     from ecoplan.io.rosmap import load_ros_map
 
@@ -254,7 +271,7 @@ def _load_grid(spec: ScenarioSpec, source: str, lines: LineMap, veh: VehicleSpec
             unknown=spec.map.unknown,
             terrain_image=None if layer is None else (base / layer.image).resolve(),
             terrain_legend=None if layer is None else layer.legend,
-            default_terrain=veh.terrain,
+            default_terrain=default,
         )
     except InputError as exc:
         where = ("terrain", "layer") if layer is not None and "terrain" in str(exc) else ("map",)
@@ -302,7 +319,7 @@ def _model_overrides(model: Any) -> dict[str, Any]:
     return {k: SideCoefficients(**v) if isinstance(v, dict) else v for k, v in params.items()}
 
 
-def _file_vehicle(spec: ScenarioSpec, source: str, lines: LineMap) -> VehicleSpec:
+def _file_vehicle(spec: ScenarioSpec, source: str, lines: LineMap) -> VehicleParams:
     """The vehicle file named by ``vehicle.file`` (path relative to the scenario)."""
     v = spec.vehicle
     assert v.file is not None
@@ -314,7 +331,7 @@ def _file_vehicle(spec: ScenarioSpec, source: str, lines: LineMap) -> VehicleSpe
     except InputError as exc:
         raise _err(source, lines, ("vehicle", "file"), one_line(str(exc))) from None
     try:
-        VehicleSpec.of(veh)
+        vehicle(veh)
     except InputError as exc:  # pragma: no cover - load_vehicle builds every terrain
         raise _err(source, lines, ("vehicle", "file"), one_line(str(exc))) from None
     if spec.terrain.default is not None and spec.terrain.default.lower() not in veh.terrains:
@@ -326,42 +343,40 @@ def _file_vehicle(spec: ScenarioSpec, source: str, lines: LineMap) -> VehicleSpe
             f"accepted: {', '.join(veh.terrains)}",
         )
     try:
-        return VehicleSpec.of(veh, spec.terrain.default, v.overrides)
+        return vehicle(veh, spec.terrain.default, v.overrides)
     except (InputError, TypeError, ValueError) as exc:
         raise _err(source, lines, ("vehicle", "overrides"), one_line(str(exc))) from None
 
 
 def _build_vehicle(
     spec: ScenarioSpec, source: str, lines: LineMap, model: Any = None
-) -> VehicleSpec:
+) -> VehicleParams:
     v = spec.vehicle
     if model is not None:
         try:
-            return VehicleSpec.of(
-                model.vehicle, model.terrain, {**_model_overrides(model), **v.overrides}
-            )
+            return vehicle(model.vehicle, model.terrain, {**_model_overrides(model), **v.overrides})
         except (InputError, TypeError, ValueError) as exc:
             raise _err(source, lines, ("vehicle", "overrides"), one_line(str(exc))) from None
     if v.file is not None:
         return _file_vehicle(spec, source, lines)
     assert v.preset is not None
     try:
-        return VehicleSpec.of(v.preset, spec.terrain.default, v.overrides)
+        return vehicle(v.preset, spec.terrain.default, v.overrides)
     except (InputError, TypeError, ValueError) as exc:
         loc: tuple[str | int, ...] = ("vehicle",)
         try:
-            VehicleSpec.of(v.preset)
+            vehicle(v.preset)
         except (InputError, TypeError, ValueError):
             loc = ("vehicle", "preset")
         else:
             try:
-                VehicleSpec.of(v.preset, spec.terrain.default)
+                vehicle(v.preset, spec.terrain.default)
             except (InputError, TypeError, ValueError):
                 loc = ("terrain", "default")
             else:
                 for key in v.overrides:
                     try:
-                        VehicleSpec.of(v.preset, spec.terrain.default, {key: v.overrides[key]})
+                        vehicle(v.preset, spec.terrain.default, {key: v.overrides[key]})
                     except (InputError, TypeError, ValueError):
                         loc = ("vehicle", "overrides", key)
                         break

@@ -32,6 +32,8 @@ __all__ = [
     "BatterySection",
     "Circle",
     "ControllerSection",
+    "ElevationSection",
+    "Hill",
     "MapSection",
     "OutputsSection",
     "PlannerSection",
@@ -157,8 +159,39 @@ class TerrainLayer(_Section):
     legend: dict[Annotated[int, Field(ge=0, le=65535)], Name] = Field(min_length=1)
 
 
+class Hill(_Section):
+    """A round hill (or hollow) added to the ground.
+
+    ``z = height_m exp(-d^2 / (2 radius_m^2))`` with ``d`` the distance from ``(x, y)``
+    [m]; ``height_m < 0`` is a hollow.
+    """
+
+    x: Coord
+    y: Coord
+    height_m: Annotated[float, Field(ge=-1000.0, le=1000.0, allow_inf_nan=False)]
+    radius_m: PositiveLength
+
+
+class ElevationSection(_Section):
+    """Ground elevation ``z(x, y)`` [m, REP-103 z up]: a plane plus round hills.
+
+    ``grade: [gx, gy]`` is the rise per metre along +x and +y (0.05 = 5 %; each within
+    ±1, i.e. ±45°); ``z0_m`` the height at the origin; ``hills`` are added to the plane.
+    Climbs cost ``M g Δz / η`` in the planner's cost and the estimate, and the simulated
+    power draws ``M g max(dz/dt, 0) / η`` (the ``grade_w`` component); descents are not
+    credited (see :func:`ecoplan.models.inertial.climb_energy_along_j`).
+    """
+
+    grade: Annotated[
+        list[Annotated[float, Field(ge=-1.0, le=1.0, allow_inf_nan=False)]],
+        Field(min_length=2, max_length=2),
+    ] = Field(default_factory=lambda: [0.0, 0.0])
+    z0_m: Annotated[float, Field(ge=-1e4, le=1e4, allow_inf_nan=False)] = 0.0
+    hills: Annotated[list[Hill], Field(max_length=1000)] = Field(default_factory=list)
+
+
 class TerrainSection(_Section):
-    """Default terrain preset, optional regions of other terrains or a label-image layer.
+    """Default terrain, optional regions, a label-image layer, the ground elevation.
 
     A plain string ``terrain: marble`` is shorthand for ``{default: marble}``.
     """
@@ -166,6 +199,7 @@ class TerrainSection(_Section):
     default: Name | None = None
     regions: Annotated[list[Region], Field(max_length=1000)] = Field(default_factory=list)
     layer: TerrainLayer | None = None
+    elevation: ElevationSection | None = None
 
     @model_validator(mode="before")
     @classmethod
