@@ -1,11 +1,11 @@
 """Analytic path energy against the simulator on random polylines (issue 11, item 6).
 
-Run: ``.venv/bin/python benchmarks/analytic_vs_sim.py [--paths 200] [--seed 1]``
+Run: ``.venv/bin/python benchmarks/analytic_vs_sim.py [--paths 200] [--seed 1] [--legs 3 25]``
 
 For each vehicle (Auriga-β narrow belts on asphalt, heading controller ``G = 0.18``,
 ``v = 0.5 m/s``, ``d_th = 1 m``; Pioneer 3-AT on asphalt, ``G = 0.2``, ``v = 0.4 m/s``,
 ``d_th = 1.5 m``, power-limited turning as in :mod:`ecoplan.dynamics.controller`) the
-script draws random polylines -- 2 to 5 segments of 3 to 25 m, heading changes uniform in
+script draws random polylines -- 2 to 5 segments of 3 to 25 m (``--legs``), heading changes in
 ±150° (turns included), start aligned with the first segment -- simulates every one with
 :func:`ecoplan.sim.simulate.simulate_batch` (100 Hz, one batch), and compares the
 simulated energy with two analytic estimates by :func:`ecoplan.energy.path.path_cost`:
@@ -44,12 +44,14 @@ CASES = (
 )
 
 
-def random_polylines(g: np.random.Generator, n: int) -> list[np.ndarray]:
-    """Polylines of 2-5 segments, 3-25 m each, heading changes uniform in ±150°."""
+def random_polylines(
+    g: np.random.Generator, n: int, legs_m: tuple[float, float] = (3.0, 25.0)
+) -> list[np.ndarray]:
+    """Polylines of 2-5 segments, ``legs_m`` (3-25 m) each, heading changes uniform in ±150°."""
     out = []
     for _ in range(n):
         k = int(g.integers(2, 6))
-        lengths = g.uniform(3.0, 25.0, k)
+        lengths = g.uniform(legs_m[0], legs_m[1], k)
         turns = np.concatenate([[0.0], g.uniform(-math.radians(150), math.radians(150), k - 1)])
         heading = np.cumsum(turns)
         steps = np.column_stack([lengths * np.cos(heading), lengths * np.sin(heading)])
@@ -71,20 +73,30 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--paths", type=int, default=200, help="random polylines per vehicle")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument(
+        "--legs",
+        type=float,
+        nargs=2,
+        default=(3.0, 25.0),
+        metavar=("MIN_M", "MAX_M"),
+        help="segment lengths [m] (default 3 25; e.g. 1.6 8: chains of close corners)",
+    )
     args = ap.parse_args()
     g = np.random.default_rng(args.seed)
     print(
-        f"{args.paths} random polylines per vehicle, seed {args.seed}; error = analytic / sim - 1"
+        f"{args.paths} random polylines per vehicle, legs {args.legs[0]:g}-{args.legs[1]:g} m, "
+        f"seed {args.seed}; error = analytic / sim - 1"
     )
     print(f"{'vehicle':34s} {'estimate':10s}   p5    p25    p50    p75    p95")
     for name, terrain, ctrl in CASES:
         params = vehicle(name, terrain)
-        paths = random_polylines(g, args.paths)
+        paths = random_polylines(g, args.paths, tuple(args.legs))
         t0 = time.perf_counter()
         sims = simulate_batch([WaypointRun(params, p, ctrl) for p in paths], SimConfig(0.01))
         t_sim = time.perf_counter() - t0
-        done = np.array([s.completed for s in sims])
         e_sim = np.array([s.energy_j for s in sims])
+        # runs that never move (every way point within d_th of the start) have no ratio
+        done = np.array([s.completed for s in sims]) & (e_sim > 0.0)
         t0 = time.perf_counter()
         table = controlled_turns(params, ctrl)
         corner_pairs(params, ctrl)
@@ -109,7 +121,8 @@ def main() -> None:
             err = (e_ctrl[keep] / e_sim[keep] - 1.0) * 100.0
             print(f"{'':34s} {'tables':10s} {describe(err)}  ({int(keep.sum())} paths)")
         print(
-            f"{'':34s} {int(done.sum())}/{len(paths)} runs completed; simulated in {t_sim:.1f} s, "
+            f"{'':34s} {int(done.sum())}/{len(paths)} runs completed and moved; "
+            f"simulated in {t_sim:.1f} s, "
             f"corner and pair tables {t_table:.1f} s, "
             f"{len(paths)} controller estimates {t_cost:.2f} s "
             f"({rolled} rolled out: legs < {table.legs_m[0]:.2f} m)"

@@ -147,6 +147,16 @@ def test_close_way_points_are_rolled_out_like_the_simulator() -> None:
     assert pc.energy_j == pytest.approx(sim.energy_j, rel=0.005)
 
 
+def test_way_points_all_within_the_switching_radius_cost_nothing() -> None:
+    # every goal lies within d_th = 1 m of the start: the controller stops at once (eq. 23's
+    # switching rule), as the simulator does; no error from an empty rollout
+    path = np.array([[0.0, 0.0], [0.5, 0.0], [0.5, 0.5]])
+    sim = simulate(AURIGA, [path], CTRL)[0]
+    pc = path_cost(path, AURIGA, 0.5, turn=CTRL)
+    assert sim.completed and sim.energy_j == 0.0
+    assert (pc.energy_j, pc.duration_s, pc.feasible) == (0.0, 0.0, True)
+
+
 def test_controller_driven_path_also_pays_its_climbs() -> None:
     # a 10 % grade along x over 30 m: M g h / eta (tracked eta = 0.95, m = 286 kg), as the
     # static path cost charges it

@@ -369,6 +369,8 @@ def _controlled_path_cost(
     if n_seg > 1 and float(np.min(seg_len[1:])) < float(table0.legs_m[0]):
         # way points closer than the tables reach: roll the controller out on the path
         t, vl, vr, done = drive_path(params_on(vehicle, terrains[0]), pts, ctrl, yaw0)
+        if t.size < 2:  # every way point within the switching radius: the robot never moves
+            return _Acc().result(0.0, [], [])
         traj = TrackTrajectory(t, vl, vr)
         start = (float(pts[0, 0]), float(pts[0, 1]), yaw0)
         pc = trajectory_cost(traj, vehicle, world=world, start_pose=start)
