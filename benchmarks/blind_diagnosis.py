@@ -1,6 +1,6 @@
 """Blind check of the diagnosis on withheld effects (issue 6, item 3).
 
-Runs seeded cases of :func:`ecoplan.diagnose.synth.generate_case` — every in-library effect,
+Runs seeded cases of :func:`ecoplan.synth.cases.generate_case` — every in-library effect,
 ``none`` and out-of-library effects, at one magnitude — diagnoses each blind, then prints the
 confusion matrix, the accuracy per group against the issue's targets and the median held-out
 gap reduction when the verdict is right::
@@ -34,7 +34,8 @@ from typing import Any
 import numpy as np
 
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.synth import IN_LIBRARY, generate_case
+from ecoplan.synth.cases import generate_case
+from ecoplan.synth.withheld import IN_LIBRARY
 
 CLASSES = ("none", *IN_LIBRARY, "out_of_library")
 

@@ -28,10 +28,11 @@ import time
 import numpy as np
 
 from ecoplan.diagnose.calibrate import calibrate
-from ecoplan.diagnose.logio import Log, load_borealtc_runs
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
+from ecoplan.io.borealtc import load_borealtc_runs
 from ecoplan.presets import VehicleParams, vehicle
 
 TERRAINS = ("ASPHALT", "FLOORING", "ICE", "SANDY_LOAM", "SNOW")

@@ -1,6 +1,6 @@
 """Speed of the diagnosis: one hour of 100 Hz log diagnosed on one core (issue 6, item 5).
 
-Generates a session of about one hour at 100 Hz with :func:`ecoplan.diagnose.synth.generate_case`
+Generates a session of about one hour at 100 Hz with :func:`ecoplan.synth.cases.generate_case`
 (inertia at moderate magnitude, 40 A->B runs plus the grid and spirals), then times
 :func:`ecoplan.diagnose.pipeline.diagnose` on it.  Target: under 30 s.  Run with one BLAS thread::
 
@@ -18,7 +18,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("MKL_NUM_THREADS", "1")
 
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.synth import generate_case
+from ecoplan.synth.cases import generate_case
 
 TARGET_S = 30.0
 

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ecoplan.datasets.borealtc import HUSKY_BUS_VOLTAGE_V, data_root, list_terrains, load_runs
+from ecoplan.io.borealtc import HUSKY_BUS_VOLTAGE_V, data_root, list_terrains, load_runs
 from ecoplan.models.identify import leave_one_run_out
 from ecoplan.models.identify_logs import DriveLog, identify_vehicle
 from ecoplan.models.vehicles import vehicle_from_mapping

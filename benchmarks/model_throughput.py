@@ -28,8 +28,8 @@ from collections.abc import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from ecoplan.datasets.borealtc import data_root, list_terrains, load_runs  # noqa: E402
 from ecoplan.errors import InputError  # noqa: E402
+from ecoplan.io.borealtc import data_root, list_terrains, load_runs  # noqa: E402
 from ecoplan.models import TrackedParams, WheeledParams, tracked_total_power  # noqa: E402
 from ecoplan.models.identify import (  # noqa: E402
     TrackedIdentifier,

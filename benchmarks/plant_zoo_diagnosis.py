@@ -54,11 +54,9 @@ CONF_BINS = (0.0, 0.5, 0.7, 0.9, 1.0 + 1e-9)
 
 
 def _read_log(path: Path) -> Any:
-    """The library's own CSV reader (its module moved during the project's restructuring)."""
-    try:
-        from ecoplan.io.logcsv import read_log_csv
-    except ImportError:
-        from ecoplan.diagnose.logio import read_log_csv
+    """The library's own CSV reader."""
+    from ecoplan.io.logcsv import read_log_csv
+
     return read_log_csv(path)
 
 

@@ -1,6 +1,6 @@
 """Diagnosis of real data: BorealTC FLOORING and ASPHALT runs (Husky A200) — issue 6, item 4.
 
-For each terrain, all runs are loaded through :func:`ecoplan.diagnose.logio.load_borealtc`
+For each terrain, all runs are loaded through :func:`ecoplan.io.borealtc.load_borealtc`
 (``p_total = 24 V x (|I_left| + |I_right|)``: the bus voltage is an assumption, the data have no
 voltage column) and diagnosed against a wheeled skid-steer model (wheeled paper eqs. 12-15)
 whose coefficients the calibration step re-identifies on the training runs ("fit the static
@@ -25,9 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ecoplan.diagnose.logio import load_borealtc_runs
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.report import save_figures, write_json
+from ecoplan.diagnose.report import save_figures, summary, write_json
+from ecoplan.io.borealtc import load_borealtc_runs
 from ecoplan.presets import vehicle
 
 HUSKY = {"mass_kg": 70.0, "track_gauge_m": 0.555, "top_track_speed_mps": 1.0, "p_side_max_w": None}
@@ -65,7 +65,7 @@ def main() -> int:
             f"===== BorealTC {terrain}: {len(logs)} runs, mean power {mean_p:.0f} W "
             f"(24 V assumed); static LSQ leave-one-run-out MAE {ref:.1f} W"
         )
-        print(d.summary())
+        print(summary(d))
         if args.out:
             out = Path(args.out) / terrain.lower()
             write_json(d, out / "diagnosis.json")

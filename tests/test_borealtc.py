@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ecoplan.datasets import borealtc
-from ecoplan.datasets.borealtc import list_runs, list_terrains, load_run, load_runs
 from ecoplan.errors import InputError, LogFormatError
+from ecoplan.io import borealtc
+from ecoplan.io.borealtc import list_runs, list_terrains, load_run, load_runs
 
 REAL_ROOT = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "borealtc"
 

@@ -1,6 +1,6 @@
 """End-to-end diagnosis on blind synthetic cases, the CLI back end and closing the loop (issue 6).
 
-Every in-library effect is generated (``ecoplan.diagnose.synth``, large magnitude, short
+Every in-library effect is generated (``ecoplan.synth``, large magnitude, short
 sessions at 20 Hz to keep the suite fast) and the diagnosis, not told the answer, must name it;
 a ``none`` case must give ``none`` and an out-of-library effect ``unexplained``.  The blind
 benchmark (benchmarks/blind_diagnosis.py) checks the moderate magnitudes on many seeds.
@@ -14,7 +14,6 @@ from functools import cache
 import numpy as np
 import pytest
 
-from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.loop import (
     CorrectedModel,
     load_corrected_model,
@@ -22,10 +21,13 @@ from ecoplan.diagnose.loop import (
     ranking_change,
     save_corrected_model,
 )
-from ecoplan.diagnose.pipeline import Diagnosis, diagnose, run_diagnose_cli
-from ecoplan.diagnose.synth import IN_LIBRARY, generate_case
+from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.diagnose.result import Diagnosis
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
+from ecoplan.synth.cases import generate_case
+from ecoplan.synth.withheld import IN_LIBRARY
 
 
 @cache
@@ -137,8 +139,8 @@ def test_corrected_model_round_trips_through_yaml_and_json(tmp_path) -> None:  #
     for suffix in (".json", ".yaml"):
         back = load_corrected_model(save_corrected_model(m, tmp_path / f"m{suffix}"))
         assert back.effect == m.effect and back.params == base
-        # independent: preset power plus c (vl² + vr²)
-        want = float(base.power(0.5, 0.3).total_w) + 200.0 * (0.5**2 + 0.3**2)
+        # independent: preset power plus c (vl² + vr²) drawn through eta (eq. 20)
+        want = float(base.power(0.5, 0.3).total_w) + 200.0 * (0.5**2 + 0.3**2) / base.eta
         assert float(back.power(0.5, 0.3).total_w) == pytest.approx(want)
         pb = back.power(0.5, 0.3)
         assert float(sum(pb.components().values())) == pytest.approx(float(pb.total_w))
@@ -153,8 +155,9 @@ def test_bad_corrected_model_file_is_an_input_error(tmp_path) -> None:  # type: 
 
 def test_speed_dependent_resistance_reverses_a_fast_short_vs_slow_long_ranking() -> None:
     # Route A: 10 m at 0.8 m/s; route B: 12 m at 0.3 m/s (straight).  Preset: energy per metre
-    # is (2K v + P_pu)/eta / v, so the faster, shorter route wins.  With c (vl²+vr²) of
-    # c = 2000 N s/m, A costs 2 c v² t = 2c v d = 32 kJ more and B only 14.4 kJ: B wins.
+    # is (2K v + P_pu)/eta / v, so the faster, shorter route wins.  With c (vl²+vr²) / eta of
+    # c = 2000 N s/m, A costs 2 c v² t / eta = 2c v d / eta = 33.7 kJ more and B only 15.2 kJ:
+    # B wins (a resistance force, drawn through eta like every mechanical power, eq. 20).
     base = vehicle("auriga-beta-wide", "asphalt")
     dt = 0.01
 
@@ -170,7 +173,7 @@ def test_speed_dependent_resistance_reverses_a_fast_short_vs_slow_long_ranking()
     assert rc.rank_base == ["A", "B"]
     assert rc.rank_corrected == ["B", "A"]
     assert rc.changed and rc.best_changed
-    extra_a = 2000.0 * 2 * 0.8**2 * (10.0 / 0.8)
+    extra_a = 2000.0 * 2 * 0.8**2 * (10.0 / 0.8) / base.eta
     assert rc.energy_corrected_j[0] - rc.energy_base_j[0] == pytest.approx(extra_a, rel=0.01)
 
 

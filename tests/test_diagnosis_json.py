@@ -11,8 +11,8 @@ import pytest
 
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import JSON_KEYS, to_json_dict, validate_json, write_json
-from ecoplan.diagnose.synth import generate_case
 from ecoplan.errors import InputError
+from ecoplan.synth.cases import generate_case
 
 EXTRA_KEYS = {
     "calibration",
@@ -69,16 +69,30 @@ def _broken(path: list[Any], value: Any) -> dict[str, Any]:
 @pytest.mark.parametrize(
     ("path", "value", "message"),
     [
-        (["gap"], KeyError, "missing key 'gap'"),
-        (["gap", "metric"], "rmse_w", "metric"),
-        (["where", 0, "regime"], 3, "regime"),
-        (["effects", 0, "extra"], 1.0, "keys"),
-        (["verdict", "confidence"], 1.5, "confidence"),
+        (["gap"], KeyError, "missing required key 'gap'"),
+        (["gap", "metric"], "rmse_w", "gap.metric: expected one of 'mae_w'"),
+        (["gap", "before"], None, "gap.before: expected a number"),
+        (["gap", "after"], True, "gap.after: expected a number"),
+        (["gap", "after"], float("nan"), "gap.after: expected a finite number"),
+        (["where", 0, "regime"], 3, r"where\[0\].regime: expected a string"),
+        (["effects", 0, "extra"], 1.0, r"unknown key 'extra' in effects\[0\]"),
+        (["verdict", "confidence"], 1.5, "verdict.confidence: expected a number <= 1"),
+        (["verdict", "confidence"], -0.1, "verdict.confidence: expected a number >= 0"),
+        (["where_time"], [{"run": "r1"}], r"where_time\[0\]: missing required key"),
+        (["where_time"], None, "where_time: expected a list"),
     ],
 )
 def test_validator_names_the_broken_field(path: list[Any], value: Any, message: str) -> None:
-    with pytest.raises(InputError, match=message):  # ecoplan's hierarchy (issue 10 item 6)
+    with pytest.raises(InputError, match=message) as err:  # one hierarchy (issue 10 item 6)
         validate_json(_broken(path, value))
+    assert str(err.value).startswith("diagnosis JSON: ") and "\n" not in str(err.value)
+
+
+def test_validator_takes_documented_extra_keys_and_refuses_a_non_object() -> None:
+    obj = _broken(["ranking"], {"routes": [], "changed": False})  # `--scenario`'s extra key
+    validate_json(obj)
+    with pytest.raises(InputError, match=r"\(top level\): expected a mapping"):
+        validate_json([obj])
 
 
 def test_write_json_writes_a_valid_file(tmp_path) -> None:  # type: ignore[no-untyped-def]

@@ -12,8 +12,8 @@ import json
 import numpy as np
 
 from ecoplan.cli import main
-from ecoplan.diagnose.logio import read_log_csv
-from ecoplan.diagnose.synth import generate_case
+from ecoplan.io.logcsv import read_log_csv
+from ecoplan.synth.cases import generate_case
 
 
 def _logs_with_an_extra_column(tmp_path):  # type: ignore[no-untyped-def]
@@ -78,6 +78,7 @@ def test_out_writes_a_readable_report(tmp_path, capsys) -> None:  # type: ignore
 
 def test_bus_voltage_assumption_is_stated(tmp_path) -> None:  # type: ignore[no-untyped-def]
     from ecoplan.diagnose.pipeline import diagnose
+    from ecoplan.diagnose.report import to_json_dict
     from ecoplan.diagnose.report_md import report_markdown
 
     case = generate_case(4, "none", "large", n_waypoint_runs=1, rate_hz=10.0)
@@ -86,6 +87,6 @@ def test_bus_voltage_assumption_is_stated(tmp_path) -> None:  # type: ignore[no-
         for lg in case.logs
     ]  # type: ignore[attr-defined]
     d = diagnose(logs, case.vehicle, case.terrain)
-    assert "24 V" in " ".join(d.to_json_dict()["log"]["notes"])
+    assert "24 V" in " ".join(to_json_dict(d)["log"]["notes"])
     assert "24 V" in report_markdown(d)
     assert np.isfinite(d.gap_final_w)

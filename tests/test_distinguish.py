@@ -8,7 +8,8 @@ import numpy as np
 
 from ecoplan.diagnose.attribute import SEPARATING_MANOEUVRES
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.replay import rate_limit
+from ecoplan.diagnose.report import summary
+from ecoplan.dynamics.drive import follow_commands
 from ecoplan.presets import vehicle
 
 PARAMS = vehicle("auriga-beta-wide", "asphalt")
@@ -23,7 +24,7 @@ def _steps_at_one_speed(extra_mass_kg: float, seed: int = 0) -> SimpleNamespace:
     hz = 25.0
     t = np.arange(0.0, 400.0, 1.0 / hz)
     cmd = 0.5 + 0.05 * np.sign(np.sin(2.0 * np.pi * t / 8.0))
-    v = rate_limit(t, cmd, PARAMS.accel_max_mps2, v0=0.5)
+    v = follow_commands(t, cmd, PARAMS.accel_max_mps2, v0=0.5)
     p = PARAMS.power(v, v).total_w + extra_mass_kg * v * np.gradient(v, t)
     p = p + np.random.default_rng(seed).normal(0.0, 3.0, t.size)
     absent = ("v_left_cmd", "v_right_cmd", "x", "y", "yaw", "wz", "p_left", "p_right", "terrain")
@@ -41,4 +42,4 @@ def test_speed_steps_at_one_level_flag_inertia_and_a_sensor_delay_as_look_alikes
     assert d.verdict == "inertia"
     scores = {s.name: s.reduction_pct for s in d.attribution.scores}
     assert scores["inertia"] > 20.0 > scores["sensor_delay"]
-    assert "look alike on this log: " in d.summary() and "held out: " in d.summary()
+    assert "look alike on this log: " in summary(d) and "held out: " in summary(d)

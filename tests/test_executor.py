@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import json
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
+import ecoplan
 from ecoplan.app.executor import DaskExecutor, LocalExecutor, make_executor
 from ecoplan.app.run import CaseResult, run_case
 from ecoplan.app.scenario import parse_scenario
@@ -71,6 +75,20 @@ def test_bad_worker_count_is_input_error() -> None:
 def test_unreachable_scheduler_is_input_error() -> None:
     with pytest.raises(InputError, match="cannot reach the Dask scheduler"):
         DaskExecutor("tcp://127.0.0.1:1", timeout_s=0.5)
+
+
+@pytest.mark.parametrize("address", ["notaurl", "tcp://host-without-port", "foo://h:1"])
+def test_a_malformed_scheduler_address_is_one_line_and_exit_2(tmp_path: Path, address: str) -> None:
+    pytest.importorskip("distributed")
+    scenario = tmp_path / "sweep.yaml"
+    scenario.write_text(SWEEP)
+    # a separate interpreter: a half-built Dask client used to print a traceback at exit
+    env = {**os.environ, "PYTHONPATH": str(Path(ecoplan.__file__).parents[1])}
+    cmd = [sys.executable, "-m", "ecoplan.cli", "compare", str(scenario), "--scheduler", address]
+    done = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
+    assert done.returncode == 2
+    assert done.stderr.startswith(f"ecoplan: error: scheduler address {address!r}")
+    assert done.stderr.count("\n") == 1, done.stderr
 
 
 @pytest.mark.slow

@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ecoplan.datasets.borealtc import BorealRun, load_runs
 from ecoplan.errors import InputError
+from ecoplan.io.borealtc import BorealRun, load_runs
 from ecoplan.models import TrackedParams, WheeledParams
 from ecoplan.models.identify import (
     PAPER_RADII_M,

@@ -125,7 +125,8 @@ def test_bad_logs_are_one_line() -> None:
 
 
 def _write_csv(tmp_path, log: DriveLog, name: str, with_terrain: bool = True):  # type: ignore[no-untyped-def]
-    from ecoplan.diagnose.logio import Log, write_log_csv
+    from ecoplan.dynamics.log import Log
+    from ecoplan.io.logcsv import write_log_csv
 
     terrain = np.full(log.n_samples, log.terrain) if with_terrain else None
     return write_log_csv(

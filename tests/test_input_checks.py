@@ -1,7 +1,7 @@
 """Check the input before explaining it (issue 12, item 3): units, vehicle, excitation, crashes.
 
 Every case of the issue is built from one simulated session of the named vehicle
-(``ecoplan.diagnose.synth``, no effect) transformed the way a user's logger would get it
+(``ecoplan.synth``, no effect) transformed the way a user's logger would get it
 wrong: power in kW (/1000) or mW (x1000), currents at a 24 V bus (/24), time in ms (x1000),
 speeds in km/h (x3.6), a robot that never moves or never turns, another vehicle's log.  The
 expected outcome is one :class:`~ecoplan.errors.InputError` line naming the column and the
@@ -20,11 +20,13 @@ from hypothesis import strategies as st
 
 from ecoplan.cli import main
 from ecoplan.diagnose.checks import MAX_ENERGY_RATIO, check_logs
-from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.synth import generate_case
+from ecoplan.diagnose.report import json_report, summary
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
+from ecoplan.io.logcsv import write_log_csv
 from ecoplan.presets import vehicle
+from ecoplan.synth.cases import generate_case
 
 R = dataclasses.replace
 
@@ -86,14 +88,15 @@ def test_no_turning_is_said_and_none_is_not_fully_confident() -> None:
         logs.append(Log(t=lg.t, v_left=v, v_right=v, p_total=p, source="straight"))
     d = diagnose(logs, params)
     assert d.input_notes and "turning" in d.input_notes[0]
-    assert "too little excitation" in d.summary()
+    assert "too little excitation" in summary(d)
     assert not (d.verdict == "none" and d.attribution.confidence > 0.5)
 
 
 def test_cli_exit_2_with_one_line_for_power_in_kw(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     paths = []
     for i, lg in enumerate(_session()):
-        paths.append(str(R(lg, p_total=lg.p_total / 1000.0).to_csv(tmp_path / f"run{i}.csv")))
+        kw_scaled = R(lg, p_total=lg.p_total / 1000.0)
+        paths.append(str(write_log_csv(kw_scaled, tmp_path / f"run{i}.csv")))
     code = main(["diagnose", *paths, "--vehicle", "auriga-beta-narrow", "--terrain", "asphalt"])
     err = capsys.readouterr().err.strip()
     assert code == 2
@@ -134,7 +137,7 @@ def check_diagnosis_or_input_error(log_args: tuple[float, ...]) -> None:
     event("diagnosed")
     assert 0.0 <= d.attribution.confidence <= 1.0
     assert np.isfinite(d.gap_final_w)
-    d.to_json_dict()  # validated JSON shape
+    json_report(d)  # validated JSON shape
 
 
 @settings(max_examples=40, deadline=None)

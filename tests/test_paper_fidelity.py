@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -165,6 +166,34 @@ def test_default_onset_ramps_the_non_regenerated_power_linearly() -> None:
     vl = 0.5 - p.case_tol_mps - w / 2
     assert float(p.power(vl, 0.5).nonregen_w) == pytest.approx(0.5 * K_NR * (vl + 0.5))
     assert float(p.power(0.3, 0.5).nonregen_w) == pytest.approx(K_NR * 0.8)
+
+
+@pytest.mark.parametrize("onset", [0.0, 0.02, 0.1])
+def test_onset_is_a_vehicle_file_field(onset: float) -> None:
+    # the shipped Auriga file with drivers.nonregen_onset_mps set: the paper's step at 0,
+    # otherwise the linear onset from the 1 mm/s case-1 tolerance to tol + onset
+    from ecoplan.io.vehicles import parse_vehicle
+    from ecoplan.models.vehicles import shipped_vehicle
+
+    data = shipped_vehicle("auriga-beta-narrow").spec.model_dump(mode="json")
+    data["drivers"]["nonregen_onset_mps"] = onset
+    p = parse_vehicle(yaml.safe_dump(data)).params("asphalt")
+    assert isinstance(p, TrackedParams) and p.nonregen_onset_mps == onset
+    vl = 0.5 - 0.001 - 0.01  # a speed difference of 1 cm/s beyond the tolerance
+    share = 1.0 if onset == 0.0 else min(0.01 / onset, 1.0)
+    assert float(p.power(vl, 0.5).nonregen_w) == pytest.approx(share * K_NR * (vl + 0.5))
+
+
+def test_onset_beyond_its_range_in_a_vehicle_file_is_one_line() -> None:
+    from ecoplan.errors import InputError
+    from ecoplan.io.vehicles import parse_vehicle
+    from ecoplan.models.vehicles import shipped_vehicle
+
+    data = shipped_vehicle("auriga-beta-narrow").spec.model_dump(mode="json")
+    data["drivers"]["nonregen_onset_mps"] = -0.01
+    with pytest.raises(InputError, match="nonregen_onset_mps") as info:
+        parse_vehicle(yaml.safe_dump(data), "robot.yaml")
+    assert "\n" not in str(info.value)
 
 
 # --- item 7: hoisted draws no braking and no non-regenerated power -----------------------

@@ -21,11 +21,12 @@ from hypothesis import strategies as st
 
 from ecoplan.diagnose.calibrate import calibrate, wheeled_bounds
 from ecoplan.diagnose.effects import regenerated_w
-from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.replay import build_frame
-from ecoplan.diagnose.synth import inject, trajectory_from_commands
+from ecoplan.dynamics.log import Log
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import vehicle
+from ecoplan.synth.trajectory import trajectory_from_commands
+from ecoplan.synth.withheld import inject
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "borealtc"
 
@@ -111,7 +112,7 @@ def test_wheeled_calibration_keeps_straight_power_non_decreasing(slope: float, s
 
 @pytest.mark.skipif(not (DATA / "FLOORING").is_dir(), reason="BorealTC data not available")
 def test_borealtc_flooring_calibration_is_physical_and_finite() -> None:
-    from ecoplan.diagnose.logio import load_borealtc_runs
+    from ecoplan.io.borealtc import load_borealtc_runs
 
     husky = {"mass_kg": 70.0, "track_gauge_m": 0.555, "top_track_speed_mps": 1.0}
     params = vehicle("pioneer-3at", "asphalt", {**husky, "p_side_max_w": None})

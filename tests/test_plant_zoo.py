@@ -281,7 +281,7 @@ def test_power_saturation_slows_the_drive_instead_of_exceeding_the_supply() -> N
 @pytest.mark.parametrize("variant", ["a", "g"])
 def test_the_library_reads_a_zoo_log_whole(tmp_path: Path, variant: str) -> None:
     # the README log format is the contract: ecoplan's reader takes every row and column
-    from ecoplan.diagnose.logio import read_log_csv
+    from ecoplan.io.logcsv import read_log_csv
 
     case = plant_zoo.make_case(variant, "none", 1, duration_s=30.0)
     log = read_log_csv(plant_zoo.write_log(case, tmp_path / "zoo.csv"))

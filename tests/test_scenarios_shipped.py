@@ -33,14 +33,14 @@ FIGURES = ("map.png", "power.png", "breakdown.png")
 
 
 def _read_log(path: Path) -> dict[str, Any]:
+    # a plain CSV read, independent of ecoplan's reader: header on line 1, a text column
     with path.open() as fh:
         header = fh.readline().strip().split(",")
-    assert header[-1] == "terrain"
-    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=range(len(header) - 1), ndmin=2)
-    out: dict[str, Any] = {name: data[:, i] for i, name in enumerate(header[:-1])}
-    out["terrain"] = np.loadtxt(
-        path, delimiter=",", skiprows=1, usecols=[len(header) - 1], dtype=str, ndmin=1
-    )
+    k = header.index("terrain")
+    numeric = [i for i in range(len(header)) if i != k]
+    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=numeric, ndmin=2)
+    out: dict[str, Any] = {header[i]: data[:, j] for j, i in enumerate(numeric)}
+    out["terrain"] = np.loadtxt(path, delimiter=",", skiprows=1, usecols=[k], dtype=str, ndmin=1)
     return out
 
 
@@ -213,11 +213,11 @@ def test_case_logs_are_valid_diagnosis_logs(
     runs: Callable[[str], tuple[Path, dict[str, Any]]],
 ) -> None:
     # the simulator's log is the diagnosis issue's log format: a run can be diagnosed
-    logio = pytest.importorskip("ecoplan.diagnose.logio")
+    logs_io = pytest.importorskip("ecoplan.io.logs")
     out_dir, _ = runs("marble_asphalt_patch")
     saved = json.loads((out_dir / "summary.json").read_text())["cases"]
     paths = [out_dir / c["log_file"] for c in saved if c["log_file"]]
-    logs = logio.read_logs(paths)
+    logs = logs_io.read_logs(paths)
     assert len(logs) == len(paths)
     for log, path in zip(logs, paths, strict=True):
         table = _read_log(path)

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from ecoplan.diagnose.logio import read_log_csv
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.experiments.ab_replay import ab_scenario
+from ecoplan.io.logcsv import read_log_csv, write_log_csv
 from ecoplan.presets import vehicle
 from ecoplan.sim.simulate import simulate_waypoints
 
@@ -21,7 +21,7 @@ def test_a_noise_free_simulated_run_of_the_preset_has_no_gap(
     auriga = vehicle("auriga-beta-wide", "asphalt")
     route = dict(ab_scenario().waypoint_sets)[waypoints]
     run = simulate_waypoints(auriga, route, HeadingController(0.18, 0.5))
-    log = read_log_csv(run.to_csv(tmp_path / "run.csv"))
+    log = read_log_csv(write_log_csv(run.to_log(), tmp_path / "run.csv"))
     d = diagnose([log], auriga)
     # the residual left by smoothing and integration is coloured but a few hundredths of a
     # watt against ~430 W: nothing worth modelling

@@ -12,7 +12,6 @@ from ecoplan.dynamics.controller import HeadingController
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
 from ecoplan.sim import (
-    LOG_COLUMNS,
     SimConfig,
     WaypointRun,
     simulate_batch,
@@ -158,26 +157,39 @@ def test_batch_equals_single_runs(narrow) -> None:
 
 
 def test_csv_has_the_log_columns_first_and_round_trips(narrow, tmp_path) -> None:
+    from ecoplan.io.logcsv import write_log_csv
+
     res = simulate_waypoints(narrow, [[0, 0], [5, 2]], HeadingController(0.18, 0.5))
-    path = res.to_csv(tmp_path / "run.csv")
+    path = write_log_csv(res.to_log(), tmp_path / "run.csv")
     with path.open() as fh:
         rows = list(csv.reader(fh))
-    header = rows[0]
+    header = rows[0]  # no run id or notes: the header is the first line
     assert header[:12] == [
         "t",
+        "v_left",
+        "v_right",
+        "p_total",
+        "v_left_cmd",
+        "v_right_cmd",
         "x",
         "y",
         "yaw",
-        "v_left_cmd",
-        "v_right_cmd",
-        "v_left",
-        "v_right",
         "wz",
-        "p_total",
         "p_left",
         "p_right",
     ]
-    assert tuple(header[:12]) == LOG_COLUMNS
+    # then the extras: Fig. 3 motion case and one column per power component
+    assert header[12:] == [
+        "case",
+        "p_friction",
+        "p_resistance",
+        "p_powerup",
+        "p_braking",
+        "p_nonregen",
+        "p_elec_loss",
+    ]
+    breakdown = np.array([r[13:] for r in rows[1:]], dtype=float).sum(axis=1)
+    assert np.allclose(breakdown, res.p_total, rtol=1e-12, atol=1e-9)  # parts sum to P_T
     assert "case" in header and len(set(header)) == len(header)
     assert len(rows) - 1 == len(res.t)
     data = np.array(rows[1:], dtype=float)
@@ -209,13 +221,15 @@ def test_bad_config_and_commands_raise(narrow) -> None:
 
 def test_csv_is_read_by_the_diagnosis_log_reader(narrow, tmp_path) -> None:
     # the simulator writes the diagnosis issue's log format: a simulated run can be diagnosed
-    from ecoplan.diagnose.logio import read_log_csv
+    from ecoplan.io.logcsv import read_log_csv, write_log_csv
 
     res = simulate_waypoints(narrow, [[0, 0], [6, 2]], HeadingController(0.18, 0.5))
-    log = read_log_csv(res.to_csv(tmp_path / "sim.csv"))
-    assert np.allclose(log.p_total, res.p_total, rtol=1e-9)
-    assert np.allclose(log.v_left_cmd, res.v_left_cmd, rtol=1e-9)
-    assert np.allclose(log.yaw, res.yaw, rtol=1e-9)
+    log = read_log_csv(write_log_csv(res.to_log(), tmp_path / "sim.csv"))
+    # shortest round-trip text: the read log is the simulated one, bit for bit
+    np.testing.assert_array_equal(log.p_total, res.p_total)
+    np.testing.assert_array_equal(log.v_left_cmd, res.v_left_cmd)
+    np.testing.assert_array_equal(log.yaw, res.yaw)
+    assert log.source.endswith(".csv") and "ignored columns: case, p_friction" in log.notes[0]
 
 
 def test_track_commands_beyond_top_speed_are_saturated_by_eq5(narrow) -> None:

@@ -12,9 +12,9 @@ def test_straight_track_speeds_give_zero_dynamic_friction() -> None:
 
 
 def test_public_names_import() -> None:
-    import ecoplan.datasets as datasets
+    import ecoplan.io.borealtc as borealtc
     import ecoplan.models as models
 
-    for module in (models, datasets):
+    for module in (models, borealtc):
         for name in module.__all__:
             assert getattr(module, name) is not None

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from ecoplan.diagnose.calibrate import calibrate, structural_onset
-from ecoplan.diagnose.logio import Log
 from ecoplan.diagnose.replay import build_frame
+from ecoplan.dynamics.log import Log
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import vehicle
 

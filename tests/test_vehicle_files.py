@@ -174,7 +174,8 @@ def test_bench_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFixtur
 
 def test_diagnose_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from ecoplan.cli import main
-    from ecoplan.diagnose.logio import Log, write_log_csv
+    from ecoplan.dynamics.log import Log
+    from ecoplan.io.logcsv import write_log_csv
     from ecoplan.models.identify_logs import free_driving_log
 
     robot = SCENARIOS / "vehicles" / "robot50.yaml"

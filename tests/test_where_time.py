@@ -16,10 +16,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.logio import Log
-from ecoplan.diagnose.pipeline import Diagnosis, diagnose, run_diagnose_cli
-from ecoplan.diagnose.synth import generate_case
+from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.diagnose.report import to_json_dict
+from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.where_time import where_time, write_where_time_csv
+from ecoplan.dynamics.log import Log
+from ecoplan.synth.cases import generate_case
 
 
 @settings(max_examples=20, deadline=None)
@@ -79,7 +81,7 @@ def test_a_gain_switched_on_mid_run_is_located_in_each_run() -> None:
 
 def test_where_time_json_csv_and_figure(tmp_path) -> None:  # type: ignore[no-untyped-def]
     _, d = _gain_case()
-    obj = d.to_json_dict()
+    obj = to_json_dict(d)
     assert obj["where_time"]
     for seg in obj["where_time"]:
         assert list(seg) == ["run", "t_start_s", "t_end_s", "excess_w"]

@@ -149,7 +149,7 @@ class DaskExecutor(_ContextMixin):
     Raises
     ------
     InputError
-        Dask is not installed, or the scheduler cannot be reached.
+        Dask is not installed, the address is malformed, or the scheduler cannot be reached.
     """
 
     def __init__(self, address: str, timeout_s: float = 10.0) -> None:
@@ -158,6 +158,15 @@ class DaskExecutor(_ContextMixin):
         except ImportError:
             raise InputError(
                 "a scheduler address needs Dask: pip install 'ecoplan[dask]'"
+            ) from None
+        try:  # a malformed address is refused before a client exists (a half-built one
+            # stalls the interpreter's exit for 20 s and prints a traceback from its __del__)
+            scheme, _ = dist.comm.parse_address(address)
+            if scheme not in ("inproc", "ucx"):  # addresses without host:port
+                dist.comm.get_address_host_port(address)
+        except ValueError as exc:
+            raise InputError(
+                f"scheduler address {address!r}: {exc}; expected e.g. tcp://10.0.0.5:8786"
             ) from None
         try:
             self._client: Any = dist.Client(address, timeout=timeout_s, set_as_default=False)

@@ -1,6 +1,6 @@
 """``ecoplan identify``: a vehicle file from a user's logs (any source the log reader takes).
 
-Logs are read by :func:`ecoplan.diagnose.logio.read_logs` (ecoplan CSV, ``borealtc:TERRAIN``,
+Logs are read by :func:`ecoplan.io.logs.read_logs` (ecoplan CSV, ``borealtc:TERRAIN``,
 ROS 2 bags); each is cut into pieces of one terrain by its ``terrain`` column (or given one
 terrain with ``--terrain``) and passed to
 :func:`ecoplan.models.identify_logs.identify_vehicle`.
@@ -14,8 +14,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ecoplan.diagnose.logio import Log, read_logs
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
+from ecoplan.io.logs import read_logs
 from ecoplan.io.vehicles import load_vehicle
 from ecoplan.models.identify_logs import DriveLog, VehicleIdentification, identify_vehicle
 
@@ -90,7 +91,7 @@ def identify_from_logs(
     Parameters
     ----------
     paths : sequence of str or path
-        Log sources (see :func:`ecoplan.diagnose.logio.read_logs`).
+        Log sources (see :func:`ecoplan.io.logs.read_logs`).
     base : str or path
         Base vehicle: a vehicle file or a preset name.
     terrain : str, optional

@@ -21,7 +21,7 @@ column and the likely unit:
 
 >>> import numpy as np
 >>> from ecoplan.presets import vehicle
->>> from ecoplan.diagnose.logio import Log
+>>> from ecoplan.dynamics.log import Log
 >>> t = np.arange(200) * 50.0  # milliseconds
 >>> v = np.full(200, 0.3)
 >>> log = Log(t=t, v_left=v, v_right=v + 0.1, p_total=np.full(200, 500.0))

@@ -11,11 +11,15 @@ adds the time-dependent part of the effect along a trajectory.
 model.  It needs no planner: polylines are driven turn-on-the-spot then straight (the
 tracked paper's A->B manoeuvre, §IV) through the drive's acceleration limit.
 
-Effects in the steady-state ``power(vl, vr)``: ``speed_dependent_resistance``, ``regeneration``,
-``power_saturation``, ``icr_asymmetry`` (in the parameters).  Only along a trajectory:
-``inertia`` (needs accelerations), ``slope`` (heading), ``terrain_patch`` (position),
-``actuator_lag`` (the trajectory's speeds are then commands), ``efficiency_drift`` (time since
-the log's clock origin).  ``sensor_delay`` is a logging artefact and changes no power.
+The effect is applied by its class in :mod:`ecoplan.diagnose.effects` (the same code that
+generates the blind cases), with the parameter names the diagnosis reports.  Effects in the
+steady-state ``power(vl, vr)`` (``Effect.steady``): ``speed_dependent_resistance``,
+``regeneration``, ``power_saturation``, ``icr_asymmetry`` (in the parameters).  Only along a
+trajectory: ``inertia`` (needs accelerations), ``slope`` (heading), ``terrain_patch``
+(position), ``actuator_lag`` (the trajectory's speeds are then commands), ``efficiency_drift``
+(time since the log's clock origin).  ``sensor_delay`` is a logging artefact and
+``terrain_change`` is tied to the log's clock: neither changes the power of a new route
+(``Effect.on_routes``).
 """
 
 from __future__ import annotations
@@ -33,20 +37,20 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.diagnose.calibrate import base_design, with_linear_params
-from ecoplan.diagnose.effects import regenerated_w
-from ecoplan.diagnose.replay import rate_limit, smooth_derivative
+from ecoplan.diagnose.corrected_file import FORMAT, read_corrected_model_file
+from ecoplan.diagnose.effects import Motion, effect_class
+from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
-from ecoplan.models.kinematics import setpoint_to_tracks, tracks_to_twist
+from ecoplan.io.yaml import error_at
+from ecoplan.models.kinematics import setpoint_to_tracks
 from ecoplan.models.power import PowerBreakdown
-from ecoplan.models.tracked import GRAVITY_MPS2
 from ecoplan.models.wheeled import SideCoefficients
 from ecoplan.presets import VehicleParams, vehicle
 
 if TYPE_CHECKING:
-    from ecoplan.diagnose.pipeline import Diagnosis
+    from ecoplan.diagnose.result import Diagnosis
 
 __all__ = [
-    "FORMAT",
     "CorrectedModel",
     "RankingChange",
     "corrected_model",
@@ -55,9 +59,6 @@ __all__ = [
     "ranking_change",
     "save_corrected_model",
 ]
-
-#: Format tag of the corrected-model file.
-FORMAT = "ecoplan-corrected-model/1"
 
 
 def _param_dict(params: VehicleParams) -> dict[str, Any]:
@@ -99,35 +100,25 @@ class CorrectedModel:
         """``"tracked"`` or ``"wheeled"``."""
         return self.params.kind
 
-    def _static_extra(self, vl: FloatArray, vr: FloatArray, pb: PowerBreakdown) -> FloatArray:
-        e, p = self.effect, self.effect_params
-        if e == "speed_dependent_resistance":
-            return p["c_n_s_per_m"] * (vl**2 + vr**2)
-        if e == "regeneration":
-            return -regenerated_w(self.params, pb, float(p["fraction"]))
-        return np.zeros(np.shape(pb.total_w))
-
     def power(self, v_left: ArrayLike, v_right: ArrayLike) -> PowerBreakdown:
         """Steady-state power breakdown with the correction [W].
 
-        The effect's steady-state power is added to ``resistance_w`` (it resists the motion or,
-        negative, returns power); a supply limit clips ``total_w`` and ``elec_loss_w`` absorbs the
-        clipped part so that the components still add up.
+        The effect's steady-state power (:meth:`ecoplan.diagnose.effects.Effect.steady_power`)
+        is added to ``resistance_w`` (it resists the motion or, negative, returns power); a
+        supply limit clips ``total_w`` and ``elec_loss_w`` absorbs the clipped part so that the
+        components still add up.
         """
         vl = np.asarray(v_left, dtype=np.float64)
         vr = np.asarray(v_right, dtype=np.float64)
         pb = self.params.power(vl, vr)
-        extra = self._static_extra(vl, vr, pb)
-        total = pb.total_w + extra
-        loss = pb.elec_loss_w
-        if self.effect == "power_saturation":
-            cap = float(self.effect_params.get("p_max_w", math.inf) or math.inf)
-            clipped = np.minimum(total, cap)
-            loss = loss + (clipped - total)
-            total = clipped
-        return dataclasses.replace(
-            pb, resistance_w=pb.resistance_w + extra, elec_loss_w=loss, total_w=total
-        )
+        cls = effect_class(self.effect)
+        if not cls.steady:
+            return pb
+        total = cls.steady_power(self.effect_params, self.params, vl, vr)
+        extra = total - pb.total_w
+        if cls.supply_side:
+            return dataclasses.replace(pb, elec_loss_w=pb.elec_loss_w + extra, total_w=total)
+        return dataclasses.replace(pb, resistance_w=pb.resistance_w + extra, total_w=total)
 
     def trajectory_power(
         self,
@@ -141,6 +132,12 @@ class CorrectedModel:
     ) -> FloatArray:
         """Power along a trajectory [W], with the effect's time-dependent part.
 
+        The effect's class applies it (:meth:`ecoplan.diagnose.effects.Effect.apply`); the
+        commands go through its drive (:meth:`ecoplan.diagnose.effects.Effect.drive`: the
+        lag of ``actuator_lag``) and the drive law of :mod:`ecoplan.dynamics.drive`.  An
+        effect that does not carry over to routes (``sensor_delay``, ``terrain_change``)
+        leaves the steady-state power.
+
         Parameters
         ----------
         t : array_like
@@ -148,37 +145,21 @@ class CorrectedModel:
         v_left, v_right : array_like
             Side speeds [m/s] (commands, when the effect is ``actuator_lag``).
         x, y, yaw : array_like, optional
-            Pose [m, m, rad]; integrated from the speeds when absent.
+            Pose [m, m, rad]; integrated from the speeds when absent
+            (:func:`ecoplan.dynamics.integrate.integrate_twist`).
         """
         tt = np.asarray(t, dtype=np.float64)
         vl = np.asarray(v_left, dtype=np.float64)
         vr = np.asarray(v_right, dtype=np.float64)
-        e, p = self.effect, self.effect_params
-        if e == "actuator_lag":
-            tau = float(p.get("tau_s", 0.0))
-            vl = rate_limit(tt, vl, self.params.accel_max_mps2, tau)
-            vr = rate_limit(tt, vr, self.params.accel_max_mps2, tau)
-        total = np.asarray(self.power(vl, vr).total_w, dtype=np.float64)
-        tw = tracks_to_twist(vl, vr, self.params.icr)
-        if e == "inertia":
-            ax = smooth_derivative(tt, tw.vx)
-            al = smooth_derivative(tt, tw.wz)
-            total = total + p["mass_kg"] * tw.vx * ax + p["yaw_inertia_kgm2"] * tw.wz * al
-        elif e == "efficiency_drift":
-            total = total * (1.0 + p.get("power_rate_per_s", 0.0) * tt)
-        elif e in ("slope", "terrain_patch"):
-            px, py, heading = _pose(tt, tw.vx, tw.wz, x, y, yaw)
-            if e == "slope":
-                g, h = p["grade"], p["uphill_heading_rad"]
-                mg = self.params.mass_kg * GRAVITY_MPS2
-                total = total + mg * g * tw.vx * np.cos(heading - h)
-            else:
-                pb = self.params.power(vl, vr)
-                inside = np.hypot(px - p["center_x_m"], py - p["center_y_m"]) <= p["radius_m"]
-                total = total + inside * (
-                    p["friction_gain"] * pb.friction_w + p["resistance_gain"] * pb.resistance_w
-                )
-        return np.asarray(total, dtype=np.float64)
+        cls = effect_class(self.effect)
+        if not cls.on_routes or cls.steady:
+            return np.asarray(self.power(vl, vr).total_w, dtype=np.float64)
+        tau = cls.drive(self.effect_params, self.params)[1]
+        if tau > 0.0:
+            vl = follow_commands(tt, vl, self.params.accel_max_mps2, tau)
+            vr = follow_commands(tt, vr, self.params.accel_max_mps2, tau)
+        motion = Motion.of_tracks(tt, vl, vr, self.params.icr, (x, y, yaw))
+        return cls.apply(self.effect_params, self.params, motion)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON/YAML-ready dictionary (the file format)."""
@@ -198,21 +179,6 @@ class CorrectedModel:
         }
 
 
-def _pose(
-    t: FloatArray,
-    vx: FloatArray,
-    wz: FloatArray,
-    x: ArrayLike | None,
-    y: ArrayLike | None,
-    yaw: ArrayLike | None,
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    dt = np.diff(t, prepend=t[0])
-    heading = np.asarray(yaw, dtype=np.float64) if yaw is not None else np.cumsum(wz * dt)
-    px = np.asarray(x, dtype=np.float64) if x is not None else np.cumsum(vx * np.cos(heading) * dt)
-    py = np.asarray(y, dtype=np.float64) if y is not None else np.cumsum(vx * np.sin(heading) * dt)
-    return px, py, heading
-
-
 def corrected_model(d: Diagnosis) -> CorrectedModel:
     """The corrected model of a diagnosis: calibrated base refitted with the verdict's effect."""
     from ecoplan.diagnose.effects import prepare
@@ -222,18 +188,16 @@ def corrected_model(d: Diagnosis) -> CorrectedModel:
     eff = att.fitted.get(name)
     if eff is None or name in ("none", "unexplained"):
         return CorrectedModel(d.vehicle, d.terrain, d.calibration.params)
+    eparams = {k: v for k, v in eff.params_.items() if k != "chi"}
     params = d.calibration.params
     if eff.chi_ is not None:
         params = dataclasses.replace(params, chi=eff.chi_)
-    if name == "icr_asymmetry":
-        params = dataclasses.replace(params, icr_offset_m=float(eff.params_["icr_offset_m"]))
+    # the vehicle the effect drives (icr_asymmetry: its shifted ICRs)
+    params = effect_class(name).drive(eparams, params)[0]
     if eff.coef_ is not None and eff.coef_.size and name != "actuator_lag":
         data = prepare(d.test_frame, params, prior=d.preset)
         names = base_design(data.frame, params).names
         params = with_linear_params(params, names, eff.coef_[: len(names)])
-    eparams = {k: v for k, v in eff.params_.items() if k != "chi"}
-    if name == "sensor_delay":
-        return CorrectedModel(d.vehicle, d.terrain, params, "sensor_delay", eparams)
     return CorrectedModel(d.vehicle, d.terrain, params, name, eparams)
 
 
@@ -255,37 +219,61 @@ def save_corrected_model(d: Diagnosis | CorrectedModel, path: str | os.PathLike[
 def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
     """Load a file written by :func:`save_corrected_model`.
 
+    The file is checked against :class:`~ecoplan.diagnose.corrected_file.CorrectedModelFile`,
+    then the parameters by the vehicle's parameter class, the effect's name against the
+    library, and the model is evaluated once on a short drive so that an effect parameter the
+    effect needs and the file lacks is reported here rather than when the model is used.
+
+    Parameters
+    ----------
+    path : str or path
+        A ``.json``, ``.yaml`` or ``.yml`` file.
+
+    Returns
+    -------
+    CorrectedModel
+        The model.
+
     Raises
     ------
     InputError
-        Unreadable file, wrong format tag, unknown vehicle or parameter.
+        One line naming the file, the line and the field: unreadable file, wrong format tag,
+        unknown key, vehicle, terrain, parameter or effect, a value of the wrong type or range,
+        a missing effect parameter.
     """
-    p = Path(path)
-    try:
-        text = p.read_text()
-    except OSError as exc:
-        raise InputError(f"{p}: cannot read corrected model: {exc}") from None
-    try:
-        if p.suffix.lower() in (".yaml", ".yml"):
-            import yaml
+    from ecoplan.diagnose.effects import make_effect
 
-            obj = yaml.safe_load(text)
-        else:
-            obj = json.loads(text)
-    except Exception as exc:
-        raise InputError(f"{p}: not a valid corrected-model file: {exc}") from None
-    if not isinstance(obj, dict) or obj.get("format") != FORMAT:
-        raise InputError(f"{p}: 'format' must be {FORMAT!r}")
-    for key in ("vehicle", "params", "effect"):
-        if key not in obj:
-            raise InputError(f"{p}: missing key {key!r}")
-    params = vehicle(obj["vehicle"], obj.get("terrain"), obj["params"])
-    eff = obj["effect"] or {}
-    name = str(eff.get("name", "none"))
-    eparams = {
-        k: (math.inf if v is None else float(v)) for k, v in (eff.get("params") or {}).items()
-    }
-    return CorrectedModel(obj["vehicle"], obj.get("terrain"), params, name, eparams)
+    spec, lines = read_corrected_model_file(path)
+    source = os.fspath(path)
+    try:
+        params = vehicle(spec.vehicle, spec.terrain)
+    except InputError as exc:
+        field = "terrain" if spec.terrain is not None and "terrain" in str(exc) else "vehicle"
+        raise error_at(source, lines, (field,), str(exc)) from None
+    if spec.kind is not None and spec.kind != params.kind:
+        raise error_at(
+            source, lines, ("kind",), f"{spec.vehicle!r} is {params.kind}, not {spec.kind}"
+        )
+    try:
+        params = vehicle(spec.vehicle, spec.terrain, spec.params)
+    except InputError as exc:
+        raise error_at(source, lines, ("params",), str(exc)) from None
+    name = spec.effect.name
+    try:
+        make_effect(name)
+    except InputError as exc:
+        raise error_at(source, lines, ("effect", "name"), str(exc)) from None
+    eparams = {k: (math.inf if v is None else v) for k, v in spec.effect.params.items()}
+    model = CorrectedModel(spec.vehicle, spec.terrain, params, name, eparams)
+    t = np.linspace(0.0, 1.0, 5)
+    drive = np.full(t.shape, 0.5 * params.top_track_speed_mps)
+    try:
+        model.trajectory_power(t, drive, 0.5 * drive)
+    except KeyError as exc:
+        raise error_at(
+            source, lines, ("effect", "params"), f"effect {name!r} needs the parameter {exc}"
+        ) from None
+    return model
 
 
 def polyline_trajectory(
@@ -353,8 +341,8 @@ def polyline_trajectory(
     t = np.arange(cmd_l.size, dtype=np.float64) * dt_s
     return (
         t,
-        rate_limit(t, cmd_l, params.accel_max_mps2),
-        rate_limit(t, cmd_r, params.accel_max_mps2),
+        follow_commands(t, cmd_l, params.accel_max_mps2),
+        follow_commands(t, cmd_r, params.accel_max_mps2),
     )
 
 

@@ -23,8 +23,10 @@ from typing import Any, Protocol
 
 import numpy as np
 from scipy.signal import savgol_coeffs, savgol_filter
+from scipy.stats import median_abs_deviation
 
 from ecoplan._typing import BoolArray, FloatArray, IntArray
+from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.presets import VehicleParams
@@ -36,7 +38,6 @@ __all__ = [
     "ReplayResiduals",
     "build_frame",
     "case_tolerance",
-    "rate_limit",
     "replay_residuals",
     "smooth",
     "smooth_derivative",
@@ -49,7 +50,7 @@ POSE_SMOOTH_S = 1.0
 
 
 class LogLike(Protocol):
-    """What the diagnosis reads from a log (:class:`ecoplan.diagnose.logio.Log` fits it).
+    """What the diagnosis reads from a log (:class:`ecoplan.dynamics.log.Log` fits it).
 
     Required arrays ``t`` [s], ``v_left``, ``v_right`` [m/s], ``p_total`` [W]; the optional
     ones (``v_left_cmd``, ``v_right_cmd``, ``x``, ``y``, ``yaw``, ``wz``) may be ``None``.
@@ -92,35 +93,6 @@ def smooth_derivative(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> Fl
     if win >= n:
         return np.gradient(y, t)
     return np.asarray(savgol_filter(y, win, 2, deriv=1, delta=dt), dtype=np.float64)
-
-
-def rate_limit(
-    t: FloatArray,
-    target: FloatArray,
-    accel_max: float,
-    tau_s: float = 0.0,
-    v0: float | None = None,
-) -> FloatArray:
-    """Speeds a drive reaches following ``target`` with a rate limit and an optional lag [m/s].
-
-    ``dv/dt = clip((target - v) / tau, -a_max, a_max)`` (``tau = 0``: pure rate limit), explicit
-    Euler on the log's time stamps, starting at ``v0`` (default ``target[0]``).
-    """
-    tl = target.tolist()
-    dts = np.diff(t).tolist()
-    out = [0.0] * len(tl)
-    v = out[0] = tl[0] if v0 is None else float(v0)
-    gain = 1.0
-    for i in range(1, len(tl)):
-        dt = dts[i - 1]
-        err = tl[i - 1] - v
-        if tau_s > 0.0:
-            gain = dt / tau_s if dt < tau_s else 1.0
-        step = err * gain
-        lim = accel_max * dt
-        v += lim if step > lim else (-lim if step < -lim else step)
-        out[i] = v
-    return np.asarray(out, dtype=np.float64)
 
 
 @dataclass(frozen=True, slots=True)
@@ -264,7 +236,7 @@ def case_tolerance(logs: Sequence[LogLike], smooth_s: float = 0.3) -> float:
             if v.size < 5:
                 continue
             dd = np.diff(v, 2)
-            est.append(1.4826 * float(np.median(np.abs(dd - np.median(dd)))) / np.sqrt(6.0))
+            est.append(float(median_abs_deviation(dd, scale="normal")) / np.sqrt(6.0))
         win = _window(t, smooth_s)
     if not est:
         return 1e-3
@@ -332,8 +304,8 @@ def build_frame(
         if snap_mps > 0.0:
             cl, cr = _opt(log, "v_left_cmd", n), _opt(log, "v_right_cmd", n)
             if cl is not None and cr is not None:
-                cl = rate_limit(t, cl, params.accel_max_mps2)
-                cr = rate_limit(t, cr, params.accel_max_mps2)
+                cl = follow_commands(t, cl, params.accel_max_mps2)
+                cr = follow_commands(t, cr, params.accel_max_mps2)
             vl, vr = snap_speeds(vl, vr, snap_mps, cl, cr)
         tw = tracks_to_twist(vl, vr, icr)
         dt = np.diff(t)
@@ -475,8 +447,8 @@ def replay_residuals(frame: Frame, model_w: FloatArray, accel_max_mps2: float) -
         sim_r = np.empty(frame.n)
         for r in np.unique(frame.run):
             idx = np.flatnonzero(frame.run == r)
-            sim_l[idx] = rate_limit(frame.t[idx], frame.vl_cmd[idx], accel_max_mps2)
-            sim_r[idx] = rate_limit(frame.t[idx], frame.vr_cmd[idx], accel_max_mps2)
+            sim_l[idx] = follow_commands(frame.t[idx], frame.vl_cmd[idx], accel_max_mps2)
+            sim_r[idx] = follow_commands(frame.t[idx], frame.vr_cmd[idx], accel_max_mps2)
         speed_res = 0.5 * ((frame.vl - sim_l) + (frame.vr - sim_r))
     pose_res = None
     if frame.x is not None and frame.y is not None and frame.yaw is not None:

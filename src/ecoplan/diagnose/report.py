@@ -37,17 +37,20 @@ import json
 import math
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from ecoplan.errors import InputError
+from ecoplan.io.yaml import LineMap, format_validation
 
 if TYPE_CHECKING:
-    from ecoplan.diagnose.pipeline import Diagnosis
+    from ecoplan.diagnose.result import Diagnosis
 
 __all__ = [
     "JSON_KEYS",
+    "DiagnosisJSON",
     "json_report",
     "save_figures",
     "save_where_time",
@@ -140,50 +143,87 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
     }
 
 
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
+
+
+class _Gap(_Strict):
+    metric: Literal["mae_w"]
+    before: float
+    after: float
+
+
+class _Where(_Strict):
+    regime: str
+    error_share: float
+    time_share: float
+
+
+class _Effect(_Strict):
+    name: str
+    before: float
+    after: float
+    params: dict[str, Any]
+
+
+class _Verdict(_Strict):
+    effect: str
+    confidence: float = Field(ge=0.0, le=1.0)
+
+
+class _WhereTime(_Strict):
+    run: str
+    t_start_s: float
+    t_end_s: float
+    excess_w: float
+
+
+class DiagnosisJSON(BaseModel):
+    """Schema of the diagnosis JSON (pydantic): the contract keys, exact, and ``where_time``.
+
+    The four contract keys (:data:`JSON_KEYS`) and their entries have exactly the keys of the
+    module docstring; numbers are finite JSON numbers (not booleans, not null).  The other
+    documented top-level keys are allowed and not checked here, except ``where_time``, whose
+    segments have exactly ``run``, ``t_start_s``, ``t_end_s`` and ``excess_w``.
+
+    Examples
+    --------
+    >>> DiagnosisJSON.model_validate(
+    ...     {"gap": {"metric": "mae_w", "before": 9.0, "after": 4.5}, "where": [],
+    ...      "effects": [], "verdict": {"effect": "none", "confidence": 0.5}}
+    ... ).verdict.confidence
+    0.5
+    """
+
+    model_config = ConfigDict(extra="allow", strict=True, allow_inf_nan=False, frozen=True)
+
+    gap: _Gap
+    where: list[_Where]
+    effects: list[_Effect]
+    verdict: _Verdict
+    where_time: list[_WhereTime] = []
+
+
 def validate_json(obj: Any) -> None:
-    """Raise :class:`~ecoplan.errors.InputError` naming the first field that breaks the shape."""
+    """Check a diagnosis JSON object against :class:`DiagnosisJSON`.
 
-    def need(cond: bool, what: str) -> None:
-        if not cond:
-            raise InputError(f"diagnosis JSON: {what}")
+    Parameters
+    ----------
+    obj : Any
+        The parsed JSON (a dict).
 
-    def is_num(x: Any) -> bool:
-        return isinstance(x, int | float) and not isinstance(x, bool)
-
-    need(isinstance(obj, dict), "top level must be an object")
-    for k in JSON_KEYS:
-        need(k in obj, f"missing key {k!r}")
-    g = obj["gap"]
-    need(isinstance(g, dict) and set(g) == {"metric", "before", "after"}, "gap keys")
-    need(g["metric"] == "mae_w", "gap.metric must be 'mae_w'")
-    need(is_num(g["before"]) and is_num(g["after"]), "gap.before/after must be numbers")
-    need(isinstance(obj["where"], list), "where must be a list")
-    for i, w in enumerate(obj["where"]):
-        need(set(w) == {"regime", "error_share", "time_share"}, f"where[{i}] keys")
-        need(isinstance(w["regime"], str), f"where[{i}].regime must be a string")
-        need(is_num(w["error_share"]) and is_num(w["time_share"]), f"where[{i}] shares")
-    need(isinstance(obj["effects"], list), "effects must be a list")
-    for i, e in enumerate(obj["effects"]):
-        need(set(e) == {"name", "before", "after", "params"}, f"effects[{i}] keys")
-        need(isinstance(e["name"], str), f"effects[{i}].name must be a string")
-        need(is_num(e["before"]) and is_num(e["after"]), f"effects[{i}].before/after")
-        need(isinstance(e["params"], dict), f"effects[{i}].params must be an object")
-    v = obj["verdict"]
-    need(isinstance(v, dict) and set(v) == {"effect", "confidence"}, "verdict keys")
-    need(isinstance(v["effect"], str), "verdict.effect must be a string")
-    need(is_num(v["confidence"]) and 0.0 <= v["confidence"] <= 1.0, "verdict.confidence in [0,1]")
-    if "where_time" in obj:
-        need(isinstance(obj["where_time"], list), "where_time must be a list")
-        for i, seg in enumerate(obj["where_time"]):
-            need(
-                isinstance(seg, dict) and set(seg) == {"run", "t_start_s", "t_end_s", "excess_w"},
-                f"where_time[{i}] keys must be run, t_start_s, t_end_s, excess_w",
-            )
-            need(isinstance(seg["run"], str), f"where_time[{i}].run must be a string")
-            need(
-                all(is_num(seg[k]) for k in ("t_start_s", "t_end_s", "excess_w")),
-                f"where_time[{i}] times and excess must be numbers",
-            )
+    Raises
+    ------
+    InputError
+        One line naming the first broken field, e.g.
+        ``diagnosis JSON: verdict.confidence: expected a number <= 1.0; got 1.5``.
+    """
+    try:
+        DiagnosisJSON.model_validate(obj)
+    except ValidationError as exc:
+        raise InputError(
+            format_validation(exc, "diagnosis JSON", LineMap(), DiagnosisJSON)
+        ) from None
 
 
 def json_report(d: Diagnosis, extra: dict[str, Any] | None = None) -> dict[str, Any]:

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from ecoplan.diagnose.pipeline import Diagnosis
+    from ecoplan.diagnose.result import Diagnosis
 
 __all__ = ["report_markdown", "write_report_md"]
 

@@ -19,6 +19,39 @@ The set point ``(v_sp, w_sp)`` becomes track speeds by eq. (4), after saturation
   correction has priority over speed, as eq. (5) is written.  With both steps no track
   speed exceeds ``V_max``.
 
+Slowing down for a goal abeam (no orbit)
+----------------------------------------
+Eq. (23) at a constant set point can circle a goal for ever: with the goal at distance
+``d`` and bearing ``phi_e``, ``d' = -v cos(phi_e)`` and ``phi_e' = v sin(phi_e) / d -
+G phi_e``, which has the steady orbit ``phi_e = pi/2``, ``d = 2 v / (pi G)``.  Whenever
+that radius exceeds ``d_th`` (Auriga-beta at its top speed 0.86 m/s and ``G = 0.18``:
+3.04 m against 1 m) the robot never enters the switching circle of a goal it turns too
+slowly for, and drives round it until the time limit (a 90-degree corner: 1200 s,
+959 m).  The controller therefore scales the forward set point with the share of it that
+closes on the goal::
+
+    v_set = v_sp * min(1, max(cos(phi_e), 0) / cos(phi_s))
+
+``phi_s`` (``slowdown_heading_rad``, default 45 degrees) is the heading error up to which
+the paper's constant set point is kept.  Beyond it the speed falls with ``cos(phi_e)``
+and is zero once the goal is abeam or behind, where the robot turns on the spot at
+``G phi_e``.  Then ``d' = -v_set cos(phi_e) <= 0``, with equality only where
+``v_set = 0`` and ``phi_e' = -G phi_e`` turns the goal back ahead.  The distance to the
+goal never grows and no orbit exists: every goal is reached.  A close goal seen abeam
+is approached on an inward spiral (``phi_e`` near ``pi/2``, ``v_set`` small), whose
+closing speed falls as ``(G d)^2 / v_sp``: at the paper's gains it takes seconds, at a
+low gain minutes (``G = 0.0625``, a goal 3 m away at 57 degrees, ``v_sp = 0.75 m/s``:
+76 s).  This was chosen over a
+passed-way-point rule (switch when the robot crosses the normal through the goal),
+because that rule cannot stop the robot at its last goal (it would stop up to the orbit
+radius away).  The chosen rule is what a driver does: slow down while steering hard.
+The paper's runs never reach the threshold: in the A->B replay
+(:mod:`ecoplan.experiments.ab_replay`) ``|phi_e|`` stays below 39 degrees, so they are
+driven exactly by eq. (23).  ``slowdown_heading_rad=None`` is eq. (23) as written, at
+a constant set point, orbits included.  Power-limited runs (below) keep the constant
+set point: they cannot turn without driving, so a zero speed would stall them, and
+their widened switching radius already holds their turning circle.
+
 Functions are vectorised over runs: ICR coordinates and top speeds may be arrays of
 shape ``(n_runs,)`` (see :class:`IcrArrays`), so that one integrator step serves a batch
 of vehicles.  :class:`WaypointFollower` holds the only state (the goal index per run).
@@ -80,12 +113,18 @@ class HeadingController:
     power_limited : bool
         Hold a wheeled vehicle's turns to the radius its power limit allows (module
         docstring); False = the paper's law, whatever the power.
+    slowdown_heading_rad : float or None
+        Heading error ``phi_s`` [rad] beyond which the forward set point is scaled by
+        ``cos(phi_e) / cos(phi_s)`` and is zero from ``pi/2`` on, so that no goal is
+        orbited (module docstring); in ``[0, pi/2)``, default ``pi/4``.  None = the
+        paper's constant set point (eq. 23 as written).
     """
 
     gain: float = 0.18
     speed_mps: float = 0.5
     switch_radius_m: float = 1.0
     power_limited: bool = False
+    slowdown_heading_rad: float | None = math.pi / 4.0
 
     def __post_init__(self) -> None:
         check_range("HeadingController", "gain", self.gain, 0.0, 100.0, lo_open=True)
@@ -93,6 +132,15 @@ class HeadingController:
         check_range(
             "HeadingController", "switch_radius_m", self.switch_radius_m, 0.0, 1e4, lo_open=True
         )
+        if self.slowdown_heading_rad is not None:
+            check_range(
+                "HeadingController",
+                "slowdown_heading_rad",
+                self.slowdown_heading_rad,
+                0.0,
+                math.pi / 2.0,
+                hi_open=True,
+            )
 
 
 #: The paper's faster, stiffer setting: ``G = 0.18``, ``v_sp = 0.5 m/s``, ``d_th = 1 m``.
@@ -221,6 +269,11 @@ class WaypointFollower:
             )
             self._inv_r = np.where(self._limited, 1.0 / np.where(self._limited, r_min, 1.0), np.inf)
             self._last = (np.zeros(n), np.zeros(n))
+        # the slow-down for a goal abeam (module docstring); not for power-limited runs
+        slow = [c.slowdown_heading_rad for c in controllers]
+        self._slow = np.array([a is not None for a in slow]) & ~self._limited
+        self._any_slow = bool(self._slow.any())
+        self._inv_cos_s = np.array([1.0 / math.cos(a) if a is not None else 1.0 for a in slow])
         self.icr = icr
         self.index: IntArray = np.zeros(n, dtype=np.int64)
         self.stopped: BoolArray = np.zeros(n, dtype=bool)
@@ -245,7 +298,8 @@ class WaypointFollower:
     ) -> tuple[FloatArray, FloatArray]:
         """Track-speed commands for the current poses; advances goals and stops runs.
 
-        Same arithmetic as :func:`heading_error`, :func:`yaw_rate_setpoint`,
+        Same arithmetic as :func:`heading_error`, :func:`yaw_rate_setpoint`, the
+        slow-down for a goal abeam (module docstring),
         :func:`~ecoplan.dynamics.drive.saturate_setpoint` and
         :func:`~ecoplan.dynamics.drive.tracks_from_setpoint`, with the constants
         hoisted (this runs once per integration step).
@@ -268,7 +322,11 @@ class WaypointFollower:
             lever = self._lever_right_turn
         else:
             lever = np.where(w > 0.0, self._lever_left_turn, self._lever_right_turn)
-        v = np.minimum(self._v_eff, self.icr.top_speed_mps - lever * np.abs(w))
+        v_set = self._v_eff
+        if self._any_slow:
+            k = np.minimum(np.maximum(np.cos(phi) * self._inv_cos_s, 0.0), 1.0)
+            v_set = np.where(self._slow, v_set * k, v_set)
+        v = np.minimum(v_set, self.icr.top_speed_mps - lever * np.abs(w))
         if not self._any_limited:
             return v - self.icr.y_left_m * w, v - self.icr.y_right_m * w
         w_lim = v * self._inv_r

@@ -164,7 +164,8 @@ def follow_commands(
         )
     dts = np.diff(tt)
     lim = accel_max_mps2 * dts
-    gains = np.minimum(dts / tau_s, 1.0) if tau_s > 0.0 else np.ones_like(dts)
+    # min(dt, tau) / tau = min(dt / tau, 1) without overflow for a tiny tau
+    gains = np.minimum(dts, tau_s) / tau_s if tau_s > 0.0 else np.ones_like(dts)
     if c.ndim == 1:  # scalar loop: a python float loop beats numpy on 0-d arrays
         cl = c.tolist()
         out = [0.0] * len(cl)

@@ -29,12 +29,29 @@ constants of driving); ``l`` on 7 geometric steps from ``max(1.5 d_th, v / G)`` 
 closer than the turning radius ``v / (G phi)`` can be orbited forever; ``d_th`` as widened
 for power-limited turning) to ``L``; ``dpsi``
 every 11.25 degrees (only ``|dpsi|`` for left-right symmetric vehicles).  Excesses are
-interpolated bilinearly in ``(dpsi, log l)``, clamped at the table's edges.  A path's
-energy is then its straight driving plus its corners' and ends' excesses
-(:func:`ecoplan.energy.path.path_cost` with ``turn=controller``): exact for isolated
-corners, an approximation where the controller's responses to two corners overlap (the
-shipped scenarios: within 2.3 %, see ``tests/test_scenarios_shipped.py``; random
-polylines: ``benchmarks/analytic_vs_sim.py``).
+interpolated bilinearly in ``(dpsi, log l)``, clamped at the table's edges.
+
+Corners closer than ``L`` overlap: the controller meets the second corner still turning
+out of the first (a residual heading error, a lower speed), and two same-way corners are
+cut as one.  :func:`corner_pairs` tabulates that interaction once: a **pair** run (a
+lead-in, ``dpsi_in``, a leg ``l < L``, ``dpsi_out``, then ``L``) minus its aligned
+straight run and its two isolated corner excesses, every 22.5 degrees in both angles and
+on the same legs (zero at ``L``), interpolated trilinearly.
+
+A path's energy is then its straight driving plus its corners', pairs' and ends'
+excesses (:func:`ecoplan.energy.path.path_cost` with ``turn=controller``).  This is a
+model, not a rollout of the path: a few hundred canonical runs per (vehicle, terrain,
+controller), then table look-ups, a few microseconds per corner.  Where it errs:
+
+* three or more corners within ``L`` of each other (only neighbouring pairs are
+  corrected; the third corner's effect on the first is missed);
+* interpolation between the grid angles and legs;
+* a pair whose second corner is the path's last (its correction assumes driving on);
+* terrain changes inside a corner (the corner's excess is that of one terrain).
+
+Measured against the simulator on 200 random polylines per vehicle
+(``benchmarks/analytic_vs_sim.py``; README) and on the shipped scenarios
+(``tests/test_scenarios_shipped.py``).
 """
 
 from __future__ import annotations
@@ -46,7 +63,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from ecoplan._typing import FloatArray
+from ecoplan._typing import FloatArray, IntArray
 from ecoplan.dynamics.controller import HeadingController, WaypointFollower, power_limited_radius
 from ecoplan.dynamics.drive import IcrArrays
 from ecoplan.dynamics.rollout import ROLLOUT_STATE, rollout
@@ -55,7 +72,15 @@ from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS
 
-__all__ = ["ORBIT", "ControlledTurns", "Excess", "controlled_turns", "drive_path"]
+__all__ = [
+    "ORBIT",
+    "ControlledTurns",
+    "CornerPairs",
+    "Excess",
+    "controlled_turns",
+    "corner_pairs",
+    "drive_path",
+]
 
 #: Constraint name of a corner or start the heading controller never completes: the next
 #: way point lies inside its turning circle and it circles it (tracked paper eq. 23).
@@ -140,15 +165,8 @@ class ControlledTurns:
     def _lookup(
         self, table: FloatArray, names: NDArray[np.object_], dpsi: float, leg_m: float
     ) -> Excess:
-        a = self.angles_rad
-        x = abs(dpsi) if self.symmetric else dpsi
-        x = min(max(x, float(a[0])), float(a[-1]))
-        i = max(min(int(np.searchsorted(a, x, side="right")) - 1, a.size - 2), 0)
-        wa = (x - float(a[i])) / float(a[i + 1] - a[i])
-        lg = np.log(self.legs_m)
-        y = min(max(math.log(max(leg_m, 1e-9)), float(lg[0])), float(lg[-1]))
-        j = max(min(int(np.searchsorted(lg, y, side="right")) - 1, lg.size - 2), 0)
-        wl = (y - float(lg[j])) / float(lg[j + 1] - lg[j])
+        i, wa = _cell(self.angles_rad, abs(dpsi) if self.symmetric else dpsi)
+        j, wl = _cell(np.log(self.legs_m), math.log(max(leg_m, 1e-9)))
         row = (1.0 - wa) * ((1.0 - wl) * table[i, j] + wl * table[i, j + 1]) + wa * (
             (1.0 - wl) * table[i + 1, j] + wl * table[i + 1, j + 1]
         )
@@ -246,25 +264,8 @@ def controlled_turns(
         goals.append(np.array([[leg + lo + leg, 0.0]]))
     for lo in legs:  # and leg + lo
         goals.append(np.array([[leg + lo, 0.0]]))
-    n = len(goals)
     t_max = 2.5 * 3.0 * leg / v + 30.0
-    stats_parts, violated_parts, finished_parts = [], [], []
-    for c0 in range(0, n, _CHUNK):  # chunks keep the recorded rows within memory
-        chunk = goals[c0 : c0 + _CHUNK]
-        k = len(chunk)
-        runs = [params] * k
-        icr = IcrArrays.of([p.icr for p in runs], [p.top_track_speed_mps for p in runs])
-        policy = WaypointFollower(
-            chunk, [controller] * k, icr, [r_min] * k, [params.accel_max_mps2 * dt_s] * k
-        )
-        rows, end, done = rollout(runs, policy, starts[c0 : c0 + k], dt_s, t_max)
-        stats_parts += [_run_stats(params, rows, i, int(end[i]), dt_s) for i in range(k)]
-        violated_parts += [_run_violation(params, rows, i, int(end[i])) for i in range(k)]
-        finished_parts.append(done)
-        del rows
-    stats = np.array(stats_parts)
-    violated = np.array(violated_parts, dtype=object)
-    finished = np.concatenate(finished_parts)
+    stats, violated, finished = _run_batch(params, controller, goals, starts, dt_s, t_max)
     long_ref = np.tile(stats[4 * m : 4 * m + nl], (na, 1))  # leg + lo + leg per (angle, lo)
     short_ref = np.tile(stats[4 * m + nl :], (na, 1))  # leg + lo
     per_m = float(params.power(v, v).total_w) / v
@@ -314,24 +315,201 @@ def controlled_turns(
     )
 
 
-def _run_stats(params: VehicleParams, rows: FloatArray, i: int, end: int, dt: float) -> FloatArray:
-    """Energy, duration, length, psi, peak, then energy per component of run ``i``."""
-    col = {name: rows[:end, j, i] for j, name in enumerate(ROLLOUT_STATE)}
+@dataclass(frozen=True, eq=False)
+class CornerPairs:
+    """Interaction of two corners closer than the controller settles (module docstring).
+
+    Attributes
+    ----------
+    angles_in_rad : ndarray
+        Heading changes of the first corner [rad], increasing (``0 .. pi`` when
+        ``symmetric``, else ``-pi .. pi``).
+    legs_m : ndarray
+        Lengths of the leg between the corners [m]; the last is the settled length, where
+        the correction is zero.
+    angles_out_rad : ndarray
+        Heading changes of the second corner [rad], ``-pi .. pi``.
+    table : ndarray, shape (n_in, n_legs, n_out, 5 + n_components)
+        What the pair costs beyond its two isolated corners: energy [J], duration [s],
+        length [m], psi [rad], 0 (no peak), energy per component [J].
+    symmetric : bool
+        Mirror ``(dpsi_in, dpsi_out) -> (-dpsi_in, -dpsi_out)`` for negative ``dpsi_in``.
+    """
+
+    angles_in_rad: FloatArray
+    legs_m: FloatArray
+    angles_out_rad: FloatArray
+    table: FloatArray
+    symmetric: bool
+
+    def correction(self, dpsi_in_rad: float, leg_m: float, dpsi_out_rad: float) -> Excess:
+        """Excess of a pair beyond its isolated corners, trilinear in (in, log leg, out)."""
+        a_in, a_out = dpsi_in_rad, dpsi_out_rad
+        if self.symmetric and a_in < 0.0:
+            a_in, a_out = -a_in, -a_out
+        i, wi = _cell(self.angles_in_rad, a_in)
+        j, wj = _cell(np.log(self.legs_m), math.log(max(leg_m, 1e-9)))
+        k, wk = _cell(self.angles_out_rad, a_out)
+        row = np.zeros(self.table.shape[-1])
+        for di, fi in ((0, 1.0 - wi), (1, wi)):
+            for dj, fj in ((0, 1.0 - wj), (1, wj)):
+                for dk, fk in ((0, 1.0 - wk), (1, wk)):
+                    row += fi * fj * fk * self.table[i + di, j + dj, k + dk]
+        return Excess(
+            energy_j=float(row[0]),
+            breakdown_j={c: float(row[5 + n]) for n, c in enumerate(COMPONENTS)},
+            duration_s=float(row[1]),
+            length_m=float(row[2]),
+            psi_rad=float(row[3]),
+            peak_power_w=0.0,
+            violated="",
+        )
+
+
+def _cell(grid: FloatArray, x: float) -> tuple[int, float]:
+    """Lower index and weight of ``x`` (clamped) on an increasing grid."""
+    x = min(max(x, float(grid[0])), float(grid[-1]))
+    i = max(min(int(np.searchsorted(grid, x, side="right")) - 1, grid.size - 2), 0)
+    return i, (x - float(grid[i])) / float(grid[i + 1] - grid[i])
+
+
+@functools.lru_cache(maxsize=64)
+def corner_pairs(
+    params: VehicleParams, controller: HeadingController, dt_s: float = _DT_S
+) -> CornerPairs:
+    """Tabulate how two close corners differ from their isolated excesses (cached).
+
+    A pair run drives a lead-in (the switching radius, the drive law's ramp to ``v`` and
+    2 m), turns by ``dpsi_in``, drives ``l``, turns by ``dpsi_out`` and drives ``L``; its
+    correction is its energy (and time, length, psi) minus the aligned straight run of
+    the same length and the two isolated corner excesses of
+    :func:`controlled_turns` (``(dpsi_in, l)`` and ``(dpsi_out, L)``).  Angles every 22.5
+    degrees (grid points of the corner tables), legs those of the corner tables below
+    ``L`` (zero at ``L``, where the first corner has settled).  A pair the controller
+    never completes (a goal orbited under ``slowdown_heading_rad=None``) is given 0.
+
+    Parameters
+    ----------
+    params : TrackedParams or WheeledParams
+        Vehicle on one terrain.
+    controller : HeadingController
+        Gain, set point and switching radius.
+    dt_s : float
+        Step of the rollouts [s].
+
+    Returns
+    -------
+    CornerPairs
+        The correction table.
+    """
+    single = controlled_turns(params, controller, dt_s)
+    v = controller.speed_mps
+    leg = float(single.legs_m[-1])
+    a_in = single.angles_rad[::2]
+    a_out = np.linspace(-math.pi, math.pi, 2 * (_N_ANGLES // 2) + 1)
+    legs = single.legs_m[:-1]
+    grid = [(a1, lo, a2) for a1 in a_in for lo in legs for a2 in a_out]
+    # lead-in: enough to reach the set point (the drive law's ramp) before the switch
+    r_min = power_limited_radius(params, v) if controller.power_limited else 0.0
+    d_switch = max(controller.switch_radius_m, 1.5 * r_min)
+    lead = d_switch + v * v / (2.0 * params.accel_max_mps2) + 2.0
+    goals: list[FloatArray] = []
+    for a1, lo, a2 in grid:
+        p1 = np.array([lead, 0.0])
+        p2 = p1 + lo * np.array([math.cos(a1), math.sin(a1)])
+        p3 = p2 + leg * np.array([math.cos(a1 + a2), math.sin(a1 + a2)])
+        goals.append(np.array([p1, p2, p3]))
+    goals += [np.array([[lead + lo + leg, 0.0]]) for lo in legs]  # straight references
+    t_max = 2.5 * 2.0 * leg / v + 60.0
+    starts = np.zeros((len(goals), 3))
+    stats, _, finished = _run_batch(
+        params, controller, goals, starts, dt_s, t_max, 256, check_limits=False
+    )
+    n = len(grid)
+    ref = np.tile(stats[n:], (a_in.size, 1))  # per (a_in, leg), repeated over a_out below
+    first = np.array([_table_row(single, single.corner, a1, lo) for a1, lo, _ in grid])
+    second = np.array([_table_row(single, single.corner, a2, leg) for *_, a2 in grid])
+    out = stats[:n] - np.repeat(ref, a_out.size, axis=0) - first - second
+    out[:, 3] = stats[:n, 3] - first[:, 3] - second[:, 3]  # psi: the runs' own
+    out[:, 4] = 0.0
+    out[~finished[:n]] = 0.0
+    table = np.zeros((a_in.size, single.legs_m.size, a_out.size, stats.shape[1]))
+    table[:, :-1] = out.reshape(a_in.size, legs.size, a_out.size, -1)
+    return CornerPairs(a_in, single.legs_m, a_out, table, single.symmetric)
+
+
+def _table_row(single: ControlledTurns, table: FloatArray, dpsi: float, leg_m: float) -> FloatArray:
+    """The row of a corner table at grid point ``(dpsi, leg_m)`` (mirrored if symmetric)."""
+    x = abs(dpsi) if single.symmetric else dpsi
+    i = int(np.argmin(np.abs(single.angles_rad - x)))
+    j = int(np.argmin(np.abs(single.legs_m - leg_m)))
+    row: FloatArray = table[i, j]
+    return row
+
+
+def _run_batch(
+    params: VehicleParams,
+    controller: HeadingController,
+    goals: list[FloatArray],
+    starts: FloatArray,
+    dt_s: float,
+    t_max: float,
+    chunk_runs: int = _CHUNK,
+    *,
+    check_limits: bool = True,
+) -> tuple[FloatArray, NDArray[np.object_], NDArray[np.bool_]]:
+    """Roll canonical runs out in chunks: per run its stats, first violation, completion.
+
+    ``check_limits=False`` skips the limit check (every violation is then ``""``).
+    """
+    r_min = power_limited_radius(params, controller.speed_mps) if controller.power_limited else 0.0
+    stats_parts, violated_parts, finished_parts = [], [], []
+    for c0 in range(0, len(goals), chunk_runs):  # chunks keep the recorded rows in memory
+        chunk = goals[c0 : c0 + chunk_runs]
+        k = len(chunk)
+        runs = [params] * k
+        icr = IcrArrays.of([p.icr for p in runs], [p.top_track_speed_mps for p in runs])
+        policy = WaypointFollower(
+            chunk, [controller] * k, icr, [r_min] * k, [params.accel_max_mps2 * dt_s] * k
+        )
+        rows, end, done = rollout(runs, policy, starts[c0 : c0 + k], dt_s, t_max)
+        stats_parts.append(_chunk_stats(params, rows, end, dt_s))
+        if check_limits:
+            violated_parts += [_run_violation(params, rows, i, int(end[i])) for i in range(k)]
+        else:
+            violated_parts += [""] * k
+        finished_parts.append(done)
+        del rows
+    return (
+        np.concatenate(stats_parts),
+        np.array(violated_parts, dtype=object),
+        np.concatenate(finished_parts),
+    )
+
+
+def _chunk_stats(params: VehicleParams, rows: FloatArray, end: IntArray, dt: float) -> FloatArray:
+    """Per run: energy, duration, length, psi, peak, then energy per component.
+
+    Run ``i`` counts rows ``0 .. end[i] - 1`` (the batch's later rows are masked).
+    """
+    col = {name: rows[:, j, :] for j, name in enumerate(ROLLOUT_STATE)}
     vl, vr = col["v_left"], col["v_right"]
+    live = np.arange(rows.shape[0])[:, None] < end[None, :]
     pw = params.power(vl, vr)
     tw = tracks_to_twist(vl, vr, params.icr)
     comps = pw.components()
-    total = np.asarray(pw.total_w, dtype=np.float64)
-    return np.array(
-        [
-            float(np.sum(total)) * dt,
-            end * dt,
-            float(np.sum(np.hypot(tw.vx, tw.vy))) * dt,
-            float(np.sum(np.abs(col["wz"]))) * dt,
-            float(np.max(total)) if total.size else 0.0,
-            *(float(np.sum(comps[c])) * dt for c in COMPONENTS),
-        ]
-    )
+    total = np.where(live, np.asarray(pw.total_w, dtype=np.float64), 0.0)
+    peak = np.max(np.where(live, total, -np.inf), axis=0, initial=-np.inf)
+    cols = [
+        np.sum(total, axis=0) * dt,
+        end * dt,
+        np.sum(np.where(live, np.hypot(tw.vx, tw.vy), 0.0), axis=0) * dt,
+        np.sum(np.where(live, np.abs(col["wz"]), 0.0), axis=0) * dt,
+        np.where(np.isfinite(peak), peak, 0.0),
+        *(np.sum(np.where(live, comps[c], 0.0), axis=0) * dt for c in COMPONENTS),
+    ]
+    out: FloatArray = np.column_stack(cols).astype(np.float64)
+    return out
 
 
 def _run_violation(params: VehicleParams, rows: FloatArray, i: int, end: int) -> str:

@@ -51,7 +51,8 @@ Decisions where the issue is silent
   ``M v² / (2 η)`` (:mod:`ecoplan.models.inertial`; breakdown key ``inertial_w``), each
   speed-up ``M (v² - u²) / (2 η)``; braking returns nothing (non-regenerative drivers).
 * ``turn=HeadingController(...)``: the path as the tracked paper's heading controller
-  (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`):
+  (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`:
+  tabulated corner, corner-pair, start and stop excesses on top of steady driving):
   the estimate a battery budget should use.
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
@@ -69,7 +70,7 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.dynamics.controller import HeadingController
-from ecoplan.energy.controlled import ORBIT, Excess, controlled_turns, drive_path
+from ecoplan.energy.controlled import ORBIT, Excess, controlled_turns, corner_pairs, drive_path
 from ecoplan.energy.primitives import (
     TurnMode,
     Vehicle,
@@ -242,6 +243,18 @@ def path_cost(
     ------
     InputError
         Malformed path, non-positive speed, or plain parameters with terrain regions.
+
+    Examples
+    --------
+    A straight 10 m leg costs the straight-line energy (:func:`straight_energy`); its
+    breakdown adds up to the total:
+
+    >>> from ecoplan.presets import vehicle
+    >>> pc = path_cost([[0.0, 0.0], [10.0, 0.0]], vehicle("auriga-beta-wide", "asphalt"), 0.5)
+    >>> pc.length_m, pc.duration_s, round(pc.energy_j, 1)
+    (10.0, 20.0, 8421.1)
+    >>> round(sum(pc.breakdown_j.values()), 1)
+    8421.1
     """
     check_vehicle_world(vehicle, world)
     if isinstance(turn, HeadingController):
@@ -347,6 +360,7 @@ def _controlled_path_cost(
     violations: list[Violation] = []
     psi = 0.0
     excesses: list[tuple[int, float, Excess]] = []
+    fixes: list[Excess] = []  # interactions of close corner pairs
     yaw0 = float(heading[0]) if initial_heading_rad is None else float(initial_heading_rad)
     if not math.isfinite(yaw0):
         raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
@@ -370,6 +384,10 @@ def _controlled_path_cost(
         table = controlled_turns(params_on(vehicle, terrains[i]), ctrl)
         ex = table.corner_excess(float(dpsi[i - 1]), float(seg_len[i]), last=i == n_seg - 1)
         excesses.append((i, float(dpsi[i - 1]), ex))
+        if i < n_seg - 1 and float(seg_len[i]) < float(table.legs_m[-1]):
+            # the next corner comes before this one has settled: the pair's interaction
+            pair = corner_pairs(params_on(vehicle, terrains[i]), ctrl)
+            fixes.append(pair.correction(float(dpsi[i - 1]), float(seg_len[i]), float(dpsi[i])))
     for index, angle, ex in [*excesses, (len(pts) - 1, 0.0, ends)]:
         for k, val in ex.breakdown_j.items():
             acc.energy[k] += val
@@ -387,6 +405,12 @@ def _controlled_path_cost(
         if ex.violated:
             where = "turn" if abs(angle) > 0.0 else "segment"
             violations.append(Violation(where, index, ex.violated, ctrl.speed_mps, math.nan))
+    for ex in fixes:
+        for k, val in ex.breakdown_j.items():
+            acc.energy[k] += val
+        acc.duration += ex.duration_s
+        acc.length += ex.length_m
+        psi += ex.psi_rad
     for i in range(n_seg):
         seg = (pts[i], pts[i + 1], float(v_seg[i]), np.zeros(2))
         _add_segment(acc, vehicle, world, seg, (None, None), i, violations)

@@ -158,6 +158,14 @@ def straight_energy(params: VehicleParams, length_m: ArrayLike, speed_mps: Array
         Segment length(s) [m], >= 0.
     speed_mps : array_like
         Speed(s) [m/s], > 0.
+
+    Examples
+    --------
+    10 m at 0.5 m/s takes 20 s at the straight-line 421.05 W of Auriga-β on asphalt:
+
+    >>> from ecoplan.presets import vehicle
+    >>> round(float(straight_energy(vehicle("auriga-beta-wide", "asphalt"), 10.0, 0.5)), 1)
+    8421.1
     """
     v = positive_speed("speed_mps", speed_mps)
     length = np.asarray(length_m, dtype=np.float64)

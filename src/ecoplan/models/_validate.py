@@ -9,7 +9,7 @@ import numpy as np
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.errors import InputError
 
-__all__ = ["check_range", "finite_array"]
+__all__ = ["check_range", "finite_array", "finite_pair"]
 
 
 def check_range(
@@ -35,9 +35,51 @@ def check_range(
 
 
 def finite_array(name: str, values: ArrayLike) -> FloatArray:
-    """Return ``values`` as float64, raising :class:`InputError` if any is NaN or infinite."""
-    arr = np.asarray(values, dtype=np.float64)
+    """Return ``values`` as float64, raising :class:`InputError` if any is NaN or infinite.
+
+    Values that are not numbers (a string, a ragged list) are an :class:`InputError` too.
+
+    Examples
+    --------
+    >>> finite_array("v_left", [0.5, 1])
+    array([0.5, 1. ])
+    >>> finite_array("v_left", ["fast"])
+    Traceback (most recent call last):
+    ecoplan.errors.InputError: v_left must be numbers: could not convert string to float: 'fast'
+    """
+    try:
+        arr = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be numbers: {exc}") from None
     if not np.all(np.isfinite(arr)):
         bad = int(np.flatnonzero(~np.isfinite(arr.ravel()))[0])
         raise InputError(f"{name} must be finite; element {bad} is {arr.ravel()[bad]!r}")
     return arr
+
+
+def finite_pair(
+    name_a: str, a: ArrayLike, name_b: str, b: ArrayLike
+) -> tuple[FloatArray, FloatArray]:
+    """Two finite arrays broadcast to one shape (:func:`finite_array` on each).
+
+    Raises
+    ------
+    InputError
+        A value is not a finite number, or the shapes do not broadcast.
+
+    Examples
+    --------
+    >>> finite_pair("v_left", [0.1, 0.2], "v_right", 0.3)[1]
+    array([0.3, 0.3])
+    >>> finite_pair("v_left", [0.1, 0.2], "v_right", [1.0, 2.0, 3.0])
+    Traceback (most recent call last):
+    ecoplan.errors.InputError: v_left and v_right have shapes (2,) and (3,), which do not broadcast
+    """
+    xa, xb = finite_array(name_a, a), finite_array(name_b, b)
+    try:
+        ba, bb = np.broadcast_arrays(xa, xb)
+    except ValueError:
+        raise InputError(
+            f"{name_a} and {name_b} have shapes {xa.shape} and {xb.shape}, which do not broadcast"
+        ) from None
+    return ba, bb

@@ -493,7 +493,7 @@ YawSource = Literal["sides", "imu"]
 
 
 class BorealRun(Protocol):
-    """What the static fit reads from a run (e.g. ``ecoplan.datasets.borealtc.BorealRun``).
+    """What the static fit reads from a run (e.g. ``ecoplan.io.borealtc.BorealRun``).
 
     Models do not import the data loaders: any object with these attributes will do.
     """

@@ -611,7 +611,7 @@ def free_driving_log(
     :func:`model_power`.  Segments of 2-8 s each hold a random target chosen among
     straight driving, arcs, pivot turns (one side stopped) and spot turns, so every term of
     the model is excited.  Noise
-    as in the blind benchmark (``ecoplan.diagnose.synth.SensorNoise``): power
+    as in the blind benchmark (``ecoplan.synth.sensors.SensorNoise``): power
     ``2 % P + 3 W``, side speeds 0.005 m/s while moving.
 
     Parameters

@@ -131,6 +131,17 @@ def tracks_to_twist(v_left: ArrayLike, v_right: ArrayLike, icr: TrackICR) -> Bod
     -------
     BodyTwist
         ``(vx, vy, wz)`` arrays broadcast from the inputs.
+
+    Examples
+    --------
+    Auriga-β (gauge 0.42 m, χ = 0.8): the ICRs lie at ±0.42 / 0.8 / 2 = ±0.2625 m, so 0.4 and
+    0.6 m/s give v = 0.5 m/s and w = 0.2 / 0.525 = 0.381 rad/s:
+
+    >>> from ecoplan.presets import vehicle
+    >>> icr = vehicle("auriga-beta-wide", "asphalt").icr
+    >>> tw = tracks_to_twist(0.4, 0.6, icr)
+    >>> round(float(tw.vx), 4), round(float(tw.wz), 4)
+    (0.5, 0.381)
     """
     vl, vr = finite_array("v_left", v_left), finite_array("v_right", v_right)
     wz = (vr - vl) / icr.spread_m
@@ -151,6 +162,15 @@ def setpoint_to_tracks(
     -------
     tuple of ndarray
         ``(v_left, v_right)`` [m/s].
+
+    Examples
+    --------
+    The inverse of :func:`tracks_to_twist`: ``0.5 ∓ 0.2625 * 0.2``:
+
+    >>> from ecoplan.presets import vehicle
+    >>> icr = vehicle("auriga-beta-wide", "asphalt").icr
+    >>> [round(float(v), 4) for v in setpoint_to_tracks(0.5, 0.2, icr)]
+    [0.4475, 0.5525]
     """
     v, w = finite_array("vx_sp", vx_sp), finite_array("wz_sp", wz_sp)
     return v - icr.y_left_m * w, v - icr.y_right_m * w
@@ -199,7 +219,16 @@ def max_forward_speed(
 
 
 def max_yaw_rate(icr: TrackICR, top_track_speed_mps: float) -> float:
-    """Top yaw rate, turning on the spot at top track speed, tracked paper eq. (6) [rad/s]."""
+    """Top yaw rate, turning on the spot at top track speed, tracked paper eq. (6) [rad/s].
+
+    Examples
+    --------
+    Tracks at ±0.86 m/s over the 0.525 m between the ICRs: 2 * 0.86 / 0.525 rad/s:
+
+    >>> from ecoplan.presets import vehicle
+    >>> round(max_yaw_rate(vehicle("auriga-beta-wide", "asphalt").icr, 0.86), 4)
+    3.2762
+    """
     return 2.0 * top_track_speed_mps / icr.spread_m
 
 

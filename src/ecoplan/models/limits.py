@@ -109,7 +109,17 @@ def feasibility(params: VehicleParams, v_mps: ArrayLike, r_m: ArrayLike) -> Feas
 
 
 def feasible(params: VehicleParams, v_mps: ArrayLike, r_m: ArrayLike) -> BoolArray:
-    """True where ``cmd(v, r)`` respects the speed and power limits (wheeled §III-C)."""
+    """True where ``cmd(v, r)`` respects the speed and power limits (wheeled §III-C).
+
+    Examples
+    --------
+    At 0.5 m/s a 0.1 m radius needs a yaw rate of 5 rad/s, beyond Auriga-β's 3.28 rad/s;
+    a 5 m radius is within every limit:
+
+    >>> from ecoplan.presets import vehicle
+    >>> feasible(vehicle("auriga-beta-wide", "asphalt"), [0.5, 0.5], [0.1, 5.0]).tolist()
+    [False, True]
+    """
     return feasibility(params, v_mps, r_m).ok
 
 

@@ -46,6 +46,13 @@ def motion_case(v_left: FloatArray, v_right: FloatArray, tol_mps: float = 1e-3) 
 
     Speeds within ``tol_mps`` of zero count as zero and pairs within ``tol_mps``
     of each other count as equal.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> vl, vr = np.array([0.0, 0.5, 0.5, 0.2, -0.3]), np.array([0.0, 0.5, 0.3, 0.0, 0.3])
+    >>> [MotionCase(c).name for c in motion_case(vl, vr)]
+    ['STOPPED', 'STRAIGHT', 'SAME_SIGN', 'ONE_ZERO', 'OPPOSITE']
     """
     vl, vr = np.broadcast_arrays(np.asarray(v_left, np.float64), np.asarray(v_right, np.float64))
     case = np.empty(vl.shape, dtype=np.int64)

@@ -28,7 +28,7 @@ import numpy.typing as npt
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
 from ecoplan.errors import InputError
-from ecoplan.models._validate import check_range, finite_array
+from ecoplan.models._validate import check_range, finite_array, finite_pair
 from ecoplan.models.kinematics import TrackICR
 from ecoplan.models.power import CASE_TABLE, MotionCase, PowerBreakdown, motion_case_index
 from ecoplan.models.terrain_link import FollowsTerrain, TerrainSource
@@ -362,8 +362,18 @@ def tracked_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedParams) 
     -------
     PowerBreakdown
         Arrays broadcast from the inputs.
+
+    Examples
+    --------
+    Straight at 0.5 m/s on asphalt, no friction term: ``(K (V_l + V_r) + P_pu) / η`` with
+    K = 342 N, P_pu = 58 W (tracked §III-C), η = 0.95, i.e. 400 / 0.95 W:
+
+    >>> from ecoplan.presets import vehicle
+    >>> pb = tracked_power(0.5, 0.5, vehicle("auriga-beta-wide", "asphalt"))
+    >>> round(float(pb.total_w), 2), float(pb.friction_w)
+    (421.05, 0.0)
     """
-    vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
+    vl, vr = finite_pair("v_left", v_left, "v_right", v_right)
     shape = vl.shape
     n = vl.size
     flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)
@@ -407,7 +417,7 @@ def tracked_total_power(v_left: ArrayLike, v_right: ArrayLike, params: TrackedPa
     ndarray
         ``P_T`` [W], broadcast from the inputs.
     """
-    vl, vr = np.broadcast_arrays(finite_array("v_left", v_left), finite_array("v_right", v_right))
+    vl, vr = finite_pair("v_left", v_left, "v_right", v_right)
     shape = vl.shape
     n = vl.size
     flat_l, flat_r = vl.reshape(-1), vr.reshape(-1)

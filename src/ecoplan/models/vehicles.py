@@ -19,7 +19,8 @@ Schema (every length in m, mass in kg, power in W, speed in m/s)::
                icr_x_m, icr_offset_m}
     inertia: {mass_kg, yaw_inertia_kgm2}
     limits: {top_speed_mps, accel_max_mps2, p_side_max_w, p_motor_max_w, p_total_max_w}
-    drivers: {p_powerup_w, p_braking_w, k_nonregen_n, eta, regen_efficiency}
+    drivers: {p_powerup_w, p_braking_w, k_nonregen_n, nonregen_onset_mps, eta,
+              regen_efficiency}
     default_terrain: asphalt
     terrains:
       asphalt:                     # a name a field user recognises
@@ -59,7 +60,7 @@ import yaml
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from ecoplan.errors import InputError
-from ecoplan.models.tracked import GRAVITY_MPS2, TrackedParams
+from ecoplan.models.tracked import DEFAULT_NONREGEN_ONSET_MPS, GRAVITY_MPS2, TrackedParams
 from ecoplan.models.wheeled import SideCoefficients, WheeledParams
 
 __all__ = [
@@ -267,6 +268,12 @@ class Drivers(_Section):
         Braking effort when one side is stopped or opposed (tracked cases 3, 4) [W], >= 0.
     k_nonregen_n : float
         Non-regenerated power per ``|V_l| + |V_r|`` in case 2 [N], >= 0.
+    nonregen_onset_mps : float
+        Track-speed difference over which the non-regenerated term (and the dragged
+        motor's power) sets in [m/s], in [0, 1]; 0 = the tracked paper's step, default
+        0.05 (argued in :class:`~ecoplan.models.tracked.TrackedParams`; identified from
+        logs by :func:`~ecoplan.models.tracked.fit_nonregen_onset`).  Contact-friction
+        model only.
     eta : float
         Electrical efficiency η of the driver-motor sets (tracked eq. 20), in (0, 1].
     regen_efficiency : float
@@ -277,6 +284,7 @@ class Drivers(_Section):
     p_powerup_w: float = Field(default=0.0, ge=0.0)
     p_braking_w: float = Field(default=0.0, ge=0.0)
     k_nonregen_n: float = Field(default=0.0, ge=0.0)
+    nonregen_onset_mps: float = Field(default=DEFAULT_NONREGEN_ONSET_MPS, ge=0.0, le=1.0)
     eta: float = Field(default=1.0, gt=0.0, le=1.0)
     regen_efficiency: float = Field(default=0.0, ge=0.0, lt=1.0)
 
@@ -524,6 +532,7 @@ class Vehicle:
                 k_resistance_n=self._k_resistance(e),
                 p_braking_w=_value(e.p_braking_w, d.p_braking_w),
                 k_nonregen_n=_value(e.k_nonregen_n, d.k_nonregen_n),
+                nonregen_onset_mps=d.nonregen_onset_mps,
                 eta=d.eta,
                 p_total_max_w=lim.p_total_max_w,
                 p_motor_max_w=lim.p_motor_max_w,

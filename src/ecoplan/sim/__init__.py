@@ -1,18 +1,19 @@
 """Simulation: batch integrator of the time-domain physics.
 
 * :mod:`ecoplan.sim.simulate` -- fixed-step ICR-kinematics integrator with power and
-  energy from the vehicle's model, vectorised over runs, CSV in the diagnosis log format.
+  energy from the vehicle's model, vectorised over runs; a result converts to the log
+  (:meth:`~ecoplan.sim.simulate.SimResult.to_log`).
 
 The A->B replay of §IV-A is :mod:`ecoplan.experiments.ab_replay`.
 """
 
 from ecoplan.sim.simulate import (
     EXTRA_COLUMNS,
-    LOG_COLUMNS,
     SimConfig,
     SimResult,
     TrackSchedule,
     WaypointRun,
+    breakdown_columns,
     simulate_batch,
     simulate_policy,
     simulate_tracks,
@@ -21,11 +22,11 @@ from ecoplan.sim.simulate import (
 
 __all__ = [
     "EXTRA_COLUMNS",
-    "LOG_COLUMNS",
     "SimConfig",
     "SimResult",
     "TrackSchedule",
     "WaypointRun",
+    "breakdown_columns",
     "simulate_batch",
     "simulate_policy",
     "simulate_tracks",

@@ -37,9 +37,10 @@ Everything is vectorised over runs: state arrays have shape ``(n_runs,)`` and ru
 have stopped stay frozen (zero speed) until the batch ends; the power model is applied
 once per run after the loop, since power does not feed back into the motion.
 
-Result columns (CSV, SI units, REP-103, header row) are the log format of the diagnosis
-issue: :data:`LOG_COLUMNS`, followed by :data:`EXTRA_COLUMNS` (motion case of Fig. 3 and
-the power breakdown).
+A result converts to the one time series of ecoplan, :class:`~ecoplan.dynamics.log.Log`
+(:meth:`SimResult.to_log`), whose extra columns are :data:`EXTRA_COLUMNS` (motion case of
+Fig. 3 and the power breakdown); :func:`ecoplan.io.logcsv.write_log_csv` writes it, so a
+simulated run can be diagnosed like a real one.
 """
 
 from __future__ import annotations
@@ -47,7 +48,6 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -61,6 +61,7 @@ from ecoplan.dynamics.controller import (
     wrap_angle,
 )
 from ecoplan.dynamics.drive import IcrArrays
+from ecoplan.dynamics.log import Log
 from ecoplan.dynamics.rollout import ROLLOUT_STATE, CommandPolicy, rollout
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range
@@ -73,11 +74,11 @@ from ecoplan.models.wheeled import WheeledParams
 __all__ = [
     "DEFAULT_CONFIG",
     "EXTRA_COLUMNS",
-    "LOG_COLUMNS",
     "SimConfig",
     "SimResult",
     "TrackSchedule",
     "WaypointRun",
+    "breakdown_columns",
     "simulate_batch",
     "simulate_policy",
     "simulate_tracks",
@@ -86,24 +87,31 @@ __all__ = [
 
 VehicleParams = TrackedParams | WheeledParams
 
-#: Leading CSV columns: the log format of the diagnosis issue (SI units, REP-103).
-LOG_COLUMNS: tuple[str, ...] = (
-    "t",
-    "x",
-    "y",
-    "yaw",
-    "v_left_cmd",
-    "v_right_cmd",
-    "v_left",
-    "v_right",
-    "wz",
-    "p_total",
-    "p_left",
-    "p_right",
-)
-
-#: Further CSV columns: motion case (Fig. 3) and the power breakdown [W].
+#: Extra log columns of a simulated run: motion case (Fig. 3) and the power breakdown [W].
 EXTRA_COLUMNS: tuple[str, ...] = ("case", *(f"p_{c.removesuffix('_w')}" for c in COMPONENTS))
+
+
+def breakdown_columns(
+    case: IntArray, components_w: Mapping[str, FloatArray]
+) -> dict[str, FloatArray | IntArray]:
+    """The extra log columns of a simulated run, named as in :data:`EXTRA_COLUMNS`.
+
+    Parameters
+    ----------
+    case : ndarray of int
+        Motion case of Fig. 3 per step.
+    components_w : mapping of str to ndarray
+        Power breakdown per step, keyed by :data:`~ecoplan.models.power.COMPONENTS` [W].
+
+    Returns
+    -------
+    dict of str to ndarray
+        ``case`` then ``p_friction``, ``p_resistance``, ... (one per component).
+    """
+    cols: dict[str, FloatArray | IntArray] = {"case": case}
+    for comp, name in zip(COMPONENTS, EXTRA_COLUMNS[1:], strict=True):
+        cols[name] = components_w[comp]
+    return cols
 
 
 @dataclass(frozen=True, slots=True)
@@ -214,23 +222,41 @@ class SimResult:
         """Mean electrical power over the run [W]."""
         return self.energy_j / self.time_s if self.time_s > 0.0 else 0.0
 
-    def columns(self) -> dict[str, Any]:
-        """Every recorded column by CSV name, in CSV order."""
-        cols: dict[str, Any] = {name: getattr(self, name) for name in LOG_COLUMNS}
-        cols["case"] = self.case
-        for comp, name in zip(COMPONENTS, EXTRA_COLUMNS[1:], strict=True):
-            cols[name] = self.components_w[comp]
-        return cols
+    def to_log(self, *, run_id: str = "", terrain: Sequence[str] | None = None) -> Log:
+        """The run as a :class:`~ecoplan.dynamics.log.Log` (every row, the final state too).
 
-    def to_csv(self, path: str | Path) -> Path:
-        """Write every row to CSV with a header (:data:`LOG_COLUMNS` first); returns the path."""
-        path = Path(path)
-        cols = self.columns()
-        data = np.column_stack([np.asarray(v, dtype=np.float64) for v in cols.values()])
-        fmt = ["%.10g"] * len(cols)
-        fmt[len(LOG_COLUMNS)] = "%d"
-        np.savetxt(path, data, fmt=fmt, delimiter=",", header=",".join(cols), comments="")
-        return path
+        Parameters
+        ----------
+        run_id : str
+            Identifier of the run.
+        terrain : sequence of str, optional
+            Terrain label of every row.
+
+        Returns
+        -------
+        Log
+            Every column of the log format but ``terrain`` (unless given), with
+            :data:`EXTRA_COLUMNS` in :attr:`~ecoplan.dynamics.log.Log.extra`; the source
+            names the vehicle.
+        """
+        return Log(
+            t=self.t,
+            v_left=self.v_left,
+            v_right=self.v_right,
+            p_total=self.p_total,
+            v_left_cmd=self.v_left_cmd,
+            v_right_cmd=self.v_right_cmd,
+            x=self.x,
+            y=self.y,
+            yaw=self.yaw,
+            wz=self.wz,
+            p_left=self.p_left,
+            p_right=self.p_right,
+            terrain=None if terrain is None else np.asarray(terrain, dtype=np.str_),
+            source=f"simulation of {self.vehicle}",
+            run_id=run_id,
+            extra=breakdown_columns(self.case, self.components_w),
+        )
 
     def plot(self, axes: Sequence[Any] | None = None) -> Any:
         """Plot the path and the power over time (matplotlib); returns the figure."""

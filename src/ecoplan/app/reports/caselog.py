@@ -1,58 +1,55 @@
-"""The CSV log of a simulated case, in the diagnosis log format (so it can be diagnosed)."""
+"""The log of a simulated case, with the power re-evaluated on the terrain under the robot."""
 
 from __future__ import annotations
 
-import io
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
-
-import numpy as np
+import dataclasses
+from typing import TYPE_CHECKING
 
 from ecoplan.app.reports.tables import breakdown_components
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
+from ecoplan.sim.simulate import breakdown_columns
 
 if TYPE_CHECKING:
     from ecoplan.app.run import CaseResult
 
-__all__ = ["write_log_csv"]
+__all__ = ["case_log"]
 
 
-def write_log_csv(result: CaseResult, path: Path) -> Path:
-    """Write a case's simulated steps as CSV in the diagnosis log format.
+def case_log(result: CaseResult) -> Log:
+    """A case's simulated steps as a :class:`~ecoplan.dynamics.log.Log`.
 
-    Columns: ``t, x, y, yaw, v_left_cmd, v_right_cmd, v_left, v_right, wz, p_total,
-    p_left, p_right`` (the log contract), then ``case`` (Fig. 3), the breakdown
-    ``p_friction, p_resistance, ...`` [W] (``p_inertial`` too when the mass terms are
-    simulated) and the ``terrain`` label.  Power columns are
-    terrain-aware.
+    The simulator's log (:meth:`ecoplan.sim.SimResult.to_log`) with terrain-aware power
+    columns (``p_total``, ``p_left``, ``p_right`` and the breakdown ``p_friction``, ...,
+    with ``p_inertial`` / ``p_grade`` when the mass terms are simulated) and the
+    ``terrain`` label of every step; write it with :func:`ecoplan.io.logcsv.write_log_csv`.
+
+    Parameters
+    ----------
+    result : CaseResult
+        A simulated case.
+
+    Returns
+    -------
+    Log
+        The case's log (no ``run_id``: the file starts with its header row, as plain
+        CSV tools expect).
+
+    Raises
+    ------
+    InputError
+        The case was not simulated.
     """
     sim = result.sim
     if sim is None:
         raise InputError("this case was not simulated; nothing to write")
-    cols: dict[str, Any] = {
-        "t": sim.t,
-        "x": sim.x,
-        "y": sim.y,
-        "yaw": sim.yaw,
-        "v_left_cmd": sim.v_left_cmd,
-        "v_right_cmd": sim.v_right_cmd,
-        "v_left": sim.v_left,
-        "v_right": sim.v_right,
-        "wz": sim.wz,
-        "p_total": result.p_total_w,
-        "p_left": result.p_left_w,
-        "p_right": result.p_right_w,
-        "case": sim.case,
-    }
-    comps = breakdown_components(result.components_w)  # + p_inertial when simulated
-    cols.update({f"p_{c.removesuffix('_w')}": result.components_w[c] for c in comps})
-    data = np.column_stack([np.asarray(v, dtype=np.float64) for v in cols.values()])
-    fmt = ["%.10g"] * len(cols)
-    fmt[list(cols).index("case")] = "%d"
-    buf = io.StringIO()
-    np.savetxt(buf, data, fmt=fmt, delimiter=",")
-    rows = buf.getvalue().splitlines()
-    with path.open("w", newline="") as fh:
-        fh.write(",".join([*cols, "terrain"]) + "\n")
-        fh.writelines(f"{row},{terr}\n" for row, terr in zip(rows, result.terrain, strict=True))
-    return path
+    extra = breakdown_columns(sim.case, result.components_w)
+    for comp in breakdown_components(result.components_w):  # + inertial_w, grade_w
+        extra.setdefault(f"p_{comp.removesuffix('_w')}", result.components_w[comp])
+    return dataclasses.replace(
+        sim.to_log(terrain=result.terrain),
+        p_total=result.p_total_w,
+        p_left=result.p_left_w,
+        p_right=result.p_right_w,
+        extra=extra,
+    )

@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from ecoplan.app.outdir import OutDir, case_file_names
-from ecoplan.app.reports.caselog import write_log_csv
+from ecoplan.app.reports.caselog import case_log
 from ecoplan.app.reports.figures import plot_breakdown, plot_map, plot_power
 from ecoplan.app.reports.tables import (
     COMPONENT_LABELS,
@@ -34,6 +34,7 @@ from ecoplan.app.reports.tables import (
     summary_row,
     summary_table,
 )
+from ecoplan.io.logcsv import write_log_csv
 
 if TYPE_CHECKING:
     from ecoplan.app.run import CaseResult
@@ -118,7 +119,7 @@ def write_report(
             w.writerow(summary_row(r))
     if opts.csv:
         for r in simulated:
-            write_log_csv(r, out.file(csv_names[id(r)]))
+            write_log_csv(case_log(r), out.file(csv_names[id(r)]), overwrite=True)
     if opts.markdown:
         md = _markdown(sc, results, figures, title=title, executor=executor)
         out.file("report.md").write_text(md)

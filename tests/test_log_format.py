@@ -11,16 +11,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.logio import (
-    FieldRef,
-    Log,
-    TopicMap,
-    read_log_csv,
-    read_logs,
-    read_rosbag,
-    write_log_csv,
-)
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError, LogFormatError
+from ecoplan.io.logcsv import read_log_csv, write_log_csv
+from ecoplan.io.logs import read_logs
+from ecoplan.io.rosbag import FieldRef, TopicMap, read_rosbag
 
 BAD = Path(__file__).parent / "logs_bad"
 
@@ -166,10 +161,10 @@ def test_round_trip_is_exact(tmp_path: Path) -> None:
 
 def test_write_refuses_to_overwrite(tmp_path: Path) -> None:
     log = _full_log()
-    p = log.to_csv(tmp_path / "a.csv")
+    p = write_log_csv(log, tmp_path / "a.csv")
     with pytest.raises(LogFormatError, match="exists"):
-        log.to_csv(p)
-    log.to_csv(p, overwrite=True)
+        write_log_csv(log, p)
+    write_log_csv(log, p, overwrite=True)
     assert len(read_log_csv(p)) == len(log)
 
 
@@ -232,7 +227,7 @@ def test_log_arrays_are_read_only() -> None:
 
 
 def test_read_logs_names_the_bad_file(tmp_path: Path) -> None:
-    good = _full_log().to_csv(tmp_path / "good.csv")
+    good = write_log_csv(_full_log(), tmp_path / "good.csv")
     logs = read_logs([good])
     assert [lg.run_id for lg in logs] == ["run-1"]
     with pytest.raises(LogFormatError, match=r"single_row\.csv"):
@@ -251,7 +246,7 @@ needs_boreal = pytest.mark.skipif(not BOREAL.is_dir(), reason="BorealTC data not
 
 @needs_boreal
 def test_borealtc_run_as_log_states_the_voltage_assumption() -> None:
-    from ecoplan.diagnose.logio import load_borealtc
+    from ecoplan.io.borealtc import load_borealtc
 
     log = load_borealtc("flooring", 3, bus_voltage_v=24.0, root=BOREAL)
     assert log.run_id == "FLOORING_03" and log.terrain is not None
@@ -269,7 +264,7 @@ def test_borealtc_run_as_log_states_the_voltage_assumption() -> None:
 
 @needs_boreal
 def test_borealtc_run_without_imu_has_no_wz() -> None:
-    from ecoplan.diagnose.logio import load_borealtc_runs
+    from ecoplan.io.borealtc import load_borealtc_runs
 
     logs = load_borealtc_runs("FLOORING", root=BOREAL)
     assert len(logs) == 10
@@ -469,7 +464,7 @@ def test_read_logs_dispatches_bags_with_a_topic_map_file(tmp_path: Path) -> None
         "odom_topic: /odom\n"
         "rate_hz: 20\n"
     )
-    csv_log = _full_log().to_csv(tmp_path / "run.csv")
+    csv_log = write_log_csv(_full_log(), tmp_path / "run.csv")
     logs = read_logs([tmp_path / "bag", csv_log])
     assert [lg.run_id for lg in logs] == ["bag", "run-1"]
     assert np.median(np.diff(logs[0].t)) == pytest.approx(0.05)
@@ -479,9 +474,12 @@ def test_read_logs_dispatches_bags_with_a_topic_map_file(tmp_path: Path) -> None
 @pytest.mark.parametrize(
     ("text", "fragment"),
     [
-        ("v_left: /a\nv_right: /b\npower: /p\nspeed: 3\n", "unknown key(s) speed"),
+        ("v_left: /a\nv_right: /b\npower: /p\nspeed: 3\n", ":4: unknown key 'speed'"),
         ("v_left: /a\npower: /p\n", "missing required key 'v_right'"),
-        ("v_left: {topic: /a, gain: 2}\nv_right: /b\npower: /p\n", "v_left: unknown key(s) gain"),
+        ("v_left: {topic: /a, gain: 2}\nv_right: /b\npower: /p\n", "unknown key 'gain' in v_left"),
+        ("v_left: {topic: /a, scale: yes}\nv_right: /b\npower: /p\n", "v_left.scale: expected a"),
+        ("v_left: /a\nv_right: /b\npower: /p\nrate_hz: 0\n", ":4: rate_hz: expected a number > 0"),
+        ("v_left: /a\nv_right: /b\npower: /p\nbattery_current_sign: 2\n", "accepted: -1, 1"),
         ("v_left: [1, 2]\nv_right: /b\npower: /p\n", "v_left: expected a topic name"),
         ("v_left: /a\nv_right: /b\n", "exactly one of 'power' and 'battery_topic'"),
         ("- just\n- a list\n", "must be a mapping"),
@@ -489,7 +487,7 @@ def test_read_logs_dispatches_bags_with_a_topic_map_file(tmp_path: Path) -> None
     ],
 )
 def test_bad_topic_map_files_name_the_key(tmp_path: Path, text: str, fragment: str) -> None:
-    from ecoplan.diagnose.logio import load_topic_map
+    from ecoplan.io.rosbag import load_topic_map
 
     p = tmp_path / "map.yaml"
     p.write_text(text)
@@ -510,7 +508,7 @@ def test_fast_and_cell_by_cell_parsers_agree(tmp_path: Path) -> None:
     # a quoted cell anywhere sends the file to the cell-by-cell parser; the result must
     # not depend on which parser read it
     log = _full_log()
-    plain = log.to_csv(tmp_path / "plain.csv")
+    plain = write_log_csv(log, tmp_path / "plain.csv")
     lines = plain.read_text().splitlines()
     head = next(i for i, ln in enumerate(lines) if not ln.startswith("#"))
     lines[head] += ",comment"
@@ -528,3 +526,100 @@ def test_logs_compare_by_identity_and_hash() -> None:
     a, b = _full_log(), _full_log()
     assert a == a and a != b  # arrays: no element-wise ambiguity
     assert len({a, b}) == 2
+
+
+def test_the_docstring_table_lists_every_column_with_its_unit() -> None:
+    # the format's table in the module docstring and the column specification must agree
+    import ecoplan.dynamics.log as logmod
+
+    rows = [ln for ln in (logmod.__doc__ or "").splitlines() if ln.startswith("``")]
+    table = {}
+    for row in rows:
+        cells = row.split()
+        names = [c.strip("`,") for c in cells if c.startswith("``")]
+        unit = cells[len(names)]
+        table.update(dict.fromkeys(names, (unit, cells[-1] == "yes")))
+    expected = {c.name: (c.unit, c.required) for c in logmod.COLUMNS}
+    assert table == expected
+
+
+def test_unit_suffixed_aliases_read_as_the_columns(tmp_path: Path) -> None:
+    text = "t_s,v_left_mps,v_right_mps,p_total_w,wz_radps\n0,0.1,0.2,100,0\n0.5,0.3,-0.4,250,0.1\n"
+    log = read_log_csv(_write(tmp_path, text))
+    assert log.columns() == ("t", "v_left", "v_right", "p_total", "wz")
+    np.testing.assert_array_equal(log.p_total, [100.0, 250.0])
+    assert "column 't_s' read as 't'" in log.notes
+    dup = _write(tmp_path, "t,v_left,v_right,p_total,p_total_w\n0,0,0,1,1\n1,0,0,1,1\n", "d.csv")
+    with pytest.raises(LogFormatError, match=r"line 1: duplicated column 'p_total' .*'p_total_w'"):
+        read_log_csv(dup)
+
+
+def test_extra_columns_are_written_after_the_format_and_ignored_on_reading(
+    tmp_path: Path,
+) -> None:
+    log = Log(
+        t=[0.0, 0.1, 0.2],
+        v_left=[0.1, 0.2, 0.3],
+        v_right=[0.1, 0.2, 0.3],
+        p_total=[10.0, 20.0, 30.0],
+        extra={"case": np.array([1, 2, 2]), "p_friction": np.array([0.5, 0.25, 0.125])},
+    )
+    p = write_log_csv(log, tmp_path / "x.csv")
+    lines = p.read_text().splitlines()
+    assert lines[0] == "t,v_left,v_right,p_total,case,p_friction"
+    assert lines[1] == "0.0,0.1,0.1,10.0,1,0.5"  # integers stay integers
+    back = read_log_csv(p)
+    assert back.extra == {} and "ignored columns: case, p_friction" in back.notes
+    np.testing.assert_array_equal(log.slice(start_s=0.05).extra["case"], [2, 2])
+    with pytest.raises(LogFormatError, match="'wz' is a column of the log format"):
+        Log(t=[0, 1], v_left=[0, 0], v_right=[0, 0], p_total=[1, 1], extra={"wz": [0, 0]})
+    with pytest.raises(LogFormatError, match=r"'case' must be numeric with shape \(2,\)"):
+        Log(t=[0, 1], v_left=[0, 0], v_right=[0, 0], p_total=[1, 1], extra={"case": [0]})
+    with pytest.raises(LogFormatError, match="not a plain CSV header"):
+        Log(t=[0, 1], v_left=[0, 0], v_right=[0, 0], p_total=[1, 1], extra={"a,b": [0, 0]})
+
+
+_MAP_KEYS = (
+    *("v_left", "v_right", "power", "battery_topic", "battery_current_sign", "rate_hz"),
+    *("p_offset_w", "v_left_cmd", "v_right_cmd", "odom_topic", "wz", "speed"),
+)
+_MAP_VALUES = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(-3, 3),
+    st.floats(allow_nan=True),
+    st.sampled_from(["/a", "", "x[1]"]),
+    st.lists(st.integers(), max_size=2),
+    st.dictionaries(st.sampled_from(["topic", "field", "scale", "gain"]), st.text(max_size=3)),
+)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.dictionaries(
+        st.sampled_from(_MAP_KEYS),
+        _MAP_VALUES,
+        max_size=8,
+    )
+)
+def test_any_topic_map_gives_a_map_or_one_line(data: dict[str, Any]) -> None:
+    import tempfile
+
+    import yaml
+
+    with tempfile.TemporaryDirectory() as d:
+        p = Path(d) / "map.yaml"
+        p.write_text(yaml.safe_dump(data))
+        from ecoplan.io.rosbag import load_topic_map
+
+        try:
+            tmap = load_topic_map(p)
+        except LogFormatError as exc:
+            assert "\n" not in str(exc) and str(exc).startswith(str(p))
+        else:
+            # what was accepted obeys the documented rules
+            assert (tmap.power is None) != (tmap.battery_topic is None)
+            assert tmap.battery_current_sign in (-1.0, 1.0)
+            assert tmap.rate_hz is None or 0.0 < tmap.rate_hz <= 10000.0
+            assert isinstance(tmap.v_left, FieldRef) and tmap.v_left.topic
+            assert math.isfinite(tmap.p_offset_w) and math.isfinite(tmap.v_left.scale)

@@ -16,6 +16,9 @@ of this file holding ``pyproject.toml``).  The data are read in place.
 Electrical power needs the bus voltage, which the logs do not record:
 ``p_total = bus_voltage_v (curL + curR)`` with the Husky's nominal 24 V battery by
 default -- an assumption; the true voltage sags under load and with charge.
+
+:func:`load_run` gives the raw run (:class:`BorealRun`, with the motor currents);
+:func:`load_borealtc` gives it as a :class:`~ecoplan.dynamics.log.Log` for the diagnosis.
 """
 
 from __future__ import annotations
@@ -28,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from ecoplan._typing import BoolArray, FloatArray
+from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError, LogFormatError
 
 __all__ = [
@@ -37,6 +41,8 @@ __all__ = [
     "data_root",
     "list_runs",
     "list_terrains",
+    "load_borealtc",
+    "load_borealtc_runs",
     "load_run",
     "load_runs",
 ]
@@ -350,3 +356,93 @@ def load_runs(
 ) -> list[BorealRun]:
     """Every run of a terrain, in run-id order (see :func:`load_run`)."""
     return [load_run(terrain, rid, root, bus_voltage_v) for rid in list_runs(terrain, root)]
+
+
+def load_borealtc(
+    terrain: str,
+    run_id: str | int,
+    bus_voltage_v: float = 24.0,
+    root: str | os.PathLike[str] | None = None,
+) -> Log:
+    """One BorealTC hard-ground run (Husky A200) as a :class:`Log`.
+
+    Built on :func:`load_run`: side speeds from wheel
+    odometry, ``p_total = bus_voltage_v (|I_left| + |I_right|)`` and the IMU yaw rate
+    interpolated onto the motor-log time stamps.  Samples outside the IMU's time span
+    (where the loader holds the nearest value) count as a missing ``wz`` and are dropped
+    and counted in :attr:`Log.dropped_rows`.  The bus voltage is an assumption (the data
+    have no voltage column) and is stated in :attr:`Log.notes`.
+
+    Parameters
+    ----------
+    terrain : str
+        ``"ASPHALT"`` or ``"FLOORING"`` (case-insensitive).
+    run_id : str or int
+        Run number (``"03"`` or ``3``).
+    bus_voltage_v : float
+        Assumed bus voltage [V] (Husky A200: 24 V nominal).
+    root : path-like, optional
+        Data root (default: see :func:`data_root`).
+
+    Returns
+    -------
+    Log
+        Columns ``t, v_left, v_right, p_total`` (+ ``wz`` when the IMU file exists) and a
+        ``terrain`` label (lower case); ``run_id`` like ``"FLOORING_03"``.
+    """
+    run = load_run(terrain, run_id, root, bus_voltage_v)
+    source = str(data_root(root) / run.terrain / f"pro_{run.run_id}.csv")
+    notes = [
+        f"p_total = {run.bus_voltage_v:g} V x (curL + curR): the bus voltage is an "
+        "assumption (BorealTC has no voltage column; the battery sags under load)",
+        "BorealTC: Clearpath Husky A200 (wheeled skid-steer, about 70 kg), ~6.5 Hz motor log",
+    ]
+    n = run.t.size
+    keep: BoolArray = np.ones(n, dtype=np.bool_)
+    wz = None
+    if run.wz is not None:
+        wz = run.wz
+        if run.wz_valid is not None:
+            keep = run.wz_valid.copy()
+        notes.append("wz: IMU yaw rate (100 Hz) interpolated onto the motor-log time stamps")
+    else:
+        notes.append("no IMU file for this run: wz absent")
+    dropped = int(n - keep.sum())
+    if dropped:
+        notes.append(f"dropped {dropped} of {n} rows outside the IMU's time span (no wz)")
+    if int(keep.sum()) < 2:
+        raise LogFormatError(f"{source}: fewer than 2 samples inside the IMU's time span")
+    return Log(
+        t=run.t[keep],
+        v_left=run.v_left[keep],
+        v_right=run.v_right[keep],
+        p_total=run.p_total[keep],
+        wz=None if wz is None else wz[keep],
+        terrain=np.full(int(keep.sum()), run.terrain.lower()),
+        source=source,
+        run_id=f"{run.terrain}_{run.run_id}",
+        dropped_rows=dropped,
+        notes=tuple(notes),
+    )
+
+
+def load_borealtc_runs(
+    terrain: str, bus_voltage_v: float = 24.0, root: str | os.PathLike[str] | None = None
+) -> list[Log]:
+    """Every run of a BorealTC terrain as logs, in run order (see :func:`load_borealtc`).
+
+    Parameters
+    ----------
+    terrain : str
+        ``"ASPHALT"`` or ``"FLOORING"`` (case-insensitive).
+    bus_voltage_v : float
+        Assumed bus voltage [V].
+    root : path-like, optional
+        Data root (default: see :func:`data_root`).
+
+    Returns
+    -------
+    list of Log
+        One log per run.
+    """
+    return [load_borealtc(terrain, rid, bus_voltage_v, root) for rid in list_runs(terrain, root)]

@@ -1,0 +1,182 @@
+"""Effects of the motion itself: inertia, a lagging actuator, shifted ICRs.
+
+Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the wheeled model):
+
+* ``inertia(mass_kg, yaw_inertia_kgm2)`` -- ``P0 + (m vx ax + I wz α) / η``, the kinetic
+  energy rate (tracked §III-D: "dynamic effects ... not simulated");
+* ``actuator_lag(tau_s)`` -- the drives follow the commands through a first-order lag ``τ``
+  on top of the rate limit (:mod:`ecoplan.dynamics.drive`); ``P0`` at the lagged speeds;
+* ``icr_asymmetry(icr_offset_m)`` -- ICRs shifted laterally (a centre-of-mass offset):
+  kinematics and ``P0`` both use the shifted ICRs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+import numpy as np
+
+from ecoplan._typing import FloatArray
+from ecoplan.diagnose.effects.base import (
+    Effect,
+    MotionLike,
+    Parameter,
+    Params,
+    ScalarSearch,
+    Session,
+    eta_of,
+)
+from ecoplan.diagnose.effects.data import (
+    EffectData,
+    effect_base_design,
+    segments,
+    subsample,
+)
+from ecoplan.diagnose.effects.fitting import fit_linear
+from ecoplan.dynamics.drive import follow_commands
+from ecoplan.presets import VehicleParams
+
+__all__ = ["ActuatorLag", "IcrAsymmetry", "Inertia"]
+
+
+class Inertia(Effect):
+    """Kinetic-energy rate ``(m vx ax + I wz α) / η``: translating mass and yaw inertia.
+
+    The diagnosis fits the electrical coefficients ``m / η`` and ``I / η`` of ``vx ax`` and
+    ``wz α``; :attr:`params_` holds ``m`` and ``I``.
+    """
+
+    name = "inertia"
+    parameters = (
+        Parameter("mass_kg", "kg", 0.0, 1e6, "effective translating mass"),
+        Parameter("yaw_inertia_kgm2", "kg m^2", 0.0, 1e7, "effective yaw inertia"),
+    )
+
+    @classmethod
+    def apply(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
+    ) -> FloatArray:
+        m, inertia = cls.values(params)
+        p0 = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
+        return p0 + (m * motion.vx * motion.ax + inertia * motion.wz * motion.alpha) / eta_of(
+            vehicle
+        )
+
+    @classmethod
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        m = session.vehicle.mass_kg * draws["mass_factor"]
+        half = 0.5 * session.vehicle.track_gauge_m
+        # box of the vehicle's footprint: gauge x (gauge * 1.7), scaled like the mass
+        inertia = m * ((2 * half) ** 2 + (1.7 * 2 * half) ** 2) / 12.0
+        return {"mass_kg": m, "yaw_inertia_kgm2": inertia}
+
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        f = data.frame
+        return np.column_stack([f.vx * f.ax, f.wz * f.alpha])
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        k, eta = data.X.shape[1], eta_of(data.params)
+        return {"mass_kg": float(coef[k]) * eta, "yaw_inertia_kgm2": float(coef[k + 1]) * eta}
+
+
+class IcrAsymmetry(ScalarSearch):
+    """ICRs shifted laterally by ``δ`` (centre-of-mass offset), refitting the base model."""
+
+    name = "icr_asymmetry"
+    parameters = (Parameter("icr_offset_m", "m", -10.0, 10.0, "lateral shift of both track ICRs"),)
+    steady = True
+
+    @classmethod
+    def drive(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams
+    ) -> tuple[VehicleParams, float]:
+        (off,) = cls.values(params)
+        return dataclasses.replace(vehicle, icr_offset_m=off), 0.0
+
+    @classmethod
+    def steady_power(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray
+    ) -> FloatArray:
+        veh = cls.drive(params, vehicle)[0]
+        return np.asarray(veh.power(v_left, v_right).total_w, dtype=np.float64)
+
+    @classmethod
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        half_spread = 0.5 * session.vehicle.icr.spread_m
+        return {"icr_offset_m": session.sign * draws["offset_fraction"] * half_spread}
+
+    def _bounds(self, data: EffectData) -> tuple[float, float]:
+        half = data.params.track_gauge_m / (2.0 * data.params.chi)
+        return -0.6 * half, 0.6 * half
+
+    def design(self, data: EffectData, theta: Any) -> FloatArray:
+        """Base design with the ICRs shifted by ``theta``.
+
+        The shift is clipped to 95 % of the half ICR spread at the data's χ: a χ search with
+        the shift held fixed (or a shift measured on the pose) may otherwise put an ICR on the
+        wrong side of the centre, which is no vehicle.
+        """
+        half = data.params.track_gauge_m / (2.0 * data.params.chi)
+        off = float(np.clip(float(theta or 0.0), -0.95 * half, 0.95 * half))
+        p = dataclasses.replace(data.params, icr_offset_m=off)
+        return effect_base_design(data.frame, p, data.prior).X
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        return {"icr_offset_m": float(theta or 0.0)}
+
+
+class ActuatorLag(ScalarSearch):
+    """Drives follow the commands through a first-order lag ``τ`` after the rate limit.
+
+    Generation: the motion comes from :meth:`drive`'s lag, the power is the base model's at
+    the lagged speeds.  Fitted on the side speeds (the speeds the lagged, rate-limited drive
+    of :func:`ecoplan.dynamics.drive.follow_commands` reaches from the commands against the
+    measured ones); its power is the model's power at those speeds, so it is compared with
+    the model's power from the commands without the lag (needs commands).
+    """
+
+    name = "actuator_lag"
+    parameters = (Parameter("tau_s", "s", 0.0, 10.0, "time constant of the first-order lag"),)
+    needs = ("commands",)
+
+    @classmethod
+    def drive(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams
+    ) -> tuple[VehicleParams, float]:
+        (tau,) = cls.values(params)
+        return vehicle, tau
+
+    def _bounds(self, data: EffectData) -> tuple[float, float]:
+        return 0.0, 1.5
+
+    def speeds(self, data: EffectData, tau: float) -> tuple[FloatArray, FloatArray]:
+        """Side speeds reached from the commands with lag ``tau`` [m/s]."""
+        f = data.frame
+        assert f.vl_cmd is not None and f.vr_cmd is not None
+        sl = np.empty(f.n)
+        sr = np.empty(f.n)
+        a = data.params.accel_max_mps2
+        for idx in segments(f):
+            # a piece of a split log starts from the measured speeds
+            sl[idx] = follow_commands(f.t[idx], f.vl_cmd[idx], a, tau, float(f.vl[idx[0]]))
+            sr[idx] = follow_commands(f.t[idx], f.vr_cmd[idx], a, tau, float(f.vr[idx[0]]))
+        return sl, sr
+
+    def _sse(self, data: EffectData, theta: Any) -> float:
+        sl, sr = self.speeds(data, float(theta or 0.0))
+        return float(np.sum((data.frame.vl - sl) ** 2 + (data.frame.vr - sr) ** 2))
+
+    def design(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        sl, sr = self.speeds(data, float(theta or 0.0))
+        frame = dataclasses.replace(data.frame, vl=sl, vr=sr)
+        return effect_base_design(frame, data.params, data.prior).X
+
+    def fit(self, data: EffectData) -> Effect:  # noqa: D102
+        # the lag is found on speeds; χ stays (speeds do not depend on it)
+        th = self.theta if self.theta is not None else self._search(subsample(data))
+        self.theta_ = float(th)
+        self.chi_ = float(data.params.chi)
+        self.coef_ = fit_linear(data, self.design(data, self.theta_))
+        self.params_ = {"tau_s": float(self.theta_)}
+        return self

@@ -1,0 +1,119 @@
+"""Effects outside the diagnosis's library: generated to check it answers ``unexplained``.
+
+Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the wheeled model):
+
+* ``periodic_disturbance(amplitude_w, period_s, phase_rad)`` -- ``P0 + A sin(2 π t / T + φ)``;
+* ``track_tension_step(k_factor, t_step_s)`` -- from ``t_step`` on the traction resistance is
+  scaled: ``P0 + (k - 1) P_resistance / η``;
+* ``spike_train(rate_hz, amplitude_w, width_s, seed)`` -- rectangular spikes of ``A`` at
+  Poisson times (``seed`` fixes them).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ecoplan._typing import FloatArray
+from ecoplan.diagnose.effects.base import Effect, MotionLike, Parameter, Params, Session, eta_of
+from ecoplan.presets import VehicleParams
+
+__all__ = ["PeriodicDisturbance", "SpikeTrain", "TrackTensionStep"]
+
+
+def _base_w(vehicle: VehicleParams, motion: MotionLike) -> FloatArray:
+    return np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
+
+
+class PeriodicDisturbance(Effect):
+    """A sinusoidal power disturbance ``A sin(2 π t / T + φ)`` [W] (out of library)."""
+
+    name = "periodic_disturbance"
+    in_library = False
+    parameters = (
+        Parameter("amplitude_w", "W", 0.0, math.inf, "amplitude"),
+        Parameter("period_s", "s", 1e-6, math.inf, "period"),
+        Parameter("phase_rad", "rad", -math.inf, math.inf, "phase at t = 0"),
+    )
+
+    @classmethod
+    def apply(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
+    ) -> FloatArray:
+        amp, period, phase = cls.values(params)
+        return _base_w(vehicle, motion) + amp * np.sin(2.0 * math.pi * motion.t / period + phase)
+
+    @classmethod
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        return {
+            "amplitude_w": draws["amplitude_fraction"] * session.mean_p_w,
+            "period_s": draws["period_s"],
+            "phase_rad": float(session.rng.uniform(0.0, 2.0 * math.pi)),
+        }
+
+
+class TrackTensionStep(Effect):
+    """The traction resistance ``K`` (eq. 18) scaled by ``k`` from ``t_step`` on (outside)."""
+
+    name = "track_tension_step"
+    in_library = False
+    parameters = (
+        Parameter("k_factor", "-", 0.0, math.inf, "resistance scale after the step"),
+        Parameter("t_step_s", "s", -math.inf, math.inf, "time of the step"),
+    )
+
+    @classmethod
+    def apply(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
+    ) -> FloatArray:
+        k, t_step = cls.values(params)
+        pb = vehicle.power(motion.v_left, motion.v_right)
+        p0 = np.asarray(pb.total_w, dtype=np.float64)
+        extra = (k - 1.0) * pb.resistance_w / eta_of(vehicle)
+        return p0 + np.where(motion.t >= t_step, extra, 0.0)
+
+    @classmethod
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        span = session.t_end_s - session.t_start_s
+        return {
+            "k_factor": draws["k_factor"],
+            "t_step_s": session.t_start_s + float(session.rng.uniform(0.35, 0.65)) * span,
+        }
+
+
+class SpikeTrain(Effect):
+    """Rectangular power spikes at Poisson times (out of library)."""
+
+    name = "spike_train"
+    in_library = False
+    parameters = (
+        Parameter("rate_hz", "1/s", 0.0, math.inf, "mean rate of the spikes"),
+        Parameter("amplitude_w", "W", -math.inf, math.inf, "height of a spike"),
+        Parameter("width_s", "s", 0.0, math.inf, "duration of a spike"),
+        Parameter("seed", "-", 0.0, 2.0**63, "seed of the spike times"),
+    )
+
+    @classmethod
+    def apply(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
+    ) -> FloatArray:
+        rate_hz, amp_w, width_s, seed = cls.values(params)
+        t = motion.t
+        g = np.random.default_rng(int(seed))
+        # Poisson arrivals over the span of this run, on the session clock
+        span = float(t[-1] - t[0])
+        n = int(g.poisson(rate_hz * span)) if span > 0.0 else 0
+        out = np.zeros(t.size)
+        for start in t[0] + g.uniform(0.0, span, n):
+            out[(t >= start) & (t < start + width_s)] += amp_w
+        return _base_w(vehicle, motion) + out
+
+    @classmethod
+    def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
+        return {
+            "rate_hz": draws["rate_hz"],
+            "amplitude_w": draws["amplitude_fraction"] * session.mean_p_w,
+            "width_s": float(session.rng.uniform(0.2, 0.5)),
+            "seed": float(session.rng.integers(0, 2**31 - 1)),
+        }

@@ -1,0 +1,444 @@
+"""The one time-series type of ecoplan, :class:`Log`, and its column specification.
+
+A run of a skid-steer robot -- simulated (:meth:`ecoplan.sim.SimResult.to_log`), read from
+a CSV file (:mod:`ecoplan.io.logcsv`), a ROS 2 bag (:mod:`ecoplan.io.rosbag`) or the
+BorealTC data (:mod:`ecoplan.io.borealtc`) -- is a :class:`Log`, and the diagnosis reads
+nothing else.  SI units, REP-103 frames (x forward, y left, yaw counter-clockwise).
+
+Columns (:data:`COLUMNS`, in file order; a CSV header may also use an alias)
+----------------------------------------------------------------------------
+==============  =========  ==================================================  ========
+column          unit       meaning                                             required
+==============  =========  ==================================================  ========
+``t``           s          time, strictly increasing                           yes
+``v_left``      m/s        measured left side (track/wheel) speed              yes
+``v_right``     m/s        measured right side speed                           yes
+``p_total``     W          electrical power of locomotion                      yes
+``v_left_cmd``  m/s        commanded left side speed                           no
+``v_right_cmd`` m/s        commanded right side speed                          no
+``x``, ``y``    m          position in the world frame                         no
+``yaw``         rad        heading, counter-clockwise from world x             no
+``wz``          rad/s      measured yaw rate                                   no
+``p_left``      W          mechanical power of the left motor                  no
+``p_right``     W          mechanical power of the right motor                 no
+``terrain``     label      terrain name under the robot (text)                 no
+==============  =========  ==================================================  ========
+
+Aliases: every numeric column also answers to its name with the unit appended
+(``t_s``, ``v_left_mps``, ``p_total_w``, ``x_m``, ``yaw_rad``, ``wz_radps``, ...).
+Further numeric columns a producer wants to keep (the simulator's motion ``case`` and
+power breakdown) ride along in :attr:`Log.extra`; the diagnosis ignores them.
+
+Validation (every failure is a :class:`~ecoplan.errors.LogFormatError` with a one-line
+message naming the source, the column and the sample): required columns present and
+finite, optional ones finite, equal lengths, at least 2 samples, time strictly
+increasing, side speeds below :data:`MAX_PLAUSIBLE_SPEED_MPS` in magnitude (a larger one
+looks like mm/s).  The CSV reader runs the same checks with the file's line numbers.
+
+>>> log = Log(t=[0.0, 0.1], v_left=[0.2, 0.2], v_right=[0.2, 0.3], p_total=[50.0, 55.0])
+>>> log.columns(), log.duration_s
+(('t', 'v_left', 'v_right', 'p_total'), 0.1)
+>>> Log(t=[0.0, 0.0], v_left=[0.2, 0.2], v_right=[0.2, 0.3], p_total=[50.0, 55.0])
+Traceback (most recent call last):
+...
+ecoplan.errors.LogFormatError: <memory>, sample 1: time duplicated in column 't' ...
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from ecoplan._typing import BoolArray, FloatArray
+from ecoplan.errors import LogFormatError
+
+__all__ = [
+    "ALIASES",
+    "COLUMNS",
+    "FLOAT_COLUMNS",
+    "MAX_PLAUSIBLE_SPEED_MPS",
+    "OPTIONAL_COLUMNS",
+    "OPTIONAL_FLOAT_COLUMNS",
+    "REQUIRED_COLUMNS",
+    "SPEED_COLUMNS",
+    "Column",
+    "Log",
+    "StrArray",
+    "check_values",
+]
+
+StrArray = npt.NDArray[np.str_]
+
+#: Unit suffix of a column's alias, by unit.
+_UNIT_SUFFIX = {"s": "_s", "m/s": "_mps", "W": "_w", "m": "_m", "rad": "_rad", "rad/s": "_radps"}
+
+
+@dataclass(frozen=True, slots=True)
+class Column:
+    """One column of the log format.
+
+    Attributes
+    ----------
+    name : str
+        Canonical name (the :class:`Log` attribute and the CSV header).
+    unit : str
+        SI unit (``"label"`` for text).
+    meaning : str
+        What the column holds.
+    required : bool
+        Every log must have it.
+    kind : {"float", "text"}
+        Numeric (float64) or a text label.
+    speed : bool
+        A side speed, checked for plausible magnitude.
+    extra_aliases : tuple of str
+        Header names accepted besides the name and its unit-suffixed alias.
+    """
+
+    name: str
+    unit: str
+    meaning: str
+    required: bool = False
+    kind: Literal["float", "text"] = "float"
+    speed: bool = False
+    extra_aliases: tuple[str, ...] = ()
+
+    @property
+    def aliases(self) -> tuple[str, ...]:
+        """Other header names of this column: ``name + unit suffix`` and the extra ones."""
+        suffix = _UNIT_SUFFIX.get(self.unit)
+        unit_alias = (self.name + suffix,) if suffix else ()
+        return (*unit_alias, *self.extra_aliases)
+
+
+#: The log format, in file order.
+COLUMNS: tuple[Column, ...] = (
+    Column("t", "s", "time, strictly increasing", required=True),
+    Column("v_left", "m/s", "measured left side speed", required=True, speed=True),
+    Column("v_right", "m/s", "measured right side speed", required=True, speed=True),
+    Column("p_total", "W", "electrical power of locomotion", required=True),
+    Column("v_left_cmd", "m/s", "commanded left side speed", speed=True),
+    Column("v_right_cmd", "m/s", "commanded right side speed", speed=True),
+    Column("x", "m", "position in the world frame, x"),
+    Column("y", "m", "position in the world frame, y"),
+    Column("yaw", "rad", "heading, counter-clockwise from world x"),
+    Column("wz", "rad/s", "measured yaw rate"),
+    Column("p_left", "W", "mechanical power of the left motor"),
+    Column("p_right", "W", "mechanical power of the right motor"),
+    Column("terrain", "label", "terrain name under the robot", kind="text"),
+)
+
+#: Columns every log must have, in file order.
+REQUIRED_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.required)
+#: Optional numeric columns, in file order.
+OPTIONAL_FLOAT_COLUMNS: tuple[str, ...] = tuple(
+    c.name for c in COLUMNS if not c.required and c.kind == "float"
+)
+#: Every optional column, numeric and text.
+OPTIONAL_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if not c.required)
+#: Every numeric column, in file order.
+FLOAT_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.kind == "float")
+#: Columns holding side speeds, checked for plausible magnitude.
+SPEED_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.speed)
+#: Header name -> column name, for every alias.
+ALIASES: Mapping[str, str] = {a: c.name for c in COLUMNS for a in c.aliases}
+#: Side speeds above this magnitude [m/s] are taken for a unit error (mm/s, rpm, ...).
+MAX_PLAUSIBLE_SPEED_MPS = 20.0
+
+_NAMES = frozenset(c.name for c in COLUMNS)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Log:
+    """One run of a skid-steer robot: time series in SI units, REP-103 frames.
+
+    Arrays are 1-D float64 of equal length ``n >= 2``; optional columns are ``None``
+    when absent.  The constructor validates everything the CSV reader does (without
+    line numbers: it names the sample index instead), so a :class:`Log` built in code
+    is as trustworthy as one read from a file.
+
+    Attributes
+    ----------
+    t : ndarray
+        Time [s], strictly increasing.
+    v_left, v_right : ndarray
+        Measured side speeds [m/s].
+    p_total : ndarray
+        Electrical power of locomotion [W].
+    v_left_cmd, v_right_cmd : ndarray or None
+        Commanded side speeds [m/s].
+    x, y : ndarray or None
+        Position in the world frame [m].
+    yaw : ndarray or None
+        Heading [rad], counter-clockwise.
+    wz : ndarray or None
+        Measured yaw rate [rad/s].
+    p_left, p_right : ndarray or None
+        Mechanical power of each side's motor [W].
+    terrain : ndarray of str or None
+        Terrain label of every sample.
+    source : str
+        File path or name the log came from.
+    run_id : str
+        Identifier of the run (file stem by default).
+    dropped_rows : int
+        Rows dropped by the reader for a missing value in an optional column.
+    notes : tuple of str
+        Assumptions and remarks (bus voltage, ignored columns, dropped rows, ...).
+    extra : mapping of str to ndarray
+        Further numeric columns outside the format (the simulator's motion ``case`` and
+        power breakdown ``p_friction``, ...), one value per sample, written after the
+        format's columns; the diagnosis ignores them.
+    """
+
+    t: FloatArray
+    v_left: FloatArray
+    v_right: FloatArray
+    p_total: FloatArray
+    v_left_cmd: FloatArray | None = None
+    v_right_cmd: FloatArray | None = None
+    x: FloatArray | None = None
+    y: FloatArray | None = None
+    yaw: FloatArray | None = None
+    wz: FloatArray | None = None
+    p_left: FloatArray | None = None
+    p_right: FloatArray | None = None
+    terrain: StrArray | None = None
+    source: str = "<memory>"
+    run_id: str = ""
+    dropped_rows: int = 0
+    notes: tuple[str, ...] = ()
+    extra: Mapping[str, npt.NDArray[Any]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        n = self._set_float_columns()
+        if self.terrain is not None:
+            lab = np.array(self.terrain, dtype=np.str_)
+            if lab.shape != (n,):
+                raise LogFormatError(
+                    f"{self.source}: column 'terrain' has shape {lab.shape}, expected ({n},)"
+                )
+            lab.flags.writeable = False
+            object.__setattr__(self, "terrain", lab)
+        if n < 2:
+            raise LogFormatError(f"{self.source}: a log needs at least 2 samples, got {n}")
+        if self.dropped_rows < 0:
+            raise LogFormatError(f"{self.source}: dropped_rows must be >= 0")
+        object.__setattr__(self, "notes", tuple(self.notes))
+        object.__setattr__(self, "extra", self._checked_extra(n))
+        cols = {c: getattr(self, c) for c in FLOAT_COLUMNS}
+        check_values(cols, self.source, np.arange(n), line_label="sample")
+
+    def _set_float_columns(self) -> int:
+        """Store every numeric column as a read-only 1-D float64 array; their length."""
+        n: int | None = None
+        for name in FLOAT_COLUMNS:
+            val = getattr(self, name)
+            if val is None:
+                if name in REQUIRED_COLUMNS:
+                    raise LogFormatError(f"{self.source}: required column {name!r} is missing")
+                continue
+            arr = np.array(val, dtype=np.float64)
+            if arr.ndim != 1:
+                raise LogFormatError(
+                    f"{self.source}: column {name!r} must be 1-D, got shape {arr.shape}"
+                )
+            if n is not None and arr.size != n:
+                raise LogFormatError(
+                    f"{self.source}: column {name!r} has {arr.size} samples, 't' has {n}"
+                )
+            n = arr.size
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+        assert n is not None  # 't' is required
+        return n
+
+    def _checked_extra(self, n: int) -> dict[str, npt.NDArray[Any]]:
+        out: dict[str, npt.NDArray[Any]] = {}
+        for name, val in self.extra.items():
+            if name in _NAMES or name in ALIASES:
+                raise LogFormatError(
+                    f"{self.source}: extra column {name!r} is a column of the log format"
+                )
+            if not name or name != name.strip() or any(ch in name for ch in ',"#\r\n'):
+                raise LogFormatError(
+                    f"{self.source}: extra column name {name!r} is not a plain CSV header"
+                )
+            arr = np.array(val)
+            if arr.shape != (n,) or arr.dtype.kind not in "iuf":
+                raise LogFormatError(
+                    f"{self.source}: extra column {name!r} must be numeric with shape ({n},), "
+                    f"got {arr.dtype} {arr.shape}"
+                )
+            arr.flags.writeable = False
+            out[name] = arr
+        return out
+
+    def __len__(self) -> int:
+        return int(self.t.size)
+
+    @property
+    def duration_s(self) -> float:
+        """Time from the first to the last sample [s]."""
+        return float(self.t[-1] - self.t[0])
+
+    @property
+    def has_commands(self) -> bool:
+        """True when both commanded side speeds are logged."""
+        return self.v_left_cmd is not None and self.v_right_cmd is not None
+
+    @property
+    def has_pose(self) -> bool:
+        """True when ``x``, ``y`` and ``yaw`` are logged."""
+        return self.x is not None and self.y is not None and self.yaw is not None
+
+    def columns(self) -> tuple[str, ...]:
+        """Names of the columns present, in file order."""
+        return tuple(c.name for c in COLUMNS if getattr(self, c.name) is not None)
+
+    def column(self, name: str) -> FloatArray:
+        """A numeric column by name; :class:`LogFormatError` when it is absent or unknown."""
+        if name not in FLOAT_COLUMNS:
+            raise LogFormatError(
+                f"unknown log column {name!r}; accepted: {', '.join(FLOAT_COLUMNS)}"
+            )
+        val = getattr(self, name)
+        if val is None:
+            raise LogFormatError(f"{self.source}: column {name!r} is not in this log")
+        return val  # type: ignore[no-any-return]
+
+    def slice(
+        self,
+        mask: npt.ArrayLike | None = None,
+        *,
+        start_s: float | None = None,
+        stop_s: float | None = None,
+    ) -> Log:
+        """A sub-log: samples selected by a boolean mask and/or ``start_s <= t < stop_s``.
+
+        Parameters
+        ----------
+        mask : array_like of bool, optional
+            One flag per sample.
+        start_s, stop_s : float, optional
+            Time window [s] (absolute times of ``t``).
+
+        Returns
+        -------
+        Log
+            The selected samples (same source, run id, notes and dropped-row count).
+
+        Raises
+        ------
+        LogFormatError
+            The mask has the wrong shape, or fewer than 2 samples are selected.
+        """
+        keep: BoolArray = np.ones(len(self), dtype=np.bool_)
+        if mask is not None:
+            m = np.asarray(mask)
+            if m.dtype != np.bool_ or m.shape != keep.shape:
+                raise LogFormatError(
+                    f"slice mask must be a boolean array of shape {keep.shape}, "
+                    f"got {m.dtype} {m.shape}"
+                )
+            keep &= m
+        if start_s is not None:
+            keep &= self.t >= start_s
+        if stop_s is not None:
+            keep &= self.t < stop_s
+        if int(keep.sum()) < 2:
+            raise LogFormatError(
+                f"{self.source}: slice keeps {int(keep.sum())} sample(s); a log needs at least 2"
+            )
+        changes: dict[str, Any] = {}
+        for name in _NAMES:
+            val = getattr(self, name)
+            if val is not None:
+                changes[name] = val[keep]
+        changes["extra"] = {k: v[keep] for k, v in self.extra.items()}
+        return dataclasses.replace(self, **changes)
+
+    def with_notes(self, *notes: str) -> Log:
+        """A copy with more notes appended."""
+        return dataclasses.replace(self, notes=(*self.notes, *notes))
+
+
+def check_values(
+    cols: Mapping[str, Any],
+    source: str,
+    lines: npt.NDArray[Any],
+    line_label: str,
+    *,
+    required_only: bool = False,
+) -> None:
+    """Check finiteness, time order and plausible speeds, naming the column and line.
+
+    Parameters
+    ----------
+    cols : mapping of str to ndarray
+        Numeric columns by name; absent optional ones may be missing or None.
+    source : str
+        File or name the values came from.
+    lines : ndarray of int
+        Line (or sample) number of each value, for the message.
+    line_label : str
+        ``"line"`` or ``"sample"``.
+    required_only : bool
+        Only check that the required columns are finite (the CSV reader does this
+        before it drops rows with a missing optional value).
+
+    Raises
+    ------
+    LogFormatError
+        A non-finite value, time not strictly increasing, or a speed above
+        :data:`MAX_PLAUSIBLE_SPEED_MPS`.
+    """
+    for name in REQUIRED_COLUMNS:
+        arr = cols[name]
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            i = int(bad[0])
+            raise LogFormatError(
+                f"{source}, {line_label} {int(lines[i])}: required column {name!r} is "
+                f"{float(arr[i])!r}; required columns must be finite"
+            )
+    if required_only:
+        return
+    for name in OPTIONAL_FLOAT_COLUMNS:
+        arr = cols.get(name)
+        if arr is None:
+            continue
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            i = int(bad[0])
+            raise LogFormatError(
+                f"{source}, {line_label} {int(lines[i])}: column {name!r} is {float(arr[i])!r}; "
+                "values must be finite"
+            )
+    t = cols["t"]
+    dt = np.diff(t)
+    bad = np.flatnonzero(dt <= 0.0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        what = "duplicated" if dt[i - 1] == 0.0 else "goes backwards"
+        raise LogFormatError(
+            f"{source}, {line_label} {int(lines[i])}: time {what} in column 't' "
+            f"({float(t[i - 1])!r} then {float(t[i])!r}); 't' must be strictly increasing"
+        )
+    for name in SPEED_COLUMNS:
+        arr = cols.get(name)
+        if arr is None:
+            continue
+        bad = np.flatnonzero(np.abs(arr) > MAX_PLAUSIBLE_SPEED_MPS)
+        if bad.size:
+            i = int(bad[0])
+            raise LogFormatError(
+                f"{source}, {line_label} {int(lines[i])}: column {name!r} = {float(arr[i])!r} m/s "
+                f"exceeds {MAX_PLAUSIBLE_SPEED_MPS:g} m/s; speeds must be in m/s "
+                "(this looks like mm/s)"
+            )

@@ -1,0 +1,401 @@
+"""ROS 2 bags as logs: a :class:`TopicMap` (pydantic-validated) and :func:`read_rosbag`.
+
+A bag (read with the ``rosbags`` library) becomes a :class:`~ecoplan.dynamics.log.Log`:
+wheel joint states or any numeric field for the side speeds, a battery state or a power
+topic for ``p_total``, optional commands, odometry (pose and yaw rate) and IMU, all
+resampled on a common time base.  The topic map is a YAML file (:func:`load_topic_map`,
+by convention ``<bag>.topics.yaml`` beside the bag) validated by the pydantic models of
+this module; errors are one line naming the file, line and key.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+
+from ecoplan._typing import FloatArray
+from ecoplan.dynamics.log import FLOAT_COLUMNS, Log
+from ecoplan.errors import LogFormatError
+from ecoplan.io.yaml import LineMap, format_validation, read_text, read_yaml
+
+__all__ = ["FieldRef", "TopicMap", "load_topic_map", "read_rosbag"]
+
+#: Largest topic-map file accepted [bytes].
+_MAX_MAP_BYTES = 1 << 20
+
+
+class FieldRef(BaseModel):
+    """A numeric field of the messages of one topic.
+
+    In a topic-map file a bare topic name stands for ``{topic: NAME}`` (field ``data``).
+
+    Parameters
+    ----------
+    topic : str
+        Topic name (``/joint_states``).
+    field : str
+        Dotted path into the message; an index may be a number or, for messages with a
+        ``name`` list such as ``sensor_msgs/JointState``, a name looked up in it:
+        ``data``, ``velocity[left_wheel_joint]``, ``data[1]``, ``twist.linear.x``.
+    scale : float
+        Factor applied to the value (e.g. the wheel radius to turn rad/s into m/s).
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
+
+    topic: str = Field(min_length=1)
+    field: str = Field(default="data", min_length=1)
+    scale: float = 1.0
+
+    def __init__(self, *args: Any, **data: Any) -> None:
+        # positional as (topic, field, scale), like the dataclass it replaces
+        data.update(zip(("topic", "field", "scale"), args, strict=False))
+        super().__init__(**data)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_name(cls, data: Any) -> Any:
+        """Accept a bare topic name for ``{topic: name}``."""
+        if isinstance(data, str):
+            return {"topic": data}
+        if not isinstance(data, dict | FieldRef):
+            raise ValueError(f"expected a topic name or {{topic, field, scale}}, got {data!r}")
+        return data
+
+
+class _TopicMapSchema(BaseModel):
+    """The keys of a topic map and their checks (see :class:`TopicMap`)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid", strict=True, allow_inf_nan=False)
+
+    v_left: FieldRef
+    v_right: FieldRef
+    power: FieldRef | None = None
+    battery_topic: str | None = Field(default=None, min_length=1)
+    battery_current_sign: float = -1.0
+    p_offset_w: float = 0.0
+    v_left_cmd: FieldRef | None = None
+    v_right_cmd: FieldRef | None = None
+    odom_topic: str | None = Field(default=None, min_length=1)
+    wz: FieldRef | None = None
+    rate_hz: float | None = Field(default=None, gt=0.0, le=10000.0)
+    use_header_stamp: bool = True
+
+    @model_validator(mode="after")
+    def _consistent(self) -> _TopicMapSchema:
+        if (self.power is None) == (self.battery_topic is None):
+            raise ValueError("needs exactly one of 'power' and 'battery_topic'")
+        if (self.v_left_cmd is None) != (self.v_right_cmd is None):
+            raise ValueError("needs both 'v_left_cmd' and 'v_right_cmd' or neither")
+        if self.battery_current_sign not in (-1.0, 1.0):
+            raise ValueError(
+                f"battery_current_sign = {self.battery_current_sign!r}; accepted: -1, 1"
+            )
+        return self
+
+
+class TopicMap(_TopicMapSchema):
+    """Which topics and fields of a ROS 2 bag make the log columns.
+
+    Construction validates (pydantic); a bad map raises :class:`LogFormatError` with one
+    line naming the key.
+
+    Parameters
+    ----------
+    v_left, v_right : FieldRef
+        Measured side speeds (after ``scale``: m/s).
+    power : FieldRef, optional
+        Electrical locomotion power [W] published directly.
+    battery_topic : str, optional
+        A ``sensor_msgs/BatteryState`` topic: ``p = sign * voltage * current - offset``.
+        Exactly one of ``power`` and ``battery_topic`` must be given.
+    battery_current_sign : {-1, 1}
+        ``-1`` for the ROS convention (current negative when discharging), ``+1`` for
+        drivers that publish the drawn current as positive.
+    p_offset_w : float
+        Power of non-locomotion loads subtracted from the battery power [W].
+    v_left_cmd, v_right_cmd : FieldRef, optional
+        Commanded side speeds (m/s after ``scale``); both or neither.
+    odom_topic : str, optional
+        A ``nav_msgs/Odometry`` topic: ``x``, ``y``, ``yaw`` (from the quaternion) and
+        ``wz`` (``twist.twist.angular.z``).
+    wz : FieldRef, optional
+        Yaw rate from another source (e.g. ``/imu/data`` ``angular_velocity.z``); takes
+        precedence over the odometry's.
+    rate_hz : float, optional
+        Rate of the common time base, in (0, 10000] Hz; default the power stream's
+        median rate.
+    use_header_stamp : bool
+        Time-stamp messages by ``header.stamp`` when they have one (else, and for
+        messages without a header, by the bag's receive time).
+    """
+
+    def __init__(self, **data: Any) -> None:
+        try:
+            super().__init__(**data)
+        except ValidationError as exc:
+            raise LogFormatError(format_validation(exc, "TopicMap", LineMap(), TopicMap)) from None
+
+    @classmethod
+    def joint_states(
+        cls,
+        topic: str,
+        left_joint: str,
+        right_joint: str,
+        wheel_radius_m: float,
+        **kwargs: Any,
+    ) -> TopicMap:
+        """Side speeds from a ``sensor_msgs/JointState`` topic's wheel velocities [rad/s].
+
+        Parameters
+        ----------
+        topic : str
+            The joint-state topic.
+        left_joint, right_joint : str
+            Names of a left and a right wheel joint in the message's ``name`` list.
+        wheel_radius_m : float
+            Wheel radius [m] (scales rad/s to m/s).
+        **kwargs
+            The other keys of the map (``power`` or ``battery_topic``, ...).
+
+        Returns
+        -------
+        TopicMap
+            The map.
+        """
+        return cls(
+            v_left=FieldRef(topic, f"velocity[{left_joint}]", wheel_radius_m),
+            v_right=FieldRef(topic, f"velocity[{right_joint}]", wheel_radius_m),
+            **kwargs,
+        )
+
+
+def load_topic_map(path: str | os.PathLike[str]) -> TopicMap:
+    """Read a :class:`TopicMap` from a YAML (or JSON) file.
+
+    Column keys (``v_left``, ``v_right``, ``power``, ``v_left_cmd``, ``v_right_cmd``,
+    ``wz``) take either a topic name (field ``data``) or a mapping with ``topic`` and
+    optional ``field`` and ``scale``; the other keys are the attributes' values.
+
+    Parameters
+    ----------
+    path : path-like
+        The file.
+
+    Returns
+    -------
+    TopicMap
+        The validated map.
+
+    Raises
+    ------
+    LogFormatError
+        Unreadable file or invalid content: one line naming the file, line and key.
+    """
+    source = os.fspath(path)
+    text = read_text(source, _MAX_MAP_BYTES, LogFormatError, kind="topic map")
+    data, lines = read_yaml(text, source, LogFormatError, kind="topic map")
+    if not isinstance(data, dict):
+        raise LogFormatError(f"{source}: a topic map must be a mapping of keys to values")
+    try:
+        spec = _TopicMapSchema.model_validate(data)
+    except ValidationError as exc:
+        raise LogFormatError(format_validation(exc, source, lines, _TopicMapSchema)) from None
+    return TopicMap(**dict(spec))
+
+
+def _field_value(msg: Any, path: str) -> float:
+    obj = msg
+    for part in path.split("."):
+        name, _, rest = part.partition("[")
+        obj = getattr(obj, name)
+        if rest:
+            key = rest.rstrip("]")
+            if key.lstrip("-").isdigit():
+                obj = obj[int(key)]
+            else:
+                obj = obj[list(msg.name).index(key)]
+    return float(obj)
+
+
+def _stamp(msg: Any, bag_ns: int, use_header: bool) -> float:
+    header = getattr(msg, "header", None)
+    if use_header and header is not None:
+        st = header.stamp
+        return float(st.sec) + 1e-9 * float(st.nanosec)
+    return 1e-9 * float(bag_ns)
+
+
+def _yaw_of(q: Any) -> float:
+    return math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+
+
+def read_rosbag(
+    path: str | os.PathLike[str], topics: TopicMap, *, run_id: str | None = None
+) -> Log:
+    """Read a ROS 2 bag (``rosbags`` library) into a :class:`Log` on a common time base.
+
+    Every series is read with its own time stamps, NaN samples are skipped (and counted
+    in the notes), then all are linearly interpolated onto a uniform grid over the span
+    the series share (``yaw`` unwrapped before and wrapped after).  Time starts at 0 on
+    the first grid point; the bag time of that point is stated in the notes.
+
+    Parameters
+    ----------
+    path : path-like
+        The bag (a rosbag2 directory or ``.mcap``/``.db3`` file).
+    topics : TopicMap
+        Which topics and fields make which columns.
+    run_id : str, optional
+        Run identifier (default: the bag's name).
+
+    Returns
+    -------
+    Log
+        The log (``v_left, v_right, p_total`` and, if mapped, commands, pose, ``wz``).
+
+    Raises
+    ------
+    LogFormatError
+        Unreadable bag, missing topic or field (named), a series with fewer than two
+        samples, or series whose time spans do not overlap.
+    """
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+
+    p = Path(path)
+    source = str(p)
+    extract = _extractors(topics)
+    try:
+        reader = AnyReader([p], default_typestore=get_typestore(Stores.ROS2_HUMBLE))
+        reader.open()
+    except Exception as exc:  # rosbags raises several unrelated types
+        raise LogFormatError(f"{source}: cannot read ROS 2 bag: {exc}") from None
+    try:
+        series = _read_series(reader, extract, topics.use_header_stamp, source)
+    finally:
+        reader.close()
+    return _resample(series, topics, source, run_id if run_id is not None else p.stem)
+
+
+#: Per topic: the log columns it gives and how to get each value from a message.
+_Extractors = dict[str, list[tuple[str, Callable[[Any], float]]]]
+
+
+def _ref_value(ref: FieldRef) -> Callable[[Any], float]:
+    return lambda m: ref.scale * _field_value(m, ref.field)
+
+
+def _extractors(topics: TopicMap) -> _Extractors:
+    """Which topic gives which column, and how (in the column order of the log)."""
+    out: _Extractors = {}
+
+    def add(column: str, topic: str, fn: Callable[[Any], float]) -> None:
+        out.setdefault(topic, []).append((column, fn))
+
+    add("v_left", topics.v_left.topic, _ref_value(topics.v_left))
+    add("v_right", topics.v_right.topic, _ref_value(topics.v_right))
+    if topics.power is not None:
+        add("p_total", topics.power.topic, _ref_value(topics.power))
+    else:
+        assert topics.battery_topic is not None
+        sign, off = topics.battery_current_sign, topics.p_offset_w
+        add("p_total", topics.battery_topic, lambda m: sign * m.voltage * m.current - off)
+    if topics.v_left_cmd is not None and topics.v_right_cmd is not None:
+        add("v_left_cmd", topics.v_left_cmd.topic, _ref_value(topics.v_left_cmd))
+        add("v_right_cmd", topics.v_right_cmd.topic, _ref_value(topics.v_right_cmd))
+    if topics.odom_topic is not None:
+        o = topics.odom_topic
+        add("x", o, lambda m: m.pose.pose.position.x)
+        add("y", o, lambda m: m.pose.pose.position.y)
+        add("yaw", o, lambda m: _yaw_of(m.pose.pose.orientation))
+        if topics.wz is None:
+            add("wz", o, lambda m: m.twist.twist.angular.z)
+    if topics.wz is not None:
+        add("wz", topics.wz.topic, _ref_value(topics.wz))
+    return out
+
+
+def _read_series(
+    reader: Any, extract: _Extractors, use_header: bool, source: str
+) -> dict[str, list[tuple[float, float]]]:
+    """Every mapped column as (time stamp, value) pairs, in message order."""
+    available = {c.topic for c in reader.connections}
+    missing = sorted(set(extract) - available)
+    if missing:
+        raise LogFormatError(
+            f"{source}: topic(s) {', '.join(missing)} not in the bag; "
+            f"available: {', '.join(sorted(available))}"
+        )
+    wanted = {column for pairs in extract.values() for column, _ in pairs}
+    series: dict[str, list[tuple[float, float]]] = {c: [] for c in FLOAT_COLUMNS if c in wanted}
+    conns = [c for c in reader.connections if c.topic in extract]
+    for conn, bag_ns, raw in reader.messages(connections=conns):
+        msg = reader.deserialize(raw, conn.msgtype)
+        stamp = _stamp(msg, bag_ns, use_header)
+        for column, fn in extract[conn.topic]:
+            try:
+                series[column].append((stamp, float(fn(msg))))
+            except (AttributeError, IndexError, ValueError, TypeError) as exc:
+                raise LogFormatError(
+                    f"{source}: column {column!r} from topic {conn.topic} "
+                    f"({conn.msgtype}): cannot read the mapped field: {exc}"
+                ) from None
+    return series
+
+
+def _resample(
+    series: dict[str, list[tuple[float, float]]], topics: TopicMap, source: str, run_id: str
+) -> Log:
+    notes: list[str] = []
+    clean: dict[str, tuple[FloatArray, FloatArray]] = {}
+    for column, pairs in series.items():
+        arr = np.array(pairs, dtype=np.float64).reshape(-1, 2)
+        ok = np.isfinite(arr[:, 1])
+        if not np.all(ok):
+            notes.append(f"{column}: skipped {int((~ok).sum())} non-finite messages")
+        arr = arr[ok]
+        order = np.argsort(arr[:, 0], kind="stable")
+        ts, vals = arr[order, 0], arr[order, 1]
+        ts, idx = np.unique(ts, return_index=True)
+        vals = vals[idx]
+        if ts.size < 2:
+            raise LogFormatError(
+                f"{source}: column {column!r} has {ts.size} usable message(s); need at least 2"
+            )
+        if column == "yaw":
+            vals = np.unwrap(vals)
+        clean[column] = (ts, vals)
+    t0 = max(ts[0] for ts, _ in clean.values())
+    t1 = min(ts[-1] for ts, _ in clean.values())
+    if not t1 > t0:
+        raise LogFormatError(f"{source}: the mapped topics' time spans do not overlap")
+    pt = clean["p_total"][0]
+    rate = topics.rate_hz or 1.0 / float(np.median(np.diff(pt)))
+    rel = np.arange(math.floor((t1 - t0) * rate + 1e-9) + 1) / rate
+    grid = t0 + rel
+    cols: dict[str, Any] = {}
+    for column, (ts, vals) in clean.items():
+        cols[column] = np.interp(grid, ts, vals)
+    if "yaw" in cols:
+        cols["yaw"] = np.arctan2(np.sin(cols["yaw"]), np.cos(cols["yaw"]))
+    notes.append(f"resampled to {rate:g} Hz by linear interpolation; t = 0 at bag time {t0:.9f} s")
+    if topics.battery_topic is not None:
+        notes.append(
+            f"p_total = {topics.battery_current_sign:+g} x voltage x current of "
+            f"{topics.battery_topic} - {topics.p_offset_w:g} W: battery power, assumed all "
+            "locomotion beyond the offset"
+        )
+    return Log(
+        **cols,
+        t=rel,
+        source=source,
+        run_id=run_id,
+        notes=tuple(notes),
+    )

@@ -1,0 +1,135 @@
+"""The corrected-model file is checked by a schema: every error is one line naming the field."""
+
+from __future__ import annotations
+
+import copy
+import json
+import re
+import typing
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from ecoplan.cli import main
+from ecoplan.diagnose.corrected_file import FORMAT, CorrectedModelFile
+from ecoplan.diagnose.loop import load_corrected_model, save_corrected_model
+from ecoplan.errors import InputError
+
+GOOD: dict[str, Any] = {
+    "format": FORMAT,
+    "vehicle": "auriga-beta-wide",
+    "terrain": "asphalt",
+    "kind": "tracked",
+    "params": {"k_resistance_n": 342.0, "p_powerup_w": 58.0},
+    "effect": {"name": "speed_dependent_resistance", "params": {"c_n_s_per_m": 100.0}},
+}
+
+
+def _write(tmp_path: Path, obj: Any, name: str = "m.json") -> Path:
+    p = tmp_path / name
+    p.write_text(json.dumps(obj, indent=2))
+    return p
+
+
+def _line_of(path: Path, needle: str) -> int:
+    """1-based line of the first line holding ``needle`` (found in the text, by hand)."""
+    return next(i for i, ln in enumerate(path.read_text().splitlines(), 1) if needle in ln)
+
+
+def test_the_schema_tag_is_the_format_constant() -> None:
+    assert typing.get_args(CorrectedModelFile.model_fields["format"].annotation) == (FORMAT,)
+
+
+def test_a_good_file_loads_with_its_effect(tmp_path: Path) -> None:
+    m = load_corrected_model(_write(tmp_path, GOOD))
+    assert (m.vehicle, m.terrain, m.effect) == (
+        "auriga-beta-wide",
+        "asphalt",
+        GOOD["effect"]["name"],
+    )
+    assert m.params.k_resistance_n == 342.0 and dict(m.effect_params) == {"c_n_s_per_m": 100.0}
+    # a null effect parameter is an infinite one (a saturation without cap)
+    sat = copy.deepcopy(GOOD)
+    sat["effect"] = {"name": "power_saturation", "params": {"p_max_w": None}}
+    assert load_corrected_model(_write(tmp_path, sat)).effect_params["p_max_w"] == float("inf")
+
+
+def _set(path: list[str], value: Any) -> dict[str, Any]:
+    obj = copy.deepcopy(GOOD)
+    node = obj
+    for k in path[:-1]:
+        node = node[k]
+    if value is KeyError:
+        del node[path[-1]]
+    else:
+        node[path[-1]] = value
+    return obj
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "line_of", "message"),
+    [
+        (["format"], "ecoplan-corrected-model/0", '"format"', "format: expected one of"),
+        (["colour"], "red", None, r"unknown key 'colour' in \(top level\)"),
+        (["params"], KeyError, None, "missing required key 'params'"),
+        (["vehicle"], "rover-9", '"vehicle"', "vehicle: unknown vehicle preset 'rover-9'"),
+        (["terrain"], "mud", '"terrain"', "terrain: unknown terrain preset 'mud'"),
+        (["kind"], "wheeled", '"kind"', "kind: 'auriga-beta-wide' is tracked, not wheeled"),
+        (["kind"], "legged", '"kind"', "kind: expected one of"),
+        (["params", "bogus_n"], 1.0, '"params": {', "params: unknown parameter 'bogus_n'"),
+        (["params", "k_resistance_n"], -5.0, '"params": {', "params: .*k_resistance_n"),
+        (["effect", "name"], "gremlins", '"name"', "effect.name: unknown effect 'gremlins'"),
+        (["effect", "params", "c_n_s_per_m"], "big", "big", "c_n_s_per_m: expected a number"),
+        (
+            ["effect", "params", "c_n_s_per_m"],
+            KeyError,
+            '"params": {}',
+            "effect.params: effect 'speed_dependent_resistance' needs the parameter 'c_n_s_per_m'",
+        ),
+    ],
+)
+def test_a_bad_field_is_one_line_naming_file_line_and_field(
+    tmp_path: Path, path: list[str], value: Any, line_of: str | None, message: str
+) -> None:
+    p = _write(tmp_path, _set(path, value))
+    with pytest.raises(InputError) as err:
+        load_corrected_model(p)
+    text = str(err.value)
+    assert "\n" not in text and text.startswith(str(p))
+    assert re.search(message, text), text
+    if line_of is not None:
+        assert text.startswith(f"{p}:{_line_of(p, line_of)}: "), text
+
+
+def test_yaml_files_are_read_the_same_way(tmp_path: Path) -> None:
+    p = tmp_path / "m.yaml"
+    p.write_text(
+        "format: ecoplan-corrected-model/1\nvehicle: pioneer-3at\nparams: {}\n"
+        "effect: {name: none, params: {}}\nterrain: vinyl\nkind: wheeled\n"
+    )
+    assert load_corrected_model(p).terrain == "vinyl"
+    p.write_text(p.read_text().replace("kind: wheeled", "kind: wheeled\nkind: tracked"))
+    with pytest.raises(InputError, match=r":7: .*duplicate"):
+        load_corrected_model(p)
+
+
+def test_what_save_writes_load_reads(tmp_path: Path) -> None:
+    m = load_corrected_model(_write(tmp_path, GOOD))
+    for suffix in (".json", ".yaml"):
+        back = load_corrected_model(save_corrected_model(m, tmp_path / f"again{suffix}"))
+        assert back == m
+
+
+def test_the_cli_exits_2_with_the_field_for_a_scenario_with_a_bad_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _write(tmp_path, _set(["effect", "name"], "gremlins"))
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text(
+        "name: c\nvehicle: {model: m.json}\nmap: {bounds: {min: [0, 0], max: [9, 9]}}\n"
+        "start: {x: 1, y: 1}\nwaypoints: [[8, 8]]\n"
+    )
+    assert main(["plan", str(scenario)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "effect.name: unknown effect 'gremlins'" in err
