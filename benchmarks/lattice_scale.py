@@ -14,7 +14,9 @@ four labels carry two distinct terrains each; the Husky A200 (0.5 m/s) its ident
 asphalt, sandy loam, snow and flooring.
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
-of every node), query time (Dijkstra + smoothing + full evaluation), energy, feasibility.
+of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and
+the process CPU time of build + query (``cpu_s``: what the planner itself costs, less
+sensitive than wall clock to other processes on a shared machine).
 On the largest size and obstacle count the planner's energy is compared with a finer
 reference: the same lattice at half the node spacing (``cell_m / 2``) and a 60 s budget.
 
@@ -25,6 +27,13 @@ and the build + query times are printed: the build is per map and vehicle, a que
 start/goal.  Timing is wall clock on a shared machine: ratios within one run are
 comparable, absolute times depend on the load.
 
+Before / after (``--baseline REV``, e.g. ``--baseline main``): the largest size and
+obstacle count are also planned by the ecoplan of git revision ``REV`` (its ``src``
+extracted to a temporary folder), in two worker processes -- one per source tree, the
+same site in both, alternating which goes first -- and the ratios of the median times
+and energies (this tree / ``REV``) are printed: both trees see the same load, so the
+ratios are comparable even when the absolute times are not.
+
 Outputs in ``--out`` (default ``reports/lattice_scale``): ``lattice_scale.csv`` and
 ``lattice_scale.png`` (query and build + query time against map size, one line per
 obstacle count and vehicle).
@@ -34,9 +43,14 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
+import os
 import statistics
+import subprocess
 import sys
+import tarfile
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -104,8 +118,10 @@ def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) ->
         row.update(disconnected=True)  # no path exists on the inflated grid: not a failure
         return row
     try:
+        cpu0 = time.process_time()
         planner = LatticePlanner(grid, cost, LatticePlannerOptions(time_budget_s=30.0))
         res = planner.plan(start, goal)
+        cpu = time.process_time() - cpu0
     except EcoplanError as exc:
         row.update(error=str(exc))
         return row
@@ -114,6 +130,7 @@ def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) ->
         build_s=planner.build_time_s_,
         query_s=res.planning_time_s,
         total_s=planner.build_time_s_ + res.planning_time_s,
+        cpu_s=cpu,
         energy_j=res.best.energy_j,
         feasible=res.best.cost.feasible,
         length_m=res.best.cost.length_m,
@@ -168,6 +185,89 @@ def plot(rows: list[dict[str, Any]], path: Path) -> None:
     plt.close(fig)
 
 
+def _worker() -> int:
+    """Answer ``[vehicle, size, obstacles, seed]`` JSON lines on stdin with result rows."""
+    for line in sys.stdin:
+        name, size, n_obs, seed = json.loads(line)
+        print(json.dumps(run_one(name, size, n_obs, seed, False)), flush=True)
+    return 0
+
+
+class _Worker:
+    """A worker process of this script on the ecoplan found in ``src``."""
+
+    def __init__(self, src: Path) -> None:
+        env = dict(os.environ, PYTHONPATH=str(src))
+        self.proc = subprocess.Popen(
+            [sys.executable, __file__, "--worker"], env=env, text=True,
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+        )  # fmt: skip
+
+    def run(self, name: str, size: float, n_obs: int, seed: int) -> dict[str, Any]:
+        assert self.proc.stdin is not None and self.proc.stdout is not None
+        self.proc.stdin.write(json.dumps([name, size, n_obs, seed]) + "\n")
+        self.proc.stdin.flush()
+        out: dict[str, Any] = json.loads(self.proc.stdout.readline())
+        return out
+
+    def close(self) -> None:
+        assert self.proc.stdin is not None
+        self.proc.stdin.close()
+        self.proc.wait(timeout=60)
+
+
+def before_after(
+    rev: str, names: list[str], size: float, n_obs: int, seeds: int
+) -> list[dict[str, Any]]:
+    """Plan the same sites with this tree and with revision ``rev``; print the ratios."""
+    root = Path(__file__).resolve().parents[1]
+    rows: list[dict[str, Any]] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        tar = Path(tmp) / "src.tar"
+        subprocess.run(["git", "-C", str(root), "archive", "-o", str(tar), rev, "src"], check=True)
+        with tarfile.open(tar) as tf:
+            tf.extractall(tmp, filter="data")
+        workers = {"this": _Worker(root / "src"), rev: _Worker(Path(tmp) / "src")}
+        try:
+            for name in names:
+                for seed in range(seeds):
+                    order = list(workers) if seed % 2 == 0 else list(workers)[::-1]
+                    for tree in order:
+                        row = workers[tree].run(name, size, n_obs, seed)
+                        rows.append(dict(row, tree=tree))
+        finally:
+            for w in workers.values():
+                w.close()
+    print(f"\nbefore / after ({size:g} m site, {n_obs} obstacles, {seeds} seeds; "
+          f"ratio = this tree / {rev}, medians over the seeds both planned):")  # fmt: skip
+    for name in names:
+        pairs = [
+            (a, b)
+            for a, b in zip(rows[::2], rows[1::2], strict=True)
+            if a["vehicle"] == name and "total_s" in a and "total_s" in b
+        ]
+        if not pairs:
+            print(f"  {name}: no seed planned by both trees")
+            continue
+        med = {
+            (tree, k): statistics.median(
+                (a if a["tree"] == tree else b)[k] for a, b in pairs
+            )
+            for tree in ("this", rev)
+            for k in ("build_s", "query_s", "total_s", "cpu_s", "energy_j")
+        }  # fmt: skip
+        print(
+            f"  {name}: build+query {med[rev, 'total_s']:.2f} -> {med['this', 'total_s']:.2f} s "
+            f"(x{med['this', 'total_s'] / med[rev, 'total_s']:.2f}); "
+            f"build {med[rev, 'build_s']:.2f} -> {med['this', 'build_s']:.2f} s; "
+            f"query {med[rev, 'query_s']:.2f} -> {med['this', 'query_s']:.2f} s; "
+            f"CPU {med[rev, 'cpu_s']:.2f} -> {med['this', 'cpu_s']:.2f} s "
+            f"(x{med['this', 'cpu_s'] / med[rev, 'cpu_s']:.2f}); "
+            f"energy x{med['this', 'energy_j'] / med[rev, 'energy_j']:.4f} (n={len(pairs)})"
+        )
+    return rows
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seeds", type=int, default=10)
@@ -176,7 +276,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--out", type=Path, default=Path("reports/lattice_scale"))
     ap.add_argument("--quick", action="store_true", help="2 seeds, sizes 30 and 60 m")
     ap.add_argument("--vehicles", nargs="+", default=list(VEHICLES), help="vehicles to run")
+    ap.add_argument("--baseline", metavar="REV", help="also plan with git revision REV")
+    ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if args.worker:
+        return _worker()
     if args.quick:
         args.seeds, args.sizes, args.obstacles = 2, [30.0, 60.0], [20, 60]
     args.out.mkdir(parents=True, exist_ok=True)
@@ -243,15 +347,24 @@ def main(argv: list[str] | None = None) -> int:
         ratios = [r["ratio"] for r in sel if "ratio" in r]
         med_t, p95_t = statistics.median(tot), _pct(tot, 95)
         med_r = statistics.median(ratios) if ratios else math.nan
+        cpu = [r["cpu_s"] for r in sel]
         ok_med = "met" if med_t <= 1 else "NOT met"
         ok_p95 = "met" if p95_t <= 3 else "NOT met"
         print(
             f"  {name}: build+query median {med_t:.2f} s (<= 1 s: {ok_med}), "
             f"p95 {p95_t:.2f} s (<= 3 s: {ok_p95}); "
             f"query only median {statistics.median(qry):.2f} s, p95 {_pct(qry, 95):.2f} s; "
+            f"CPU (build+query) median {statistics.median(cpu):.2f} s, p95 {_pct(cpu, 95):.2f} s; "
             f"energy / finer reference median {med_r:.4f} "
             f"(within 2 %: {'met' if abs(med_r - 1) <= 0.02 else 'NOT met'}; n={len(ratios)})"
         )  # fmt: skip
+    if args.baseline:
+        ba = before_after(args.baseline, names, big[0], big[1], args.seeds)
+        keys = sorted({k for r in ba for k in r})
+        with open(args.out / "lattice_scale_before_after.csv", "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=keys)
+            w.writeheader()
+            w.writerows(ba)
     plot(rows, args.out / "lattice_scale.png")
     print(f"wrote {args.out / 'lattice_scale.csv'} and {args.out / 'lattice_scale.png'}")
     return 0

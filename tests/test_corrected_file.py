@@ -85,7 +85,7 @@ def _set(path: list[str], value: Any) -> dict[str, Any]:
             ["effect", "params", "c_n_s_per_m"],
             KeyError,
             '"params": {}',
-            "effect.params: effect 'speed_dependent_resistance' needs the parameter 'c_n_s_per_m'",
+            r"effect.params: effect 'speed_dependent_resistance' needs parameter\(s\) c_n_s_per_m",
         ),
     ],
 )

@@ -110,7 +110,7 @@ POLYGON_SCENARIOS = [p for p in sorted(SCENARIOS.glob("*.yaml")) if "ros:" not i
 
 @pytest.mark.slow
 @pytest.mark.parametrize("path", POLYGON_SCENARIOS, ids=lambda p: p.stem)
-def test_lattice_not_worse_than_graph_planner_on_shipped_scenarios(path: Path) -> None:
+def test_lattice_and_graph_planner_agree_on_shipped_scenarios(path: Path) -> None:
     sc = load_scenario(path)
     v = sc.spec.speed.v_mps or 0.5
     s, g = sc.spec.start.xy, sc.goal_xy
@@ -125,6 +125,11 @@ def test_lattice_not_worse_than_graph_planner_on_shipped_scenarios(path: Path) -
     assert lat.best.cost.feasible
     # the rasterised map is at most one 5 cm cell more conservative than the polygons
     assert lat.best.energy_j <= 1.02 * graph.best.energy_j
+    # and the two agree within 2 % the other way too, except where the graph planner is
+    # known to fall short (pioneer_power_limit: the lattice's route is 7.2 % cheaper; the
+    # graph planner's shortfall, reported in issue #14)
+    if path.stem != "pioneer_power_limit":
+        assert lat.best.energy_j >= 0.98 * graph.best.energy_j
 
 
 def test_terrain_penalty_steers_the_route() -> None:
@@ -166,3 +171,83 @@ def test_bad_inputs_are_one_line_errors() -> None:
     walled[:, 50] = 100
     with pytest.raises(PlanningError, match="no lattice path"):
         LatticePlanner(GridMap(walled, 0.1), cost).plan((1.0, 5.0), (9.0, 5.0))
+    with pytest.raises(InputError, match="smoothing_passes"):
+        LatticePlannerOptions(smoothing_passes=-1)
+
+
+def test_smoothing_never_loses_against_the_raw_lattice_path() -> None:
+    # every stage is evaluated in full and the best is kept: with a smoothing pass the
+    # evaluated energy is at most that of the unsmoothed lattice path on the same lattice
+    grid = _random_grid(1)
+    cost = EnergyCost(vehicle("pioneer-3at"), 0.4)
+    for s, g in [((1.5, 1.5), (28.5, 28.5)), ((1.5, 28.5), (28.5, 1.5))]:
+        raw = LatticePlanner(
+            grid, cost, LatticePlannerOptions(smoothing_passes=0, time_budget_s=30.0)
+        )
+        one = LatticePlanner(grid, cost, LatticePlannerOptions(time_budget_s=30.0))
+        e_raw, e_one = raw.plan(s, g).best.energy_j, one.plan(s, g).best.energy_j
+        assert e_one <= e_raw
+    # on an open floor the lattice path zigzags between headings: smoothing pays
+    grid = GridMap(np.zeros((200, 300), dtype=np.int8), 0.1, inflation_m=0.3)
+    s, g = (1.0, 1.2), (28.0, 17.3)
+    opts = [LatticePlannerOptions(smoothing_passes=n, time_budget_s=30.0) for n in (0, 1)]
+    e_raw, e_one = (LatticePlanner(grid, cost, o).plan(s, g).best.energy_j for o in opts)
+    assert e_one < 0.99 * e_raw
+
+
+@pytest.mark.parametrize(("name", "speed"), [*VEHICLES, ("husky-a200", 0.5)])
+def test_astar_finds_the_dijkstra_optimum(name: str, speed: float) -> None:
+    # A* (reweighted, limited Dijkstra) against plain Dijkstra on the same lattice: the
+    # planner with a zero heuristic searches every state, as Dijkstra does; the optimal
+    # lattice costs must agree (to the 1e-9 per transition floor of the reweighting)
+    occ = np.zeros((300, 300), dtype=np.int8)
+    for x0, y0, x1, y1 in _random_rects(3):
+        occ[y0:y1, x0:x1] = 100
+    labels = np.minimum(np.arange(300) * 3 // 300, 2).astype(np.uint8)[None, :].repeat(300, 0)
+    names = (
+        ("asphalt", "vinyl", "asphalt")
+        if name == "pioneer-3at"
+        else ("asphalt", "marble", "asphalt")
+    )
+    if name == "husky-a200":
+        names = ("asphalt", "snow", "sandy_loam")
+    grid = GridMap(occ, 0.1, inflation_m=0.4, terrain=labels, terrain_names=names)
+    cost = EnergyCost(vehicle(name), speed)
+    opts = LatticePlannerOptions(smoothing_passes=0, time_budget_s=30.0)
+    planner = LatticePlanner(grid, cost, opts)
+    s, g = (1.5, 1.5), (28.5, 28.5)
+    astar = planner.plan(s, g).stats["lattice_cost"]
+    n_nodes = planner.shape_[0] * planner.shape_[1]
+    planner._heuristic = lambda *_: np.zeros(n_nodes)  # type: ignore[method-assign]
+    dijkstra = planner.plan(s, g).stats["lattice_cost"]
+    assert astar == pytest.approx(dijkstra, rel=1e-9, abs=1e-6)
+
+
+def test_start_on_a_terrain_infeasible_at_the_speed_is_named() -> None:
+    # the Pioneer's shipped file plus a heavy terrain (rolling resistance 0.15, as the
+    # sand of benchmarks/sites.py): at 0.4 m/s its wheels exceed the power limit there
+    # (wheeled paper §III-C), so a start on it gets one line naming terrain and speed
+    import importlib.resources
+
+    import yaml
+
+    from ecoplan.models.vehicles import vehicle_from_mapping
+
+    text = importlib.resources.files("ecoplan.models") / "vehicle_files" / "pioneer-3at.yaml"
+    data = yaml.safe_load(text.read_text(encoding="utf-8"))
+    heavy = dict(data["terrains"]["asphalt"])
+    heavy["rolling_resistance"] = {"value": 0.15, "source": "assumption", "ref": "test"}
+    data["terrains"]["heavy"] = heavy
+    heavy_pioneer = vehicle(vehicle_from_mapping(data, "pioneer + heavy"))
+    labels = np.zeros((100, 200), dtype=np.uint8)
+    labels[:, :50] = 1
+    grid = GridMap(
+        np.zeros((100, 200), dtype=np.int8), 0.1, terrain=labels,
+        terrain_names=("asphalt", "heavy"),
+    )  # fmt: skip
+    cost = EnergyCost(heavy_pioneer, 0.4)
+    assert cost.straight_energy_per_m("heavy") is None  # the premise
+    planner = LatticePlanner(grid, cost)
+    with pytest.raises(PlanningError, match=r"start \(2, 5\) is on heavy, where 0.4 m/s"):
+        planner.plan((2.0, 5.0), (18.0, 5.0))
+    assert planner.plan((6.0, 5.0), (18.0, 5.0)).best.cost.feasible

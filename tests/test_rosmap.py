@@ -9,6 +9,7 @@ grid row height - 1 - y.
 
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
@@ -285,3 +286,40 @@ def test_gridmap_rejects_bad_input() -> None:
         GridMap(np.zeros((3, 3), dtype=np.int8), 0.1, inflation_m=1.0)
     with pytest.raises(InputError, match=r"terrain labels must be in 0\.\.0"):
         GridMap(np.zeros((3, 3), dtype=np.int8), 0.1, terrain=np.ones((3, 3), dtype=np.uint8))
+
+
+def _segment_free_by_loop(g: GridMap, a: np.ndarray, b: np.ndarray) -> bool:
+    """Independent per-segment check: samples a quarter cell apart, cell by cell."""
+    n = max(math.ceil(math.hypot(*(b - a)) / (g.resolution_m / 4.0)), 1)
+    for t in np.linspace(0.0, 1.0, n + 1):
+        x, y = a + t * (b - a)
+        col = math.floor((x - g.origin_xy_m[0]) / g.resolution_m)
+        row = math.floor((y - g.origin_xy_m[1]) / g.resolution_m)
+        ny, nx = g.shape
+        if not (0 <= row < ny and 0 <= col < nx) or g.blocked[row, col]:
+            return False
+    return True
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 2**31 - 1),
+    n_seg=st.integers(1, 12),
+)
+def test_vectorised_segment_checks_match_a_loop(seed: int, n_seg: int) -> None:
+    rng = np.random.default_rng(seed)
+    occ = np.where(rng.random((30, 40)) < 0.08, 100, 0).astype(np.int8)
+    g = GridMap(occ, 0.1, inflation_m=0.0, origin_xy_m=(-0.3, 0.2))
+    a = rng.uniform([-0.5, 0.0], [4.2, 3.4], size=(n_seg, 2))
+    b = rng.uniform([-0.5, 0.0], [4.2, 3.4], size=(n_seg, 2))
+    want = [_segment_free_by_loop(g, p, q) for p, q in zip(a, b, strict=True)]
+    assert g.segments_free(a, b).tolist() == want
+    assert [g.segment_free(p, q) for p, q in zip(a, b, strict=True)] == want
+    poly = np.vstack([a[:1], b])
+    want_poly = all(_segment_free_by_loop(g, p, q) for p, q in itertools.pairwise(poly))
+    assert g.polyline_free(poly) == want_poly
+    lines = np.stack([poly, poly[::-1], poly + 0.05])
+    want_lines = [
+        all(_segment_free_by_loop(g, p, q) for p, q in itertools.pairwise(ln)) for ln in lines
+    ]
+    assert g.polylines_free(lines).tolist() == want_lines

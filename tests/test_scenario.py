@@ -240,8 +240,9 @@ waypoints: [[20, 0]]
     assert r.sim is not None
     cruise = (np.abs(r.sim.v_left - 0.5) < 1e-12) & (np.abs(r.sim.v_right - 0.5) < 1e-12)
     # tracked eqs. 18-20 at 0.5 m/s on both tracks: (K (0.5 + 0.5) + P_pu) / eta, plus the
-    # fitted speed-dependent resistance c (V_l^2 + V_r^2) = 100 * 0.5 = 50 W
-    expected = (342.0 * 1.0 + 58.0) / 0.95 + 100.0 * (0.25 + 0.25)
+    # fitted speed-dependent resistance, a ground force the drive supplies through eta like K:
+    # c (V_l^2 + V_r^2) / eta = 100 * 0.5 / 0.95 W (diagnose/effects/terrain.py)
+    expected = (342.0 * 1.0 + 58.0) / 0.95 + 100.0 * (0.25 + 0.25) / 0.95
     np.testing.assert_allclose(r.p_total_w[cruise], expected)
     assert sum(r.breakdown_j.values()) == pytest.approx(r.energy_j)
 

@@ -3,11 +3,15 @@
 ``ecoplan bench`` plans every scenario with every planner (OMPL planners with several
 seeds), simulates the route, and reports the median energy and planning time per
 (scenario, planner).  A case carries its scenario spec, so remote workers need no files.
+Besides the table, the runs are written as OMPL benchmark logs, one per scenario
+(``ompl_<scenario>.log``, :mod:`ecoplan.planning.benchlog`), with the energies as run
+properties, for Planner Arena (``ompl_benchmark_statistics ompl_*.log -d bench.db``).
 """
 
 from __future__ import annotations
 
 import csv
+import re
 import statistics
 import time
 from collections.abc import Sequence
@@ -21,11 +25,13 @@ from ecoplan.app.scenario import Case, load_scenario
 from ecoplan.app.scenario.load import with_vehicle
 from ecoplan.app.scenario.schema import PlannerSection
 from ecoplan.errors import InputError
+from ecoplan.planning.benchlog import BenchmarkRun, write_benchmark_log
 
 __all__ = [
     "BenchCase",
     "BenchSummary",
     "bench_cases",
+    "ompl_runs",
     "parse_planners",
     "run_bench_case",
     "summarise",
@@ -179,8 +185,9 @@ def run_bench_case(c: BenchCase) -> dict[str, Any]:
     Returns
     -------
     dict
-        ``scenario, planner, seed, planning_time_s, estimate_energy_j, energy_j, time_s,
-        completed, error, wall_s`` (SI units; energy None when no route was found).
+        ``scenario, planner, seed, planning_time_s, time_limit_s, planned_length_m,
+        estimate_energy_j, energy_j, time_s, completed, error, wall_s`` (SI units;
+        energy None when no route was found).
     """
     t0 = time.perf_counter()
     r = run_case(c.case)
@@ -189,6 +196,8 @@ def run_bench_case(c: BenchCase) -> dict[str, Any]:
         "planner": c.planner,
         "seed": c.seed,
         "planning_time_s": r.plan.planning_time_s,
+        "time_limit_s": c.case.spec.planner.time_s if c.case.spec.planner else None,
+        "planned_length_m": r.plan.length_m if r.error is None else None,
         "estimate_energy_j": r.plan.estimate_energy_j,
         "energy_j": r.energy_j if r.sim else None,
         "time_s": r.sim.time_s if r.sim else None,
@@ -254,7 +263,9 @@ def write_bench(
     *,
     force: bool = False,
 ) -> list[Path]:
-    """Write ``bench.csv`` (one row per run) and ``bench.md`` (the table) into ``folder``.
+    """Write ``bench.csv`` (one row per run), ``bench.md`` (the table) and the OMPL logs.
+
+    One OMPL benchmark log per scenario, ``ompl_<scenario>.log`` (:func:`ompl_runs`).
 
     Parameters
     ----------
@@ -274,10 +285,70 @@ def write_bench(
     list of Path
         The files written.
     """
-    folder.claim(["bench.csv", "bench.md"], force=force)
+    scenarios = list(dict.fromkeys(r["scenario"] for r in runs))
+    logs = {scn: f"ompl_{_token(scn)}.log" for scn in scenarios}
+    folder.claim(["bench.csv", "bench.md", *logs.values()], force=force)
     with folder.file("bench.csv").open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(runs[0]))
         w.writeheader()
         w.writerows(runs)
     folder.file("bench.md").write_text(f"# ecoplan bench ({where})\n\n{summary.table}\n")
+    for scn, name in logs.items():
+        mine = [r for r in runs if r["scenario"] == scn]
+        limit = max(float(r.get("time_limit_s") or 0.0) for r in mine)
+        write_benchmark_log(
+            folder.file(name), _token(scn), ompl_runs(mine), time_limit_s=limit,
+            setup=f"ecoplan bench: scenario {scn}\n", host=where,
+        )  # fmt: skip
     return folder.finish()
+
+
+def _token(text: str) -> str:
+    """``text`` as one token for OMPL's log and a file name (letters, digits, ``_.-``)."""
+    return re.sub(r"[^\w.-]", "_", str(text)) or "scenario"
+
+
+def ompl_runs(runs: Sequence[dict[str, Any]]) -> list[BenchmarkRun]:
+    """Benchmark rows as OMPL benchmark runs, energies as run properties.
+
+    Planner names are the labels with ``:`` as ``_`` (``ompl_RRTstar``, ``graph``).  A
+    run with a route is an ``Exact solution`` whose best cost is the planned energy
+    [J] and whose length is the planned length [m]; one without is ``Unknown status``
+    with ``nan`` values.  Properties: ``energy_j`` (simulated), ``planned_energy_j``,
+    ``driving_time_s`` (simulated) and ``seed``.
+
+    Parameters
+    ----------
+    runs : sequence of dict
+        Results of :func:`run_bench_case`.
+
+    Returns
+    -------
+    list of BenchmarkRun
+    """
+    out = []
+    for r in runs:
+        ok = r["error"] is None
+
+        def val(key: str, r: dict[str, Any] = r, ok: bool = ok) -> float:
+            v = r.get(key)
+            return float(v) if ok and v is not None else float("nan")
+
+        props = (
+            ("energy_j", val("energy_j")),
+            ("planned_energy_j", val("estimate_energy_j")),
+            ("driving_time_s", val("time_s")),
+            ("seed", float(r["seed"])),
+        )
+        out.append(
+            BenchmarkRun(
+                planner=_token(str(r["planner"])),
+                time_s=float(r["planning_time_s"] or 0.0),
+                solved=ok,
+                status="Exact solution" if ok else "Unknown status",
+                best_cost=val("estimate_energy_j"),
+                length_m=val("planned_length_m"),
+                properties=props,
+            )
+        )
+    return out

@@ -12,12 +12,17 @@
   reduction's confidence interval and one-sided p-value from a bootstrap over held-out time
   blocks (the paired difference per block, so slow structure in the residual is respected),
   Bonferroni-corrected over the candidates.
+* **Noise floor** (:func:`coloured_noise_floor`): the MAE the power sensor's noise alone
+  leaves, with the noise allowed to be coloured (AR(1), its colour read from robust lag-1 and
+  lag-2 differences) -- real loggers average and filter, so white-noise floors call every
+  clean log ``unexplained``.
 * **Verdict**: ``none`` when the calibrated model's held-out gap is below 0.2 % of the mean
-  logged power, or no candidate reduces the gap significantly and the calibrated residual is
-  close to the noise floor; ``unexplained`` when the gap is significant but the
-  best candidate closes less than 80 % of it above the noise floor (its residual is then
-  coloured: Ljung-Box test); ``ambiguous`` when the two best are tied and cannot be told apart;
-  otherwise the best candidate's name.
+  logged power, or no candidate reduces the gap significantly and the gap is not model error:
+  not ``GAP_OVER_FLOOR`` above the noise floor, or its prewhitened residual white (Ljung-Box)
+  while under ``FAR_OVER_FLOOR`` times the floor; ``unexplained`` when the gap is model error
+  but no candidate reduces it significantly, or the best closes less than 80 % of it above the
+  noise floor; ``ambiguous`` when the two best are tied and cannot be told apart; otherwise the
+  best candidate's name.
 """
 
 from __future__ import annotations
@@ -28,7 +33,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.stats import chi2, norm
+from scipy.stats import bootstrap, chi2, median_abs_deviation, norm
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.effects import (
@@ -49,9 +54,11 @@ __all__ = [
     "PairEffect",
     "attribute",
     "block_bootstrap",
+    "coloured_noise_floor",
     "distinguishability",
     "ljung_box",
     "noise_floor_mae",
+    "prewhiten",
     "split_masks",
 ]
 
@@ -116,6 +123,57 @@ def noise_floor_mae(
     return sigma * math.sqrt(2.0 / math.pi)
 
 
+def _same_run_diffs(x: FloatArray, run: FloatArray | None, lag: int) -> FloatArray:
+    d = x[lag:] - x[:-lag]
+    if run is not None:
+        d = d[run[lag:] == run[:-lag]]
+    return np.asarray(d, dtype=np.float64)
+
+
+def coloured_noise_floor(
+    residual: FloatArray, run: FloatArray | None = None
+) -> tuple[float, float]:
+    """Noise floor of a residual whose noise may be coloured (AR(1)): ``(MAE [W], phi)``.
+
+    For noise ``e_t = phi e_(t-1) + w_t`` of variance ``sigma²`` the differences at lags 1 and
+    2 have variances ``2 sigma² (1 - phi)`` and ``2 sigma² (1 - phi²)``: their ratio is
+    ``1 + phi``.  The ratio is read with a robust scale (:func:`scipy.stats.median_abs_deviation`,
+    normal consistency), so that the rare fast steps of real model error (a speed step) barely
+    move ``phi``; the level with the mean absolute first difference, ``E|Δe| = sqrt(2 (1 - phi))
+    E|e|`` for Gaussian noise, which stays right when the noise grows with the power (a mixture
+    of scales, where a median would fall short).  Slow model error hardly changes differences
+    over two samples.  White noise gives ``phi = 0``.
+
+    Returns
+    -------
+    mae_w : float
+        The MAE the noise alone leaves [W].
+    phi : float
+        Lag-one autocorrelation of the noise, in [0, 0.9].
+    """
+    x = np.asarray(residual, dtype=np.float64)
+    runs = None if run is None else np.asarray(run, dtype=np.float64)
+    d1 = _same_run_diffs(x, runs, 1)
+    d2 = _same_run_diffs(x, runs, 2)
+    if d1.size < 3 or d2.size < 3:
+        return noise_floor_mae(x, runs), 0.0
+    s1 = float(median_abs_deviation(d1, scale="normal"))
+    s2 = float(median_abs_deviation(d2, scale="normal"))
+    phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9)) if s1 > 0.0 else 0.0
+    return float(np.mean(np.abs(d1))) / math.sqrt(2.0 * (1.0 - phi)), phi
+
+
+def prewhiten(residual: FloatArray, phi: float, run: FloatArray | None = None) -> FloatArray:
+    """``e_t - phi e_(t-1)`` within each run: white if the residual is AR(1) noise alone."""
+    x = np.asarray(residual, dtype=np.float64)
+    if x.size < 2 or phi == 0.0:
+        return x
+    w = x[1:] - phi * x[:-1]
+    if run is not None:
+        w = w[run[1:] == run[:-1]]
+    return np.asarray(w, dtype=np.float64)
+
+
 def ljung_box(residual: FloatArray, lags: int = 20, decimate: int = 1) -> tuple[float, float]:
     """Ljung-Box whiteness test ``Q = n(n+2) Σ ρ_k²/(n-k)``; returns ``(Q, p-value)``."""
     x = np.asarray(residual[::decimate], dtype=np.float64)
@@ -142,23 +200,46 @@ def block_bootstrap(
 ) -> tuple[float, float, float, float]:
     """Bootstrap over blocks of the MAE reduction ``mean|before| - mean|after|`` [W].
 
-    Returns ``(reduction, ci_low, ci_high, p_value)`` with a 95 % percentile interval and the
-    one-sided p-value of "no reduction" from the normal approximation of the bootstrap.
+    The blocks (not the samples) are resampled with :func:`scipy.stats.bootstrap`: each block
+    contributes the pair (summed paired difference ``|before| - |after|``, sample count), the
+    statistic is the ratio of their sums, so slow structure inside a block stays intact.
+
+    Returns
+    -------
+    reduction, ci_low, ci_high : float
+        The reduction and its 95 % percentile interval [W].
+    p_value : float
+        One-sided p-value of "no reduction" from the normal approximation of the bootstrap
+        distribution.
     """
     _, inv = np.unique(block, return_inverse=True)
-    nb = int(inv.max()) + 1
-    s0 = np.bincount(inv, weights=np.abs(before), minlength=nb)
-    s1 = np.bincount(inv, weights=np.abs(after), minlength=nb)
+    nb = int(inv.max()) + 1 if inv.size else 0
+    diff = np.bincount(inv, weights=np.abs(before) - np.abs(after), minlength=nb)
     cnt = np.bincount(inv, minlength=nb).astype(np.float64)
-    red = float((s0.sum() - s1.sum()) / cnt.sum())
-    if nb < 2:
-        return red, red, red, 0.5
-    w = rng.multinomial(nb, np.full(nb, 1.0 / nb), size=n_boot).astype(np.float64)
-    boots = (w @ (s0 - s1)) / np.maximum(w @ cnt, 1.0)
-    lo, hi = np.quantile(boots, [0.025, 0.975])
-    sd = float(np.std(boots))
+    red = float(diff.sum() / cnt.sum()) if nb else 0.0
+    if nb < 2 or not np.any(diff != diff[0]):
+        # one block, or every block the same: the resampled reduction cannot vary
+        p = 0.5 if nb < 2 else (0.0 if red > 0 else 1.0)
+        return red, red, red, p
+
+    def ratio(d: FloatArray, c: FloatArray, axis: int = -1) -> FloatArray:
+        return np.asarray(
+            np.sum(d, axis=axis) / np.maximum(np.sum(c, axis=axis), 1.0), dtype=np.float64
+        )
+
+    res = bootstrap(
+        (diff, cnt),
+        ratio,
+        n_resamples=n_boot,
+        paired=True,
+        vectorized=True,
+        method="percentile",
+        confidence_level=0.95,
+        rng=rng,
+    )
+    sd = float(res.standard_error)
     p = float(norm.sf(red / sd)) if sd > 0 else (0.0 if red > 0 else 1.0)
-    return red, float(lo), float(hi), p
+    return red, float(res.confidence_interval.low), float(res.confidence_interval.high), p
 
 
 class PairEffect(Effect):
@@ -336,8 +417,11 @@ class Attribution:
     verdict : str
         An effect name, ``"none"``, ``"unexplained"`` or ``"ambiguous"``.
     confidence : float
-        In [0, 1]: ``1 - p`` (Bonferroni) of the winner; for ``none`` the chance that the best
-        candidate's reduction is noise; for ``unexplained`` ``1 -`` the share the best explains.
+        In [0, 1]: ``1 - p`` (Bonferroni) of the winner times its margin over the runner-up
+        (``min(1, 2 (1 - runner-up reduction / winner's))``: a name is sure only when no other
+        candidate closes much of the same gap); for ``none`` the chance (Bonferroni p) that the
+        best candidate's reduction is noise; for ``unexplained`` ``1 -`` the share the best
+        explains.
     tied : tuple of str
         Names tied in an ambiguous verdict.
     indistinguishable : list of (str, str, float, str)
@@ -379,6 +463,10 @@ class Attribution:
 
 
 KINEMATIC = ("actuator_lag", "icr_asymmetry")
+#: A held-out gap counts as model error only this far above the noise floor [-].
+GAP_OVER_FLOOR = 0.25
+#: A held-out gap this many times the noise floor is model error whatever its colour [-].
+FAR_OVER_FLOOR = 1.5
 
 
 def _score(
@@ -489,7 +577,7 @@ def attribute(
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
-    floor = noise_floor_mae(r0, test.frame.run.astype(np.float64))
+    floor, phi = coloured_noise_floor(r0, test.frame.run.astype(np.float64))
     fitted: dict[str, Effect] = {"none": base}
     residuals: dict[str, FloatArray] = {}
     power_scores: list[EffectScore] = []
@@ -557,7 +645,7 @@ def attribute(
             )
         )
         power_scores = [s for s in power_scores if s.name != "icr_asymmetry"]
-    verdict, conf, tied, lb_p, explained, res_after, pair_names, pair_after = _power_verdict(
+    verdict, conf, tied, lb_p, explained, res_after = _power_verdict(
         power_scores,
         residuals,
         r0,
@@ -566,11 +654,12 @@ def attribute(
         pairs,
         test,
         rng,
-        train,
         explain_min,
         len(candidates),
         material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
+        phi,
     )
+    pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
     kin_win.sort(key=lambda s: -s.reduction_pct)
     if kin_win:
@@ -606,6 +695,18 @@ def attribute(
     )
 
 
+def _best_pair(
+    scores: list[EffectScore], train: EffectData, test: EffectData
+) -> tuple[tuple[str, str] | None, float | None]:
+    """The best significant power candidate fitted together with the next one, and its MAE."""
+    best = next((sc for sc in scores if sc.significant), None)
+    if len(scores) < 2 or best is None:
+        return None, None
+    b = next(sc.name for sc in scores if sc is not best)
+    pe = PairEffect(make_effect(best.name), make_effect(b)).fit(train)
+    return (best.name, b), pe.score(test)
+
+
 def _power_verdict(
     scores: list[EffectScore],
     residuals: dict[str, FloatArray],
@@ -615,48 +716,44 @@ def _power_verdict(
     pairs: list[tuple[str, str, float, str]],
     test: EffectData,
     rng: np.random.Generator,
-    train: EffectData,
     explain_min: float,
     n_cand: int,
     material_w: float = 0.0,
-) -> tuple[
-    str, float, tuple[str, ...], float, float, FloatArray, tuple[str, str] | None, float | None
-]:
+    phi: float = 0.0,
+) -> tuple[str, float, tuple[str, ...], float, float, FloatArray]:
     """Verdict from the power channel alone (see the module docstring)."""
     dec = _decimation(test.frame)
+    run = test.frame.run.astype(np.float64)
     if before <= material_w:
         # no gap worth modelling, however coloured the residual
         _, lb_p = ljung_box(r0, decimate=dec)
-        return "none", 1.0, (), lb_p, 0.0, r0, None, None
+        return "none", 1.0, (), lb_p, 0.0, r0
     # the best significant candidate (a larger but insignificant reduction is not evidence)
     best = next((sc for sc in scores if sc.significant), scores[0] if scores else None)
-    pair_names: tuple[str, str] | None = None
-    pair_after: float | None = None
-    if len(scores) >= 2 and best is not None and best.significant:
-        a = best.name
-        b = next(sc.name for sc in scores if sc is not best)
-        pe = PairEffect(make_effect(a), make_effect(b)).fit(train)
-        pair_names, pair_after = (a, b), pe.score(test)
     if best is None or not best.significant:
-        _, lb_p = ljung_box(r0, decimate=dec)
-        # a gap: clearly above the noise floor and coloured, or very strongly coloured (the
-        # noise floor from first differences is inflated by fast real dynamics)
-        # (a gap at the noise floor is no gap, however coloured: issue 12 item 2)
-        gap_sig = ((before - floor) > 0.25 * floor and lb_p < 0.01) or (
-            lb_p < 1e-6 and before > 1.05 * floor
-        )
+        # whiteness of what the noise model leaves: coloured sensor noise is no model error
+        _, lb_p = ljung_box(prewhiten(r0, phi, run), decimate=dec)
+        # a gap: clearly above the noise floor and coloured beyond the noise's own colour, or
+        # far above the floor whatever its colour (a gap at the noise floor is no gap, however
+        # coloured: issue 12 item 2)
+        over = before / max(floor, 1e-12)
+        gap_sig = over > 1.0 + GAP_OVER_FLOOR and (lb_p < 0.01 or over > FAR_OVER_FLOOR)
         if gap_sig:
-            return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0, pair_names, pair_after
-        conf = 1.0
-        if best is not None:
-            conf = max(min(best.p_value * n_cand, 1.0), 1.0 - best.reduction / max(before, 1e-9))
-        return "none", conf, (), lb_p, 0.0, r0, pair_names, pair_after
+            return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0
+        # the chance that the best candidate's reduction is noise (Bonferroni): a suggestive
+        # but insignificant reduction leaves `none` unsure
+        conf = 1.0 if best is None else min(best.p_value * n_cand, 1.0)
+        return "none", conf, (), lb_p, 0.0, r0
     r_best = residuals[best.name]
     explained = float(min(max(best.reduction / max(before - floor, 1e-9), 0.0), 1.0))
     _, lb_p = ljung_box(r_best, decimate=dec)
     if explained < explain_min:
-        return ("unexplained", 1.0 - explained, (), lb_p, explained, r_best, pair_names, pair_after)
-    conf = float(1.0 - min(best.p_value * n_cand, 1.0))
+        return "unexplained", 1.0 - explained, (), lb_p, explained, r_best
+    # sure of the name only when no other candidate closes much of the same gap: the margin
+    # over the runner-up scales the significance (half the best's reduction costs nothing)
+    runner_up = max((sc.reduction for sc in scores if sc is not best), default=0.0)
+    margin = min(1.0, 2.0 * (1.0 - max(runner_up, 0.0) / max(best.reduction, 1e-12)))
+    conf = float(1.0 - min(best.p_value * n_cand, 1.0)) * max(margin, 0.0)
     second = next((sc for sc in scores if sc.significant and sc is not best), None)
     if second is not None and second.significant:
         flagged = any({best.name, second.name} == {a, b} for a, b, _, _ in pairs)
@@ -665,17 +762,8 @@ def _power_verdict(
                 residuals[second.name], r_best, test.frame.block.astype(np.float64), rng
             )
             if diff[1] <= 0.0:
-                return (
-                    "ambiguous",
-                    conf,
-                    (best.name, second.name),
-                    lb_p,
-                    explained,
-                    r_best,
-                    pair_names,
-                    pair_after,
-                )
-    return best.name, conf, (), lb_p, explained, r_best, pair_names, pair_after
+                return "ambiguous", conf, (best.name, second.name), lb_p, explained, r_best
+    return best.name, conf, (), lb_p, explained, r_best
 
 
 def _decimation(frame: Frame) -> int:

@@ -273,6 +273,8 @@ def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
         raise error_at(
             source, lines, ("effect", "params"), f"effect {name!r} needs the parameter {exc}"
         ) from None
+    except InputError as exc:  # the effect class names the missing or out-of-range parameter
+        raise error_at(source, lines, ("effect", "params"), str(exc)) from None
     return model
 
 

@@ -260,37 +260,78 @@ class GridMap:
         free = ~self.blocked[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)]
         return np.asarray(inside & free, dtype=np.bool_)
 
-    def _samples(self, a: FloatArray, b: FloatArray, step_m: float) -> FloatArray:
-        n = max(math.ceil(float(np.hypot(*(b - a))) / step_m), 1)
-        t = np.linspace(0.0, 1.0, n + 1)
-        return np.asarray(a + t[:, None] * (b - a), dtype=np.float64)
+    def segment_samples(
+        self, p0: ArrayLike, p1: ArrayLike, per_cell: int = 4
+    ) -> tuple[IntArray, IntArray, IntArray]:
+        """Cells of samples along the segments ``p0[k] -> p1[k]`` (vectorised).
+
+        Each segment gets ``ceil(length / (res / per_cell)) + 1`` samples, end points
+        included (``per_cell=4``: the samples of :meth:`segment_free`).
+
+        Parameters
+        ----------
+        p0, p1 : array_like, shape (n, 2)
+            End points [m].
+        per_cell : int
+            Samples per cell length.
+
+        Returns
+        -------
+        segment, row, col : ndarray of int
+            Per sample: the index of its segment (samples of a segment are contiguous,
+            in order) and its cell, which may be outside the grid.
+        """
+        a = np.asarray(p0, dtype=np.float64).reshape(-1, 2)
+        b = np.asarray(p1, dtype=np.float64).reshape(-1, 2)
+        n = np.maximum(np.ceil(np.hypot(*(b - a).T) / (self.resolution_m / per_cell)), 1.0)
+        counts = n.astype(np.int64) + 1
+        seg = np.repeat(np.arange(len(a)), counts)
+        first = np.concatenate([[0], np.cumsum(counts)[:-1]])
+        t = (np.arange(len(seg)) - first[seg]) / n[seg]
+        pts = a[seg] + t[:, None] * (b[seg] - a[seg])
+        row, col = self.cell_of(pts[:, 0], pts[:, 1])
+        return seg, row, col
+
+    def _sample_free(self, a: FloatArray, b: FloatArray) -> BoolArray:
+        """Free flag of every sample of :meth:`segment_samples`."""
+        _, row, col = self.segment_samples(a, b)
+        ny, nx = self.shape
+        free = ~self.blocked[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)]
+        return np.asarray(self._inside(row, col) & free, dtype=np.bool_)
 
     def segment_free(self, p0: ArrayLike, p1: ArrayLike) -> bool:
         """True when every sample of ``p0 -> p1`` (a quarter cell apart) is free."""
-        a = np.asarray(p0, dtype=np.float64).reshape(2)
-        b = np.asarray(p1, dtype=np.float64).reshape(2)
-        pts = self._samples(a, b, self.resolution_m / 4.0)
-        return bool(self.is_free(pts[:, 0], pts[:, 1]).all())
+        a = np.asarray(p0, dtype=np.float64).reshape(1, 2)
+        b = np.asarray(p1, dtype=np.float64).reshape(1, 2)
+        return bool(self._sample_free(a, b).all())
 
     def segments_free(self, p0: ArrayLike, p1: ArrayLike) -> BoolArray:
         """Vectorised :meth:`segment_free` over ``(n, 2)`` arrays of end points."""
         a = np.asarray(p0, dtype=np.float64).reshape(-1, 2)
         b = np.asarray(p1, dtype=np.float64).reshape(-1, 2)
-        return np.array([self.segment_free(p, q) for p, q in zip(a, b, strict=True)], dtype=bool)
+        if len(a) == 0:
+            return np.zeros(0, dtype=np.bool_)
+        n = np.maximum(np.ceil(np.hypot(*(b - a).T) / (self.resolution_m / 4.0)), 1.0)
+        starts = np.concatenate([[0], np.cumsum(n.astype(np.int64) + 1)[:-1]])
+        return np.asarray(np.logical_and.reduceat(self._sample_free(a, b), starts), dtype=bool)
 
     def polyline_free(self, points: ArrayLike) -> bool:
         """True when the polyline through ``(n, 2)`` points is free (sampled)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         if len(pts) < 2:
             return bool(self.is_free(pts[:, 0], pts[:, 1]).all())
-        return all(self.segment_free(pts[i], pts[i + 1]) for i in range(len(pts) - 1))
+        return bool(self._sample_free(pts[:-1], pts[1:]).all())
 
     def polylines_free(self, points: ArrayLike) -> BoolArray:
         """Vectorised :meth:`polyline_free` over an ``(m, n, 2)`` array of polylines."""
         pts = np.asarray(points, dtype=np.float64)
         if pts.ndim != 3 or pts.shape[0] == 0:
             return np.zeros(pts.shape[:1], dtype=np.bool_)
-        return np.array([self.polyline_free(p) for p in pts], dtype=np.bool_)
+        m, n = pts.shape[:2]
+        if n < 2:
+            return np.asarray(self.is_free(pts[..., 0], pts[..., 1]).all(axis=1), dtype=bool)
+        seg_ok = self.segments_free(pts[:, :-1].reshape(-1, 2), pts[:, 1:].reshape(-1, 2))
+        return np.asarray(seg_ok.reshape(m, n - 1).all(axis=1), dtype=np.bool_)
 
     def terrain_id_at(self, points: ArrayLike) -> IntArray:
         """Terrain label at each of ``(n, 2)`` points (outside: clamped to the border)."""

@@ -8,7 +8,6 @@ from typing import TYPE_CHECKING
 from ecoplan.app.reports.tables import breakdown_components
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
-from ecoplan.sim.simulate import breakdown_columns
 
 if TYPE_CHECKING:
     from ecoplan.app.run import CaseResult
@@ -21,8 +20,9 @@ def case_log(result: CaseResult) -> Log:
 
     The simulator's log (:meth:`ecoplan.sim.SimResult.to_log`) with terrain-aware power
     columns (``p_total``, ``p_left``, ``p_right`` and the breakdown ``p_friction``, ...,
-    with ``p_inertial`` / ``p_grade`` when the mass terms are simulated) and the
-    ``terrain`` label of every step; write it with :func:`ecoplan.io.logcsv.write_log_csv`.
+    ``p_inertial`` / ``p_grade`` when the mass terms are simulated)
+    and the ``terrain`` label of every step; write it with
+    :func:`ecoplan.io.logcsv.write_log_csv`.
 
     Parameters
     ----------
@@ -43,13 +43,16 @@ def case_log(result: CaseResult) -> Log:
     sim = result.sim
     if sim is None:
         raise InputError("this case was not simulated; nothing to write")
-    extra = breakdown_columns(sim.case, result.components_w)
-    for comp in breakdown_components(result.components_w):  # + inertial_w, grade_w
-        extra.setdefault(f"p_{comp.removesuffix('_w')}", result.components_w[comp])
     return dataclasses.replace(
         sim.to_log(terrain=result.terrain),
         p_total=result.p_total_w,
         p_left=result.p_left_w,
         p_right=result.p_right_w,
-        extra=extra,
+        extra={
+            "case": sim.case,
+            **{
+                f"p_{c.removesuffix('_w')}": result.components_w[c]
+                for c in breakdown_components(result.components_w)  # + p_inertial, p_grade
+            },
+        },
     )

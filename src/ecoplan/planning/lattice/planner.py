@@ -1,0 +1,480 @@
+"""The lattice planner: options, build and query (see :mod:`ecoplan.planning.lattice`)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import sparse
+from scipy.sparse import csgraph
+
+from ecoplan._typing import ArrayLike, FloatArray, IntArray
+from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.path import path_cost
+from ecoplan.energy.result import PathCost
+from ecoplan.energy.turns import turn_costs
+from ecoplan.errors import InputError, PlanningError
+from ecoplan.geometry.maps import GridMap
+from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget
+from ecoplan.planning.lattice.primitives import (
+    EPS,
+    PenaltyWeights,
+    build_lattice,
+    lattice_directions,
+    terrain_costs,
+)
+from ecoplan.planning.lattice.smooth import Smoother, simplify
+
+__all__ = ["LatticePlanner", "LatticePlannerOptions", "plan_lattice"]
+
+_FAR = 1e300  # reweighted cost of a transition that cannot lead to the goal
+_TINY = 1e-9  # smallest reweighted cost (rounding; adds < 1e-9 per transition)
+
+
+@dataclass(frozen=True, slots=True)
+class LatticePlannerOptions:
+    """Options of the lattice planner.
+
+    Attributes
+    ----------
+    cell_m : float or None
+        Node spacing [m], rounded to a multiple of the grid resolution; ``None``: the
+        largest of the resolution, 0.25 m and ``sqrt(area / 40000)``, at most 1 m
+        (about 40 000 nodes on large maps).
+    headings : {8, 16}
+        Number of lattice headings.
+    turn_room_m : float or None
+        Largest tangent length ``r tan(Δψ/2)`` of an arc turn [m] (bounds the radius
+        the cost model may pick); ``None``: twice the node spacing, or 1.05 times the
+        tangent of the tightest feasible arc for the largest heading step when that is
+        more (vehicles that cannot turn on the spot).
+    time_budget_s : float
+        Wall-clock budget of one query [s] (scenario key ``planner.time_s``).
+    smoothing_passes : int
+        String-pulling passes over the lattice path (0: none; each pass resamples the
+        previous one).  On the 200 m sites of ``benchmarks/lattice_scale.py`` the first
+        pass saves 1-2 % of the energy and further passes less than 0.1 %, at about the
+        cost of the first each, hence the default 1.
+    """
+
+    cell_m: float | None = None
+    headings: int = 16
+    turn_room_m: float | None = None
+    time_budget_s: float = 1.0
+    smoothing_passes: int = 1
+
+    def __post_init__(self) -> None:
+        if self.cell_m is not None and not (math.isfinite(self.cell_m) and self.cell_m > 0.0):
+            raise InputError(f"cell_m must be > 0 m, got {self.cell_m!r}")
+        lattice_directions(self.headings)
+        room = self.turn_room_m
+        if room is not None and not (math.isfinite(room) and room > 0.0):
+            raise InputError(f"turn_room_m must be > 0 m, got {room!r}")
+        check_budget(self.time_budget_s)
+        passes = self.smoothing_passes
+        if isinstance(passes, bool) or not isinstance(passes, int) or passes < 0:
+            raise InputError(f"smoothing_passes must be an integer >= 0, got {passes!r}")
+
+
+def _auto_cell(grid: GridMap) -> float:
+    ny, nx = grid.shape
+    area = ny * nx * grid.resolution_m**2
+    return min(max(grid.resolution_m, 0.25, math.sqrt(area / 40000.0)), max(1.0, grid.resolution_m))
+
+
+class LatticePlanner:
+    """State-lattice planner on a :class:`~ecoplan.geometry.maps.GridMap` (module doc).
+
+    Building the planner costs every primitive of every node (vectorised); each
+    :meth:`plan` call then runs one Dijkstra search.
+
+    Parameters
+    ----------
+    grid : GridMap
+        Inflated occupancy grid with its terrain layer.
+    cost : CostObjective
+        Vehicle, cruise speed and turn mode; the objective unless ``weights`` is given.
+        Its world must be None or ``grid``.
+    options : LatticePlannerOptions, optional
+        Lattice spacing, headings, time budget.
+    weights : PenaltyWeights, optional
+        Search with Nav2-style penalties instead of the cost object's objective (the
+        returned plans are still evaluated by the cost object).
+
+    Attributes
+    ----------
+    cell_m_ : float
+        Node spacing used [m].
+    build_time_s_ : float
+        Wall-clock time spent costing the primitives [s].
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from ecoplan.geometry.maps import GridMap
+    >>> from ecoplan.energy.objective import EnergyCost
+    >>> from ecoplan.presets import vehicle
+    >>> occ = np.zeros((100, 200), dtype=np.int8); occ[30:70, 90:110] = 100
+    >>> grid = GridMap(occ, 0.1, inflation_m=0.3)
+    >>> cost = EnergyCost(vehicle("auriga-beta-wide"), 0.5)
+    >>> res = LatticePlanner(grid, cost).plan((1.0, 5.0), (19.0, 5.0))
+    >>> bool(res.best.cost.feasible), res.best.n_waypoints >= 3
+    (True, True)
+    """
+
+    def __init__(
+        self,
+        grid: GridMap,
+        cost: CostObjective,
+        options: LatticePlannerOptions | None = None,
+        *,
+        weights: PenaltyWeights | None = None,
+    ) -> None:
+        if not isinstance(grid, GridMap):
+            raise InputError(
+                f"grid must be an ecoplan.geometry.maps.GridMap, got {type(grid).__name__}"
+            )
+        if not isinstance(cost, CostObjective):
+            raise InputError(
+                f"cost must be a CostObjective (e.g. EnergyCost), got {type(cost).__name__}"
+            )
+        if cost.world is not None and cost.world is not grid:
+            raise InputError("the cost object's world differs from the planner's grid")
+        self.grid = grid
+        self.cost = cost
+        self.weights = weights
+        self.options = options or LatticePlannerOptions()
+        deadline = Deadline(max(self.options.time_budget_s, 1e-3) * 1e6)  # timing only
+        res = grid.resolution_m
+        cell = self.options.cell_m if self.options.cell_m is not None else _auto_cell(grid)
+        self.k_ = max(round(cell / res), 1)
+        self.cell_m_ = self.k_ * res
+        self.dirs_ = lattice_directions(self.options.headings)
+        fny, fnx = grid.shape
+        if fny // self.k_ < 2 or fnx // self.k_ < 2:
+            raise InputError(
+                f"the map is smaller than 2 x 2 lattice cells of {self.cell_m_:g} m; "
+                "use a smaller cell_m"
+            )
+        costs = terrain_costs(
+            cost, grid.terrain_names, self.dirs_, self.cell_m_, self.options.turn_room_m, weights
+        )
+        self.lattice_ = build_lattice(grid, costs, self.dirs_, self.k_)
+        self.shape_ = self.lattice_.shape
+        self.node_free_ = self.lattice_.node_free
+        self.n_states_ = self.lattice_.n_states
+        self.n_edges_ = self.lattice_.n_edges
+        self._per_m = costs.per_m
+        g = self.lattice_.graph  # the end nodes of every transition, for the reweighting
+        self._edge_u = np.repeat(np.arange(g.shape[0]) // len(self.dirs_), np.diff(g.indptr))
+        self._edge_v = g.indices // len(self.dirs_)
+        self._smoother = Smoother(grid, cost, costs.per_m, self.cell_m_, weights)
+        self.build_time_s_ = deadline.elapsed_s
+
+    # ------------------------------------------------------------------ query
+    def _joins(self, p: tuple[float, float], name: str, *, into: bool) -> FloatArray:
+        """Join costs between ``p`` and the states of nearby nodes, shape ``(nodes, headings)``.
+
+        Nodes within two cells joined to ``p`` by a free segment; a state is joined only
+        when the turn at its node between its heading and the join segment is feasible
+        with the join segment as room (``into``: the join leaves the node towards ``p``).
+        Infeasible joins are ``inf``; the first column of the result is the node index.
+        """
+        g = self.grid
+        rows, cols = self.lattice_.fine_rows, self.lattice_.fine_cols
+        fx, fy = g.cell_centre(0, cols)[0], g.cell_centre(rows, 0)[1]
+        j0 = int(np.argmin(np.abs(fx - p[0])))
+        i0 = int(np.argmin(np.abs(fy - p[1])))
+        ny, nx = self.shape_
+        tid = int(g.terrain_id_at(np.array([p]))[0])
+        per_m = float(self._per_m[tid])
+        if not math.isfinite(per_m):
+            raise PlanningError(
+                f"{name} ({p[0]:g}, {p[1]:g}) is on {g.terrain_names[tid] or 'the default terrain'}"
+                f", where {self.cost.speed_mps:g} m/s is infeasible for the vehicle (power "
+                "or track limits): no route can begin or end there at that speed"
+            )
+        params = self.cost.params(g.terrain_names[tid])
+        hdg = np.arctan2(self.dirs_[:, 1], self.dirs_[:, 0])
+        out: list[FloatArray] = []
+        for i in range(max(i0 - 2, 0), min(i0 + 3, ny)):
+            for j in range(max(j0 - 2, 0), min(j0 + 3, nx)):
+                if not self.node_free_[i, j]:
+                    continue
+                q = (float(fx[j]), float(fy[i]))
+                length = math.hypot(q[0] - p[0], q[1] - p[1])
+                if length > 1e-9 and not g.segment_free(p, q):
+                    continue
+                cost = np.full(len(hdg), per_m * length + EPS)
+                if length > 1e-9:
+                    join = math.atan2(p[1] - q[1], p[0] - q[0])
+                    if not into:
+                        join = math.atan2(q[1] - p[1], q[0] - p[0])
+                    dpsi = np.remainder((join - hdg if into else hdg - join) + math.pi, math.tau)
+                    dpsi -= math.pi
+                    net, _ = turn_costs(params, dpsi, self.cost.speed_mps, length, self.cost.turn)
+                    cost = np.where(np.isfinite(net), cost, np.inf)
+                out.append(np.concatenate([[float(i * nx + j)], cost]))
+        if not out:
+            raise PlanningError(
+                f"{name} ({p[0]:g}, {p[1]:g}) cannot be joined to a lattice node of "
+                f"{self.cell_m_:g} m; use a smaller cell_m"
+            )
+        return np.array(out)
+
+    def _run_from_start(self, nodes: IntArray, cost: FloatArray) -> tuple[IntArray, FloatArray]:
+        """Move each start state ``m`` straight steps ahead (room for the first fillet).
+
+        Returns the node of each (join node, heading) after the run, shape
+        ``(nodes, headings)``, and the join cost plus the steps' costs (inf if blocked).
+        """
+        ny, nx = self.shape_
+        n_h = len(self.dirs_)
+        out_nodes = np.repeat(nodes[:, None], n_h, axis=1)
+        out_cost = np.array(cost, dtype=np.float64)
+        if self.lattice_.costs.t_max_m <= 0.0:
+            return out_nodes, out_cost
+        for h, d in enumerate(self.dirs_):
+            step_len = math.hypot(float(d[0]), float(d[1])) * self.cell_m_
+            m = math.ceil(2.0 * self.lattice_.costs.t_max_m / step_len - 1e-9)
+            r, c = nodes // nx, nodes % nx
+            for _ in range(m):
+                inside = (r >= 0) & (r < ny) & (c >= 0) & (c < nx)
+                rr, cc = np.clip(r, 0, ny - 1), np.clip(c, 0, nx - 1)
+                out_cost[:, h] = np.where(
+                    inside, out_cost[:, h] + self.lattice_.step[h][rr, cc], np.inf
+                )
+                r, c = r + d[1], c + d[0]
+            inside = (r >= 0) & (r < ny) & (c >= 0) & (c < nx)
+            out_cost[:, h] = np.where(inside, out_cost[:, h], np.inf)
+            out_nodes[:, h] = np.clip(r, 0, ny - 1) * nx + np.clip(c, 0, nx - 1)
+        return out_nodes, out_cost
+
+    def _rank(self, pc: PathCost) -> tuple[bool, float]:
+        """Sort key of an evaluated path: feasible first, then the search objective."""
+        if self.weights is not None:  # the penalty baseline ranks by its own costs
+            value = pc.length_m + self.weights.turn_per_rad * pc.psi_rad
+        else:
+            value = self.cost.value(pc)
+        return (not pc.feasible, value)
+
+    def _evaluate(self, wps: FloatArray, heading: float | None) -> PathCost:
+        return path_cost(
+            wps,
+            self.cost.vehicle,
+            self.cost.speed_mps,
+            world=self.grid,
+            initial_heading_rad=heading,
+            turn=self.cost.turn,
+            ramps=self.cost.ramps,
+        )
+
+    def _heuristic(self, goal_nodes: IntArray, goal_cost: FloatArray) -> FloatArray:
+        """Lower bound of the cost to the goal from every node (inf: no way there).
+
+        Dijkstra from the goal over the reversed straight steps
+        (:attr:`~ecoplan.planning.lattice.primitives.LatticeGraph.reverse_steps`): turns
+        cost >= 0 and every transition is made of those steps, so the bound is
+        admissible and, being a shortest distance, consistent.
+        """
+        n = self.shape_[0] * self.shape_[1]
+        ok = np.isfinite(goal_cost)
+        sink = sparse.csr_matrix(
+            (goal_cost[ok], (np.full(int(ok.sum()), n), goal_nodes[ok])), shape=(n + 1, n + 1)
+        )
+        h = csgraph.dijkstra(self.lattice_.reverse_steps + sink, directed=True, indices=n)
+        return np.asarray(h[:n], dtype=np.float64)
+
+    def _astar(
+        self,
+        h: FloatArray,
+        starts: tuple[IntArray, FloatArray],
+        goals: tuple[IntArray, FloatArray, IntArray],
+    ) -> tuple[FloatArray, IntArray]:
+        """A* from the source to the sink: Dijkstra on the reweighted graph, limited.
+
+        Each transition ``u -> v`` costs ``w - h(u) + h(v)`` (>= 0 for a consistent
+        ``h``; raised to 1e-9), so a state's distance from the source is ``g + h`` and
+        Dijkstra limited to ``L`` settles exactly the states A* expands with ``f <= L``;
+        the sink's distance is the true cost of the path.  ``L`` grows from the smallest
+        ``f`` of a start state until the sink is reached (then the path is optimal: every
+        state on it has ``f`` at most the cost).  Returns distances and predecessors as
+        :func:`scipy.sparse.csgraph.dijkstra`.
+        """
+        g = self.lattice_.graph
+        n = g.shape[0]
+        src, snk = n - 2, n - 1
+        with np.errstate(invalid="ignore"):
+            w = g.data - h[self._edge_u] + h[self._edge_v]
+        # > 0: scipy drops explicit zeros when adding sparse matrices (lost transitions)
+        w = np.where(np.isfinite(w), np.maximum(w, _TINY), _FAR)
+        s_states, s_w = starts
+        g_states, g_w, g_nodes = goals
+        s_f = s_w + h[s_states // len(self.dirs_)]
+        g_f = np.maximum(g_w - h[g_nodes], _TINY)
+        s_ok, g_ok = np.isfinite(s_f), np.isfinite(g_f)
+        joins = sparse.csr_matrix(
+            (
+                np.concatenate([s_f[s_ok], g_f[g_ok]]),
+                (np.concatenate([np.full(int(s_ok.sum()), src), g_states[g_ok]]),
+                 np.concatenate([s_states[s_ok], np.full(int(g_ok.sum()), snk)])),
+            ),
+            shape=(n, n),
+        )  # fmt: skip
+        graph = sparse.csr_matrix((w, g.indices, g.indptr), shape=g.shape) + joins
+        f0 = float(s_f[s_ok].min()) if s_ok.any() else math.inf
+        dist = np.full(n, np.inf)
+        pred = np.full(n, -9999, dtype=np.int32)
+        if not math.isfinite(f0) or f0 >= _FAR:
+            return dist, pred
+        for grow in (1.01, 1.03, 1.06, 1.12, 1.25, 1.5, 2.0, math.inf):
+            limit = f0 * grow + EPS
+            dist, pred = csgraph.dijkstra(
+                graph, directed=True, indices=src, return_predecessors=True, limit=limit
+            )
+            if dist[snk] < _FAR:
+                break
+        dist = np.where(dist < _FAR, dist, np.inf)
+        return dist, pred
+
+    def _node_xy(self, i: IntArray | int, j: IntArray | int) -> FloatArray:
+        rows, cols = self.lattice_.fine_rows, self.lattice_.fine_cols
+        x, y = self.grid.cell_centre(rows[i], cols[j])
+        return np.stack([np.asarray(x), np.asarray(y)], axis=-1)
+
+    def plan(
+        self,
+        start: ArrayLike,
+        goal: ArrayLike,
+        *,
+        initial_heading_rad: float | None = None,
+    ) -> PlanResult:
+        """Cheapest lattice path from ``start`` to ``goal``.
+
+        Parameters
+        ----------
+        start, goal : (x, y)
+            End points in the map frame [m]; checked against the inflated grid.
+        initial_heading_rad : float, optional
+            Heading at the start (its turn is part of the evaluated plan); None: free.
+
+        Returns
+        -------
+        PlanResult
+            ``best`` with waypoints, cruise speed and the :func:`~ecoplan.energy.path.path_cost`
+            evaluation on the grid; ``stats`` holds the lattice cost, its size and the
+            times [s] of the build and of each query phase (``join_s``, ``dijkstra_s``,
+            ``smooth_s``, ``evaluate_s``).
+
+        Raises
+        ------
+        ecoplan.geometry.world.GeometryError
+            Start or goal off the map or in a blocked cell.
+        PlanningError
+            No lattice path, or the time budget (``planner.time_s``) ran out.
+        """
+        deadline = Deadline(self.options.time_budget_s)
+        s = self.grid.check_point(start, "start")
+        g = self.grid.check_point(goal, "goal")
+        if math.hypot(g[0] - s[0], g[1] - s[1]) < 1e-9:
+            raise InputError(f"start and goal coincide at ({s[0]:g}, {s[1]:g}): nothing to plan")
+        n_h = len(self.dirs_)
+        nx = self.shape_[1]
+        s_join = self._joins(s, "start", into=False)
+        g_join = self._joins(g, "goal", into=True)
+        src, snk = self.n_states_, self.n_states_ + 1
+        hs = np.arange(n_h)
+        s_nodes, s_cost = self._run_from_start(s_join[:, 0].astype(np.int64), s_join[:, 1:])
+        s_states = (s_nodes * n_h + hs).ravel()
+        s_join_nodes = np.repeat(s_join[:, 0].astype(np.int64), n_h)
+        g_states = (g_join[:, 0].astype(np.int64)[:, None] * n_h + hs).ravel()
+        s_w, g_w = s_cost.ravel(), g_join[:, 1:].ravel()
+        # one edge per start state: the cheapest of the join nodes that run into it
+        order = np.argsort(s_w, kind="stable")
+        _, first = np.unique(s_states[order], return_index=True)
+        pick = order[first]
+        s_states, s_w, s_join_nodes = s_states[pick], s_w[pick], s_join_nodes[pick]
+        s_ok, g_ok = np.isfinite(s_w), np.isfinite(g_w)
+        s_join_of = dict(zip(s_states.tolist(), s_join_nodes.tolist(), strict=True))
+        deadline.check("joining start and goal to the lattice")
+        t_join = deadline.elapsed_s
+        g_nodes = g_join[:, 0].astype(np.int64)
+        h = self._heuristic(g_nodes, np.min(g_join[:, 1:], axis=1))
+        dist, pred = self._astar(
+            h, (s_states[s_ok], s_w[s_ok]), (g_states[g_ok], g_w[g_ok], g_nodes.repeat(n_h)[g_ok])
+        )
+        t_search = deadline.elapsed_s - t_join
+        total = float(dist[snk])
+        if not math.isfinite(total):
+            raise PlanningError(
+                f"no lattice path from start ({s[0]:g}, {s[1]:g}) to goal ({g[0]:g}, {g[1]:g}) "
+                f"at {self.cost.speed_mps:g} m/s on {self.cell_m_:g} m cells"
+            )
+        chain = [int(pred[snk])]
+        while chain[-1] != src:
+            chain.append(int(pred[chain[-1]]))
+        states = np.array(chain[-2::-1], dtype=np.int64)
+        join_node = s_join_of[int(states[0])]  # the run ahead of the start began there
+        nodes = np.concatenate([[join_node], states // n_h])
+        pts = self._node_xy(nodes // nx, nodes % nx)
+        raw = simplify(np.vstack([[s], pts, [g]]))
+        # smoothing passes while time remains; every stage is evaluated in full and the
+        # best (feasible first, then the objective) is kept, so smoothing never loses
+        t0 = deadline.elapsed_s
+        wps, pc = raw, self._evaluate(raw, initial_heading_rad)
+        t_eval, t_smooth = deadline.elapsed_s - t0, 0.0
+        best_key = self._rank(pc)
+        stage = raw
+        for _ in range(self.options.smoothing_passes):
+            if deadline.expired:
+                break
+            t0 = deadline.elapsed_s
+            stage = self._smoother.shortcut(stage)
+            t1 = deadline.elapsed_s
+            pc_stage = self._evaluate(stage, initial_heading_rad)
+            t_smooth, t_eval = t_smooth + t1 - t0, t_eval + deadline.elapsed_s - t1
+            if self._rank(pc_stage) < best_key:
+                wps, pc, best_key = stage, pc_stage, self._rank(pc_stage)
+        name = "penalty" if self.weights is not None else self.cost.name
+        plan = Plan(
+            waypoints=wps,
+            cost=pc,
+            objective=name,
+            objective_value=self.cost.value(pc),
+            speed_mps=self.cost.speed_mps,
+        )
+        return PlanResult(
+            best=plan,
+            alternatives=(plan,),
+            planner=f"lattice:{name}",
+            planning_time_s=deadline.elapsed_s,
+            stats={
+                "lattice_cost": total,
+                "cell_m": self.cell_m_,
+                "states": float(self.n_states_),
+                "transitions": float(self.n_edges_),
+                "build_time_s": self.build_time_s_,
+                "search_time_s": deadline.elapsed_s,
+                "join_s": t_join,
+                "dijkstra_s": t_search,
+                "smooth_s": t_smooth,
+                "evaluate_s": t_eval,
+            },
+        )
+
+
+def plan_lattice(
+    grid: GridMap,
+    start: ArrayLike,
+    goal: ArrayLike,
+    cost: CostObjective,
+    *,
+    options: LatticePlannerOptions | None = None,
+    initial_heading_rad: float | None = None,
+) -> PlanResult:
+    """One-shot :class:`LatticePlanner` query; ``planning_time_s`` includes the build."""
+    planner = LatticePlanner(grid, cost, options)
+    res = planner.plan(start, goal, initial_heading_rad=initial_heading_rad)
+    total = res.planning_time_s + planner.build_time_s_
+    return PlanResult(res.best, res.alternatives, res.planner, total, res.stats)
