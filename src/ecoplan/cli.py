@@ -400,7 +400,8 @@ def _vehicle_option(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--vehicle",
         metavar="FILE",
-        help="drive this vehicle file (or preset) instead of the scenario's vehicle",
+        help="drive this vehicle file, corrected model (.json) or preset instead of the "
+        "scenario's vehicle",
     )
 
 
