@@ -8,7 +8,9 @@ recovered in its own units.  Reference values are independent physics written he
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -26,6 +28,7 @@ from ecoplan.diagnose.effects import (
 )
 from ecoplan.diagnose.loop import CorrectedModel
 from ecoplan.diagnose.replay import build_frame
+from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
 from ecoplan.synth.cases import generate_case
@@ -170,3 +173,37 @@ def test_huber_irls_reaches_the_least_squares_huber_minimiser() -> None:
     ).x
     np.testing.assert_allclose(coef, ref, atol=1e-6)
     assert abs(coef[0] - 2.0) < 0.05  # the outliers do not pull the offset
+
+
+def test_terrain_change_reports_the_friction_scale_between_its_segments() -> None:
+    # A log without pose whose friction coefficient rises by 30 % at t = 200 s (tracked: the
+    # friction power scales with mu, eq. 10); the base refit takes the level, so the ratio of
+    # the segments' friction factors after and before the change is the 1.3 written here.
+    base = vehicle("auriga-beta-wide", "asphalt")
+    rng = np.random.default_rng(2)
+    hz, n = 20.0, 6000
+    t = np.arange(n) / hz
+    cl, cr = np.zeros(n), np.zeros(n)
+    i = 0
+    while i < n:
+        k = int(rng.uniform(3, 7) * hz)
+        v = rng.uniform(0.3, 0.8)
+        cl[i : i + k], cr[i : i + k] = [(v, v), (v, 0.5 * v), (-0.5 * v, 0.5 * v), (0.0, 0.0)][
+            rng.integers(4)
+        ]
+        i += k
+    vl = follow_commands(t, cl, base.accel_max_mps2)
+    vr = follow_commands(t, cr, base.accel_max_mps2)
+    rough = dataclasses.replace(base, mu=1.3 * base.mu)
+    p = np.where(t < 200.0, base.power(vl, vr).total_w, rough.power(vl, vr).total_w)
+    log = SimpleNamespace(
+        t=t, v_left=vl, v_right=vr, p_total=p + rng.normal(0.0, 3.0, n),
+        v_left_cmd=cl, v_right_cmd=cr, x=None, y=None, yaw=None, wz=None,
+    )  # fmt: skip
+    data = prepare(build_frame([log], base, snap_mps=2e-3), base)
+    fitted = make_effect("terrain_change").fit(data).params_
+    segs = range(int(fitted["segments"]))
+    before = [fitted[f"seg{j}_friction_factor"] for j in segs if fitted[f"seg{j}_t_end_s"] < 200]
+    after = [fitted[f"seg{j}_friction_factor"] for j in segs if fitted[f"seg{j}_t_start_s"] > 200]
+    assert before and after
+    assert float(np.median(after) / np.median(before)) == pytest.approx(1.3, rel=0.05)

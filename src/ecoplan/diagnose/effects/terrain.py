@@ -183,9 +183,10 @@ class TerrainChange(Effect):
     Its segments belong to the log's clock, so it is neither generated (:meth:`apply`) nor
     carried over to new routes by the corrected model (:attr:`on_routes`).  Parameters per
     kept segment ``i``: ``seg{i}_run``, ``seg{i}_t_start_s``, ``seg{i}_t_end_s``,
-    ``seg{i}_friction_factor``, ``seg{i}_resistance_factor`` (``1 + g``, ``g`` the fitted gain
-    of the segment's friction power and of the rest of its electrical power), and
-    ``segments``, their number.
+    ``seg{i}_friction_factor`` (the friction's scale, ``1 + g η`` as for ``terrain_patch``, ``g``
+    the fitted gain of the segment's mechanical friction power), ``seg{i}_rest_factor``
+    (``1 + g``, the fitted gain of the rest of the base power, ``P_T`` minus the friction's
+    mechanical part), and ``segments``, their number.
     """
 
     name = "terrain_change"
@@ -234,14 +235,14 @@ class TerrainChange(Effect):
         return tuple(sorted(kept))
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
-        k = data.X.shape[1]
+        k, eta = data.X.shape[1], eta_of(data.params)
         out: dict[str, float] = {"segments": float(len(theta or ()))}
         for i, (run, t0, t1) in enumerate(theta or ()):
             out[f"seg{i}_run"] = float(run)
             out[f"seg{i}_t_start_s"] = float(t0)
             out[f"seg{i}_t_end_s"] = float(t1)
-            out[f"seg{i}_friction_factor"] = 1.0 + float(coef[k + 2 * i])
-            out[f"seg{i}_resistance_factor"] = 1.0 + float(coef[k + 2 * i + 1])
+            out[f"seg{i}_friction_factor"] = 1.0 + float(coef[k + 2 * i]) * eta
+            out[f"seg{i}_rest_factor"] = 1.0 + float(coef[k + 2 * i + 1])
         return out
 
 
