@@ -87,7 +87,10 @@ def _check_against_library(
         choice = best_speed(wps, veh, world=sc.world, initial_heading_rad=yaw0)
         assert v_sp == pytest.approx(choice.speed_mps)
     driven = HeadingController(controller.gain, v_sp, controller.d_th_m)
-    pc = path_cost(wps, veh, v_sp, world=sc.world, initial_heading_rad=yaw0, turn=driven)
+    pc = path_cost(
+        wps, veh, v_sp, world=sc.world, initial_heading_rad=yaw0, turn=driven,
+        elevation=sc.elevation,
+    )  # fmt: skip
     assert case["estimate_energy_j"] == pytest.approx(pc.energy_j, rel=1e-6)
     # issue 11, item 6: the analytic estimate is within 3 % of the simulated energy
     assert case["estimate_energy_j"] == pytest.approx(case["energy_j"], rel=0.03), case["name"]
@@ -100,10 +103,13 @@ def _check_against_library(
     for terrain in set(log["terrain"].tolist()):
         rows = log["terrain"] == terrain
         p[rows] = veh.on(terrain).power(log["v_left"][rows], log["v_right"][rows]).total_w
+    if sc.elevation is not None:  # the climbs between logged positions: M g max(dz, 0) / eta
+        z = sc.elevation(log["x"], log["y"])
+        p[:-1] += veh.mass_kg * 9.81 * np.maximum(np.diff(z), 0.0) / (getattr(veh, "eta", 1.0) * dt)
     np.testing.assert_allclose(log["p_total"], p, rtol=1e-8, atol=1e-8)
     assert case["energy_j"] == pytest.approx(float(np.sum(p[:-1]) * dt), rel=1e-7)
     assert case["time_s"] == pytest.approx(log["t"][-1], abs=1e-9)
-    if resimulate and not (sc.regions or sc.world.has_regions):
+    if resimulate and not (sc.regions or sc.world.has_regions or sc.elevation is not None):
         # without terrain regions (or a terrain layer) the simulator's own result is reported
         sim = simulate_waypoints(
             veh.on(),

@@ -63,7 +63,7 @@ def _flat(colour: str) -> Any:
 
 
 def _draw_contours(ax: Any, sc: Scenario, handles: list[Any]) -> None:
-    """Contour lines of the scenario's ground elevation, labelled in metres."""
+    """Contour lines of the scenario's ground elevation (at most 12), labelled in metres."""
     from matplotlib.lines import Line2D
 
     assert sc.elevation is not None
@@ -73,7 +73,8 @@ def _draw_contours(ax: Any, sc: Scenario, handles: list[Any]) -> None:
     span = float(np.ptp(z))
     if span < 1e-6:
         return
-    step = float(10.0 ** np.floor(np.log10(span / 4.0)))  # about 4-40 lines
+    base = float(10.0 ** np.floor(np.log10(span / 12.0)))  # at most 12 lines: 1, 2, 5 x 10^k
+    step = next(m * base for m in (1.0, 2.0, 5.0, 10.0) if span / (m * base) <= 12.0)
     levels = np.arange(np.ceil(z.min() / step) * step, z.max() + 1e-9, step)
     cs = ax.contour(xs, ys, z, levels=levels, colors="#6b4f2a", linewidths=0.7, zorder=1.5)
     ax.clabel(cs, fontsize=7, fmt="%g m")
