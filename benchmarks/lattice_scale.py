@@ -62,7 +62,14 @@ from ecoplan.energy.objective import EnergyCost
 from ecoplan.errors import EcoplanError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions
-from ecoplan.presets import vehicle, vehicle_names
+from ecoplan.presets import vehicle_names
+
+try:  # revisions before the one vehicle() naming (#10 item 6), for --baseline
+    from ecoplan.presets import VehicleSpec  # type: ignore[attr-defined]
+
+    _vehicle: Any = VehicleSpec.of
+except ImportError:
+    from ecoplan.presets import vehicle as _vehicle
 
 RES_M = 0.1
 INFLATION_M = 0.5
@@ -106,7 +113,7 @@ def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) ->
     t0 = time.perf_counter()
     grid = GridMap(occ, RES_M, inflation_m=INFLATION_M, terrain=labels, terrain_names=terrains)
     prep = time.perf_counter() - t0
-    cost = EnergyCost(vehicle(name), speed)
+    cost = EnergyCost(_vehicle(name), speed)
     start, goal = (3.0, 3.0), (size_m - 3.0, size_m - 3.0)
     row: dict[str, Any] = {
         "vehicle": name, "size_m": size_m, "obstacles": n_obs, "seed": seed,
