@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from ecoplan.errors import InputError
@@ -115,7 +115,12 @@ def test_feasibility_monotone_in_speed(
 ) -> None:
     # Wheeled §III-C: for a radius, power grows with speed (eq. 12 with the outer a(r) > 0)
     # and so do the track speeds (eq. 4): a slower command on the same radius stays feasible.
+    # Below ~2.6 m the inner side brakes (a_inner(r) < 0, "inner-side braking below about
+    # 2 m" in §III): its power *falls* with speed towards b(r), so on vinyl at r = 0.53 m
+    # creeping (inner b(r) = 12.15 W > 12 W) is infeasible while 0.01 m/s is not.  The
+    # property is the paper's for radii where both sides drive, so test it there.
     p = _v(*preset)
+    assume(p.kind == "tracked" or abs(r) >= 3.0)
     if bool(feasible(p, v, r)):
         assert bool(feasible(p, frac * v, r))
 
