@@ -25,13 +25,14 @@ from ecoplan.app.scenario import load_scenario
 from ecoplan.diagnose.loop import load_corrected_model, save_corrected_model
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.io.logcsv import read_log_csv
+from ecoplan.presets import vehicle
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 sys.path.insert(0, str(BENCH))
 
 import plant_zoo  # noqa: E402
 
-BOREALTC = Path("/work/shared/data/borealtc")
+BOREALTC = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "borealtc"
 
 SCENARIO = """\
 name: corrected
@@ -85,6 +86,19 @@ def test_corrected_model_of_a_zoo_log_gives_finite_energy_in_a_scenario(
     # what `diagnose --out` writes, without its figures (the real-data test below runs the CLI)
     d = diagnose([read_log_csv(log)], case.vehicle, case.terrain)
     save_corrected_model(d, out / "corrected_model.json")
+    _check_model_and_scenario(out)
+
+
+def test_a_corrected_model_of_parameters_names_its_vehicle_file(tmp_path: Path) -> None:
+    # diagnose() given parameters (not a preset name) used to store the vehicle as
+    # "pioneer-3at/asphalt" (the parameters' label), which a scenario refused as an unknown
+    # preset; the file must name the vehicle file the parameters came from
+    case = plant_zoo.make_case("f", "none", 0, duration_s=60.0)
+    log = plant_zoo.write_log(case, tmp_path / "log.csv")
+    d = diagnose([read_log_csv(log)], vehicle(case.vehicle, case.terrain))
+    out = tmp_path / "out"
+    save_corrected_model(d, out / "corrected_model.json")
+    assert load_corrected_model(out / "corrected_model.json").vehicle == case.vehicle
     _check_model_and_scenario(out)
 
 

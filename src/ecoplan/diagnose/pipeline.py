@@ -93,7 +93,10 @@ def diagnose(
         params = vehicle(vehicle_name, terrain)
         name = vehicle_name
     else:
-        params, name = vehicle_name, vehicle_name.name
+        # the vehicle file's stable name (a corrected model names its base vehicle by it);
+        # parameters built by hand keep their own label
+        params = vehicle_name
+        name = params.source.name if params.source is not None else params.name
     log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item]
     checked = check_logs(log_list, params)
     tol = case_tolerance(log_list)
