@@ -17,7 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from statsmodels.stats.diagnostic import acorr_ljungbox
 
-from ecoplan.diagnose.attribute import block_bootstrap, coloured_noise_floor, ljung_box
+from ecoplan.diagnose.stats import block_bootstrap, coloured_noise_floor, ljung_box
 
 
 def _ar1(n: int, phi: float, seed: int) -> np.ndarray:

@@ -14,7 +14,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.attribute import block_bootstrap, ljung_box, noise_floor_mae, split_masks
+from ecoplan.diagnose.attribute import split_masks
 from ecoplan.diagnose.calibrate import base_design, calibrate, kinematic_chi, wheeled_prior
 from ecoplan.diagnose.effects import (
     EFFECTS,
@@ -25,6 +25,7 @@ from ecoplan.diagnose.effects import (
     prepare,
 )
 from ecoplan.diagnose.replay import build_frame, snap_speeds
+from ecoplan.diagnose.stats import block_bootstrap, ljung_box, noise_floor_mae
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ecoplan.diagnose.attribute import ljung_box, prewhiten
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.stats import ljung_box, prewhiten
 from ecoplan.io.logcsv import read_log_csv
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"

@@ -11,6 +11,7 @@ Modules, in the order of the pipeline:
   :mod:`ecoplan.diagnose.where_time` -- where on each log's own clock;
 * :mod:`ecoplan.diagnose.effects` -- the library of candidate unmodelled effects;
 * :mod:`ecoplan.diagnose.attribute` -- held-out ranking, significance, verdict;
+  :mod:`ecoplan.diagnose.stats` -- noise floors, prewhitening, Ljung-Box, block bootstrap;
 * :mod:`ecoplan.diagnose.pipeline` -- :func:`~ecoplan.diagnose.pipeline.diagnose`, the steps
   above in order;
 * :mod:`ecoplan.diagnose.result` -- :class:`~ecoplan.diagnose.result.Diagnosis`, what it returns;

@@ -36,7 +36,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.stats import bootstrap, chi2, median_abs_deviation, norm
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.effects import (
@@ -49,6 +48,13 @@ from ecoplan.diagnose.effects import (
     make_effect,
 )
 from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
+from ecoplan.diagnose.stats import (
+    block_bootstrap,
+    coloured_noise_floor,
+    ljung_box,
+    noise_floor_mae,
+    prewhiten,
+)
 
 __all__ = [
     "SEPARATING_MANOEUVRES",
@@ -56,12 +62,7 @@ __all__ = [
     "EffectScore",
     "PairEffect",
     "attribute",
-    "block_bootstrap",
-    "coloured_noise_floor",
     "distinguishability",
-    "ljung_box",
-    "noise_floor_mae",
-    "prewhiten",
     "split_masks",
 ]
 
@@ -102,147 +103,6 @@ def split_masks(frame: Frame, split_s: float | None = None) -> tuple[BoolArray, 
         elapsed = np.cumsum(frame.dt[idx]) - frame.dt[idx]
         test[idx] = ((elapsed // bs).astype(np.int64) + int(r)) % 2 == 1
     return ~test, test
-
-
-def noise_floor_mae(
-    residual: FloatArray, run: FloatArray | None = None, decimate: int = 1
-) -> float:
-    """MAE a white Gaussian noise would leave, from first differences: ``σ √(2/π)`` [W].
-
-    ``σ² ≈ var(Δr) / 2`` for white noise; slow structure in the residual barely changes it.
-    A residual smoothed over ``k`` samples is no longer white at the sample scale (its first
-    differences nearly vanish): pass ``decimate = k`` to difference samples ``k`` apart.
-    """
-    step = max(int(decimate), 1)
-    idx = np.arange(residual.size)
-    if run is not None and step > 1:
-        idx = np.concatenate([np.flatnonzero(run == r)[::step] for r in np.unique(run)])
-    elif step > 1:
-        idx = idx[::step]
-    d = np.diff(residual[idx])
-    if run is not None:
-        d = d[np.diff(run[idx]) == 0]
-    sigma = float(np.sqrt(np.mean(d**2) / 2.0)) if d.size else 0.0
-    return sigma * math.sqrt(2.0 / math.pi)
-
-
-def _same_run_diffs(x: FloatArray, run: FloatArray | None, lag: int) -> FloatArray:
-    d = x[lag:] - x[:-lag]
-    if run is not None:
-        d = d[run[lag:] == run[:-lag]]
-    return np.asarray(d, dtype=np.float64)
-
-
-def coloured_noise_floor(
-    residual: FloatArray, run: FloatArray | None = None
-) -> tuple[float, float]:
-    """Noise floor of a residual whose noise may be coloured (AR(1)): ``(MAE [W], phi)``.
-
-    For noise ``e_t = phi e_(t-1) + w_t`` of variance ``sigma²`` the differences at lags 1 and
-    2 have variances ``2 sigma² (1 - phi)`` and ``2 sigma² (1 - phi²)``: their ratio is
-    ``1 + phi``.  The ratio is read with a robust scale (:func:`scipy.stats.median_abs_deviation`,
-    normal consistency), so that the rare fast steps of real model error (a speed step) barely
-    move ``phi``; the level with the mean absolute first difference, ``E|Δe| = sqrt(2 (1 - phi))
-    E|e|`` for Gaussian noise, which stays right when the noise grows with the power (a mixture
-    of scales, where a median would fall short).  Slow model error hardly changes differences
-    over two samples.  White noise gives ``phi = 0``.
-
-    Returns
-    -------
-    mae_w : float
-        The MAE the noise alone leaves [W].
-    phi : float
-        Lag-one autocorrelation of the noise, in [0, 0.9].
-    """
-    x = np.asarray(residual, dtype=np.float64)
-    runs = None if run is None else np.asarray(run, dtype=np.float64)
-    d1 = _same_run_diffs(x, runs, 1)
-    d2 = _same_run_diffs(x, runs, 2)
-    if d1.size < 3 or d2.size < 3:
-        return noise_floor_mae(x, runs), 0.0
-    s1 = float(median_abs_deviation(d1, scale="normal"))
-    s2 = float(median_abs_deviation(d2, scale="normal"))
-    phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9)) if s1 > 0.0 else 0.0
-    return float(np.mean(np.abs(d1))) / math.sqrt(2.0 * (1.0 - phi)), phi
-
-
-def prewhiten(residual: FloatArray, phi: float, run: FloatArray | None = None) -> FloatArray:
-    """``e_t - phi e_(t-1)`` within each run: white if the residual is AR(1) noise alone."""
-    x = np.asarray(residual, dtype=np.float64)
-    if x.size < 2 or phi == 0.0:
-        return x
-    w = x[1:] - phi * x[:-1]
-    if run is not None:
-        w = w[run[1:] == run[:-1]]
-    return np.asarray(w, dtype=np.float64)
-
-
-def ljung_box(residual: FloatArray, lags: int = 20, decimate: int = 1) -> tuple[float, float]:
-    """Ljung-Box whiteness test ``Q = n(n+2) Σ ρ_k²/(n-k)``; returns ``(Q, p-value)``."""
-    x = np.asarray(residual[::decimate], dtype=np.float64)
-    n = x.size
-    lags = min(lags, max(n // 4, 1))
-    x = x - x.mean()
-    den = float(np.dot(x, x))
-    if n < 10 or den <= 0:
-        return 0.0, 1.0
-    q = 0.0
-    for k in range(1, lags + 1):
-        rho = float(np.dot(x[:-k], x[k:])) / den
-        q += rho * rho / (n - k)
-    q *= n * (n + 2)
-    return float(q), float(chi2.sf(q, lags))
-
-
-def block_bootstrap(
-    before: FloatArray,
-    after: FloatArray,
-    block: FloatArray,
-    rng: np.random.Generator,
-    n_boot: int = 1000,
-) -> tuple[float, float, float, float]:
-    """Bootstrap over blocks of the MAE reduction ``mean|before| - mean|after|`` [W].
-
-    The blocks (not the samples) are resampled with :func:`scipy.stats.bootstrap`: each block
-    contributes the pair (summed paired difference ``|before| - |after|``, sample count), the
-    statistic is the ratio of their sums, so slow structure inside a block stays intact.
-
-    Returns
-    -------
-    reduction, ci_low, ci_high : float
-        The reduction and its 95 % percentile interval [W].
-    p_value : float
-        One-sided p-value of "no reduction" from the normal approximation of the bootstrap
-        distribution.
-    """
-    _, inv = np.unique(block, return_inverse=True)
-    nb = int(inv.max()) + 1 if inv.size else 0
-    diff = np.bincount(inv, weights=np.abs(before) - np.abs(after), minlength=nb)
-    cnt = np.bincount(inv, minlength=nb).astype(np.float64)
-    red = float(diff.sum() / cnt.sum()) if nb else 0.0
-    if nb < 2 or not np.any(diff != diff[0]):
-        # one block, or every block the same: the resampled reduction cannot vary
-        p = 0.5 if nb < 2 else (0.0 if red > 0 else 1.0)
-        return red, red, red, p
-
-    def ratio(d: FloatArray, c: FloatArray, axis: int = -1) -> FloatArray:
-        return np.asarray(
-            np.sum(d, axis=axis) / np.maximum(np.sum(c, axis=axis), 1.0), dtype=np.float64
-        )
-
-    res = bootstrap(
-        (diff, cnt),
-        ratio,
-        n_resamples=n_boot,
-        paired=True,
-        vectorized=True,
-        method="percentile",
-        confidence_level=0.95,
-        rng=rng,
-    )
-    sd = float(res.standard_error)
-    p = float(norm.sf(red / sd)) if sd > 0 else (0.0 if red > 0 else 1.0)
-    return red, float(res.confidence_interval.low), float(res.confidence_interval.high), p
 
 
 class PairEffect(Effect):

@@ -29,7 +29,7 @@ from collections.abc import Sequence
 import numpy as np
 
 from ecoplan._typing import RngLike
-from ecoplan.diagnose.attribute import attribute, block_bootstrap, split_masks
+from ecoplan.diagnose.attribute import attribute, split_masks
 from ecoplan.diagnose.calibrate import calibrate
 from ecoplan.diagnose.checks import check_logs
 from ecoplan.diagnose.effects import prepare
@@ -45,6 +45,7 @@ from ecoplan.diagnose.replay import (
     replay_residuals,
 )
 from ecoplan.diagnose.result import Diagnosis
+from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.where_time import where_time
 from ecoplan.errors import InputError
 from ecoplan.presets import VehicleParams, vehicle
