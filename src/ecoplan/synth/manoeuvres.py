@@ -267,6 +267,10 @@ def waypoint_runs(
 ) -> list[Trajectory]:
     """A->B runs under the heading controller of the tracked paper §IV, eq. (23), closed loop.
 
+    Eq. (23) as the paper writes it, at a constant set point (``slowdown_heading_rad=None``:
+    the blind cases were built and their seeds checked on it; ``max_duration_s`` bounds a
+    run that orbits a goal).
+
     The controller is :class:`~ecoplan.dynamics.controller.WaypointFollower` (``w_sp = G
     phi_e``, saturated by eqs. 5-6, tracks by eq. 4; power-limited turning for a wheeled
     vehicle) with the controller's ICRs -- the nominal ones: it does not know an
@@ -306,7 +310,13 @@ def waypoint_runs(
     policy = WaypointFollower(
         [np.asarray(task.waypoints, dtype=np.float64) for task in tasks],
         [
-            HeadingController(task.gain_per_s, task.speed_mps, switch_radius_m, power_limited=True)
+            HeadingController(
+                task.gain_per_s,
+                task.speed_mps,
+                switch_radius_m,
+                power_limited=True,
+                slowdown_heading_rad=None,  # eq. (23) as the paper writes it
+            )
             for task in tasks
         ],
         IcrArrays.of([cicr] * n, vehicle.top_track_speed_mps),
