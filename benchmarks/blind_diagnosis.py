@@ -70,6 +70,7 @@ def run_case(args: tuple[int, str, str, str]) -> dict[str, Any]:
         "effect": truth.effect,
         "expected": expected,
         "verdict": d.verdict,
+        "confidence": float(att.confidence),
         "right": right,
         "reduction": red,
         "explained": top.explained if top is not None else float("nan"),
@@ -147,6 +148,17 @@ def main() -> int:
         ratio = float(np.median([r["effect_mae_w"] / r["noise_mae_w"] for r in sel]))
         right = sum(r["right"] for r in sel)
         print(f"  {lab:<{w}s} {right:3d} / {len(sel):<3d} {ratio:6.2f}")
+    # reliability (issue 12 item 2): among verdicts with confidence >= 0.9, >= 90 % right
+    print("reliability: confidence bin, verdicts, right")
+    conf_v = np.array([r["confidence"] for r in rows])
+    right_v = np.array([bool(r["right"]) for r in rows])
+    for lo, hi in ((0.0, 0.5), (0.5, 0.7), (0.7, 0.9), (0.9, 1.0 + 1e-9)):
+        m = (conf_v >= lo) & (conf_v < hi)
+        acc = f"{100 * right_v[m].mean():5.1f} %" if m.any() else "   -   "
+        print(f"  [{lo:.1f}, {min(hi, 1.0):.1f}{']' if hi > 1 else ')'} {int(m.sum()):4d} {acc}")
+    hi_conf = conf_v >= 0.9
+    share = float(right_v[hi_conf].mean()) if hi_conf.any() else float("nan")
+    print(f"  confidence >= 0.9: {100 * share:5.1f} % right (target >= 90 %)")
     wrong = [r for r in rows if not r["right"]]
     for r in wrong:
         print(f"  wrong: seed {r['seed']} {r['effect']} -> {r['verdict']}")

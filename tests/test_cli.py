@@ -201,41 +201,32 @@ def test_json_to_file(quick: Path, tmp_path: Path, capsys: pytest.CaptureFixture
     capsys.readouterr()
 
 
-def test_diagnose_delegates_to_the_pipeline(
+def test_diagnose_delegates_to_the_app_and_prints_its_lines(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:
+    import ecoplan.app.diagnose as app_diagnose
+
     calls: list[tuple[object, ...]] = []
 
-    def fake(
-        logs: list[str],
-        vehicle: str,
-        terrain: str | None,
-        js: str | None,
-        out: str | None,
-        **options: object,
-    ) -> int:
-        calls.append((logs, vehicle, terrain, js, out, options))
-        return 0
+    def fake(logs: list[str], vehicle: str, terrain: str | None, **options: object) -> object:
+        calls.append((logs, vehicle, terrain, options))
+        return types.SimpleNamespace(
+            lines=("verdict: none",), report={"verdict": {"effect": "none"}}, files=()
+        )
 
-    mod = types.ModuleType("ecoplan.diagnose.pipeline")
-    mod.run_diagnose_cli = fake  # type: ignore[attr-defined]
-    monkeypatch.setitem(sys.modules, "ecoplan.diagnose.pipeline", mod)
+    monkeypatch.setattr(app_diagnose, "diagnose_logs", fake)
     log = tmp_path / "a.csv"
+    out_dir = tmp_path / "d"
     code = main(
-        [
-            "diagnose",
-            str(log),
-            "--vehicle",
-            "pioneer-3at",
-            "--json",
-            "g.json",
-            "--out",
-            str(tmp_path / "d"),
-        ]
+        ["diagnose", str(log), "--vehicle", "pioneer-3at", "--json", "-", "--out", str(out_dir)]
     )
     assert code == 0
-    defaults = {"topics_path": None, "bus_voltage_v": 24.0, "routes": None}
-    assert calls == [([str(log)], "pioneer-3at", None, "g.json", str(tmp_path / "d"), defaults)]
+    defaults = {"out_dir": out_dir, "topics_path": None, "bus_voltage_v": 24.0, "routes": None}
+    assert calls == [([str(log)], "pioneer-3at", None, defaults)]
+    # --json -: the JSON alone on stdout, the human lines on stderr
+    captured = capsys.readouterr()
+    assert json.loads(captured.out) == {"verdict": {"effect": "none"}}
+    assert "verdict: none" in captured.err
 
 
 def test_demo_writes_the_replay_report(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

@@ -19,10 +19,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from ecoplan.app.diagnose import diagnose_logs
 from ecoplan.app.run import simulate_case
 from ecoplan.app.scenario import load_scenario
 from ecoplan.diagnose.loop import load_corrected_model, save_corrected_model
-from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.io.logcsv import read_log_csv
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
@@ -95,5 +96,5 @@ def test_corrected_model_of_borealtc_flooring_gives_finite_energy(
 ) -> None:
     out = tmp_path / "out"
     logs = ["borealtc:FLOORING/00", "borealtc:FLOORING/01"]
-    assert run_diagnose_cli(logs, "husky-a200", terrain, None, str(out)) == 0
+    diagnose_logs(logs, "husky-a200", terrain, out_dir=out)
     _check_model_and_scenario(out, TURN)

@@ -14,6 +14,7 @@ from functools import cache
 import numpy as np
 import pytest
 
+from ecoplan.app.diagnose import diagnose_logs
 from ecoplan.diagnose.loop import (
     CorrectedModel,
     load_corrected_model,
@@ -21,7 +22,7 @@ from ecoplan.diagnose.loop import (
     ranking_change,
     save_corrected_model,
 )
-from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
@@ -45,11 +46,12 @@ def test_diagnosis_names_the_withheld_effect(effect: str) -> None:
     else:
         # a bounded regeneration on a tracked vehicle is a smaller non-regenerated term
         # (synth._expected_verdict): the calibration re-identifies k_nonregen_n, no effect
-        # is significant
+        # closes a material share of the gap (a candidate may nudge a gap at the noise floor by
+        # a few per cent: attribute's near-noise rule needs twice its 3 % minimum gain)
         assert effect == "regeneration"
         k_before, k_after = d.calibration.changed["k_nonregen_n"]
         assert k_after < 0.5 * k_before
-        assert not any(s.significant for s in d.attribution.scores)
+        assert all(s.reduction_pct < 6.0 for s in d.attribution.scores if s.significant)
     assert 0.0 <= d.attribution.confidence <= 1.0
 
 
@@ -107,16 +109,15 @@ def test_unknown_vehicle_and_effect_are_input_errors() -> None:
         diagnose(_log(), "auriga-beta-wide", effects=["gremlins"])
 
 
-def test_cli_back_end_writes_json_figures_and_a_loadable_model(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+def test_cli_back_end_writes_json_figures_and_a_loadable_model(tmp_path) -> None:  # type: ignore[no-untyped-def]
     case = generate_case(5, "sensor_delay", "large", n_waypoint_runs=1, rate_hz=20.0)
     paths = [str(p) for p in case.write(tmp_path / "logs")]
     out = tmp_path / "out"
-    code = run_diagnose_cli(paths, case.vehicle, case.terrain, str(tmp_path / "d.json"), str(out))
-    assert code == 0
-    text = capsys.readouterr().out
-    assert "verdict: sensor_delay" in text
-    obj = json.loads((tmp_path / "d.json").read_text())
-    assert obj["verdict"]["effect"] == "sensor_delay"
+    run = diagnose_logs(paths, case.vehicle, case.terrain, out_dir=out)
+    assert any(line.startswith("verdict: sensor_delay") for line in run.lines)
+    obj = json.loads((out / "diagnosis.json").read_text())
+    assert obj["verdict"]["effect"] == "sensor_delay" == run.report["verdict"]["effect"]
+    assert ("corrected model", out / "corrected_model.json") in run.files
     for name in ("residual_time.png", "candidates.png", "where.png", "residual_map.png"):
         assert (out / name).stat().st_size > 1000
     model = load_corrected_model(out / "corrected_model.json")
@@ -128,7 +129,7 @@ def test_cli_back_end_rejects_a_bad_log(tmp_path) -> None:  # type: ignore[no-un
     bad = tmp_path / "bad.csv"
     bad.write_text("t,v_left,v_right\n0,0,0\n1,0,0\n")
     with pytest.raises(InputError, match="p_total"):
-        run_diagnose_cli([str(bad)], "auriga-beta-wide", None, None, None)
+        diagnose_logs([str(bad)], "auriga-beta-wide")
 
 
 def test_corrected_model_round_trips_through_yaml_and_json(tmp_path) -> None:  # type: ignore[no-untyped-def]

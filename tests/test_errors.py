@@ -166,3 +166,16 @@ def test_power_of_bad_speeds_is_an_input_error(
     params = vehicle(name, None)
     with pytest.raises(InputError, match=message):
         params.power(v_left, v_right)  # type: ignore[arg-type]
+
+
+def test_only_the_command_line_prints() -> None:
+    # library code returns text; the CLI (and the console helper it prints through) prints it
+    allowed = {Path("cli.py"), Path("app/console.py")}
+    printing = sorted(
+        f"{path.relative_to(SRC)}:{node.lineno}"
+        for path in SRC.rglob("*.py")
+        if path.relative_to(SRC) not in allowed
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8")))
+        if isinstance(node, ast.Call) and ast.unparse(node.func) == "print"
+    )
+    assert printing == []

@@ -169,3 +169,4 @@ def test_the_report_shows_inertia_and_climbing(tmp_path: Path) -> None:
     assert grade_j == pytest.approx(mass * G * rise / eta, rel=1e-4)
     assert summary is not None
     assert (out / "breakdown.png").stat().st_size > 0
+    assert (out / "map.png").stat().st_size > 0  # with the elevation contours

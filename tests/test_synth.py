@@ -114,6 +114,19 @@ def test_waypoint_run_reaches_its_goals_within_limits() -> None:
     )
 
 
+def test_waypoint_runs_keep_eq_23s_constant_set_point_for_a_goal_abeam() -> None:
+    # goal 5 m to the left (phi_e = pi/2): eq. (23) as written keeps v_sp, saturated only
+    # by eq. (5) (V_max - y_l |w|), where a slow-down would command no forward speed
+    gain, v_sp = 0.8, 0.5
+    tr = waypoint_run(AURIGA, [(0.0, 5.0)], pose0=(0.0, 0.0, 0.0), speed_mps=v_sp, gain_per_s=gain)
+    icr = AURIGA.icr
+    w_top = AURIGA.top_track_speed_mps / icr.y_left_m  # eq. (6), symmetric ICRs
+    w = min(gain * math.pi / 2.0, w_top)
+    v = min(v_sp, AURIGA.top_track_speed_mps - icr.y_left_m * w)
+    assert 0.5 * (tr.cmd_left[1] + tr.cmd_right[1]) == pytest.approx(v, abs=1e-12)
+    assert (tr.cmd_right[1] - tr.cmd_left[1]) / icr.spread_m == pytest.approx(w, abs=1e-12)
+
+
 def test_a_batch_of_waypoint_runs_equals_the_runs_one_by_one() -> None:
     tasks = [
         WaypointTask(((6.0, 0.0), (6.0, 6.0)), (0.0, 0.0, 0.0), 0.5, 0.8),

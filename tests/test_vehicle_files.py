@@ -172,6 +172,51 @@ def test_bench_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFixtur
     assert "terrain.regions[0].terrain" in err and "'grass'" in err
 
 
+def test_vehicle_option_takes_a_corrected_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from ecoplan.cli import main
+
+    # the format of ecoplan.diagnose.loop.save_corrected_model, written by hand: the preset
+    # with a fitted speed-dependent resistance c (V_l^2 + V_r^2) / eta, c = 100 N s/m
+    model = tmp_path / "corrected_model.json"
+    model.write_text(
+        json.dumps(
+            {
+                "format": "ecoplan-corrected-model/1",
+                "vehicle": "auriga-beta-wide",
+                "terrain": "asphalt",
+                "kind": "tracked",
+                "params": {"k_resistance_n": 342.0, "p_powerup_w": 58.0},
+                "effect": {"name": "speed_dependent_resistance", "params": {"c_n_s_per_m": 100.0}},
+            }
+        )
+    )
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text(
+        "name: s\nvehicle: {preset: auriga-beta-wide}\n"
+        "map: {bounds: {min: [-1, -3], max: [21, 3]}}\n"
+        "start: {x: 0, y: 0}\nwaypoints: [[20, 0]]\nspeed: {v_mps: 0.5}\n"
+    )
+    energy, time_s, length_m = {}, 0.0, 0.0
+    for label, extra in (("preset", []), ("model", ["--vehicle", str(model)])):
+        js = tmp_path / f"{label}.json"
+        assert main(["simulate", str(scenario), "--json", str(js), "-q", *extra]) == 0
+        case = json.loads(js.read_text())["case"]
+        energy[label], time_s, length_m = case["energy_j"], case["time_s"], case["length_m"]
+    # the effect's energy 2 c / eta * integral of v^2 dt (both sides at v) over the run of
+    # T seconds and L metres (straight): at least 2 c / eta * L^2 / T (Cauchy-Schwarz), at
+    # most 2 c / eta * (0.5 m/s)^2 * T (v <= 0.5 m/s)
+    extra_j = energy["model"] - energy["preset"]
+    assert length_m > 18.0
+    assert 2 * 100.0 / 0.95 * length_m**2 / time_s * 0.999 <= extra_j
+    assert extra_j <= 2 * 100.0 / 0.95 * 0.25 * time_s
+    # a corrected model keeps its terrain: another one is one line, exit 2
+    scenario.write_text(scenario.read_text() + "terrain: marble\n")
+    assert main(["simulate", str(scenario), "--vehicle", str(model)]) == 2
+    assert "calibrated on 'asphalt'" in capsys.readouterr().err
+
+
 def test_diagnose_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from ecoplan.cli import main
     from ecoplan.dynamics.log import Log

@@ -16,7 +16,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.pipeline import diagnose, run_diagnose_cli
+from ecoplan.app.diagnose import diagnose_logs
+from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import to_json_dict
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.where_time import where_time, write_where_time_csv
@@ -98,7 +99,7 @@ def test_cli_out_writes_where_time_files(tmp_path) -> None:  # type: ignore[no-u
     case = generate_case(1, "none", "large", n_waypoint_runs=1, rate_hz=10.0)
     paths = [str(p) for p in case.write(tmp_path / "logs")]
     out = tmp_path / "out"
-    assert run_diagnose_cli(paths, case.vehicle, case.terrain, None, str(out)) == 0
+    diagnose_logs(paths, case.vehicle, case.terrain, out_dir=out)
     assert (out / "where_time.csv").read_text().startswith("run,t_start_s,t_end_s,excess_w")
     assert (out / "where_time.png").stat().st_size > 1000
 

@@ -1,8 +1,10 @@
 """ecoplan: energy-aware path planning for skid-steer mobile robots.
 
-The package is layered (lower layers never import upper ones)::
+The package is layered; a layer imports only the layers before it (``.importlinter``, checked
+by ``lint-imports`` in ``make test``; the README's "What is in the box" says what each holds)::
 
-    presets, models/  ->  cost  ->  planning/, sim/  ->  diagnose/  ->  scenario, cli
+    errors, _typing -> models/ -> presets -> dynamics/ -> geometry/ -> energy/ | sim/
+      -> planning/ -> io/ -> diagnose/ -> synth/ | experiments/ -> app/ -> cli
 
 Frames follow ROS REP-103 (x forward, y left, yaw counter-clockwise).  The
 tracked paper (Morales et al. 2009) uses a local frame with Y forward and X to

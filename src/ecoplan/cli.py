@@ -257,10 +257,10 @@ def _cmd_compare(args: argparse.Namespace) -> int:
 
 def _cmd_diagnose(args: argparse.Namespace) -> int:
     try:
-        from ecoplan.diagnose.pipeline import run_diagnose_cli
+        from ecoplan.app.diagnose import diagnose_logs
     except ImportError:
         raise EcoplanError(
-            "diagnosis is not available in this build (ecoplan.diagnose.pipeline)"
+            "diagnosis is not available in this build (ecoplan.app.diagnose)"
         ) from None
     if args.json is not None and args.json != "-":
         target = Path(args.json)
@@ -271,6 +271,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
                 f"--json {target}: expected a new .json file name (it would overwrite a log or "
                 "another file); put --json FILE after the logs"
             )
+    out = _out(args)
     folder = _prepare(args)
     routes = None
     if args.scenario is not None:  # checked before the diagnosis starts
@@ -278,19 +279,23 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 
         routes = candidate_routes(args.scenario, args.vehicle, args.terrain)
     with contextlib.nullcontext() if folder is None else folder.recording():
-        code = run_diagnose_cli(
+        run = diagnose_logs(
             [str(p) for p in args.logs],
             args.vehicle,
             args.terrain,
-            args.json,
-            None if folder is None else str(folder.path),
+            out_dir=None if folder is None else folder.path,
             topics_path=None if args.topics is None else str(args.topics),
             bus_voltage_v=args.bus_voltage,
             routes=routes,
         )
+    for line in run.lines:
+        out.say(line)
+    for what, path in run.files:
+        out.say(f"{what}: {path}")
+    out.emit(run.report)  # --json -: the JSON alone on stdout, the lines above on stderr
     if folder is not None:
         folder.finish()
-    return int(code)
+    return 0
 
 
 def _cmd_identify(args: argparse.Namespace) -> int:
@@ -395,7 +400,8 @@ def _vehicle_option(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--vehicle",
         metavar="FILE",
-        help="drive this vehicle file (or preset) instead of the scenario's vehicle",
+        help="drive this vehicle file, corrected model (.json) or preset instead of the "
+        "scenario's vehicle",
     )
 
 

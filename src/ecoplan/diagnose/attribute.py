@@ -19,10 +19,13 @@
 * **Verdict**: ``none`` when the calibrated model's held-out gap is below 0.2 % of the mean
   logged power, or no candidate reduces the gap significantly and the gap is not model error:
   not ``GAP_OVER_FLOOR`` above the noise floor, or its prewhitened residual white (Ljung-Box)
-  while under ``FAR_OVER_FLOOR`` times the floor; ``unexplained`` when the gap is model error
-  but no candidate reduces it significantly, or the best closes less than 80 % of it above the
-  noise floor; ``ambiguous`` when the two best are tied and cannot be told apart; otherwise the
-  best candidate's name.
+  while under ``FAR_OVER_FLOOR`` times the floor.  A significant candidate is named only if the
+  residual after it is near the noise: it closes 80 % of the gap above the floor, or -- for a
+  gap under ``SMALL_GAP`` times the floor, where that share is poorly resolved -- it leaves no
+  more than a clean log's gap and reduces the gap by twice the minimum gain.  Otherwise
+  ``none`` (unsure) when the gap is at the floor, ``unexplained`` when it is model error that
+  the library does not close.  ``ambiguous`` when the two best are tied and cannot be told
+  apart.
 """
 
 from __future__ import annotations
@@ -467,6 +470,8 @@ KINEMATIC = ("actuator_lag", "icr_asymmetry")
 GAP_OVER_FLOOR = 0.25
 #: A held-out gap this many times the noise floor is model error whatever its colour [-].
 FAR_OVER_FLOOR = 1.5
+#: A held-out gap below this many times the noise floor is small: its closed share is noisy [-].
+SMALL_GAP = 1.3
 
 
 def _score(
@@ -658,6 +663,7 @@ def attribute(
         len(candidates),
         material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
         phi,
+        min_gain,
     )
     pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
@@ -720,6 +726,7 @@ def _power_verdict(
     n_cand: int,
     material_w: float = 0.0,
     phi: float = 0.0,
+    min_gain: float = 0.03,
 ) -> tuple[str, float, tuple[str, ...], float, float, FloatArray]:
     """Verdict from the power channel alone (see the module docstring)."""
     dec = _decimation(test.frame)
@@ -747,7 +754,20 @@ def _power_verdict(
     r_best = residuals[best.name]
     explained = float(min(max(best.reduction / max(before - floor, 1e-9), 0.0), 1.0))
     _, lb_p = ljung_box(r_best, decimate=dec)
-    if explained < explain_min:
+    # named only if the residual after it is near the noise: most of the gap above the floor
+    # closed, or -- for a small gap, where that share is poorly resolved -- what is left no
+    # more above the floor than a clean log's gap may be
+    # (and a reduction twice the minimum gain: a small gap is easily nudged by a spurious fit)
+    near_noise = (
+        before <= SMALL_GAP * floor
+        and best.after <= (1.0 + GAP_OVER_FLOOR) * floor
+        and best.reduction >= 2.0 * min_gain * before
+    )
+    if explained < explain_min and not near_noise:
+        if before < (1.0 + GAP_OVER_FLOOR) * floor:
+            # a gap at the noise floor nudged by a candidate: no model error worth a name, and
+            # `none` only as sure as the candidate's reduction is noise
+            return "none", min(best.p_value * n_cand, 1.0), (), lb_p, 0.0, r0
         return "unexplained", 1.0 - explained, (), lb_p, explained, r_best
     # sure of the name only when no other candidate closes much of the same gap: the margin
     # over the runner-up scales the significance (half the best's reduction costs nothing)

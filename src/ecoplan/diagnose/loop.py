@@ -221,8 +221,9 @@ def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
 
     The file is checked against :class:`~ecoplan.diagnose.corrected_file.CorrectedModelFile`,
     then the parameters by the vehicle's parameter class, the effect's name against the
-    library, and the model is evaluated once on a short drive so that an effect parameter the
-    effect needs and the file lacks is reported here rather than when the model is used.
+    library and its parameters against the effect's declared ones
+    (:attr:`ecoplan.diagnose.effects.Effect.parameters`): a required one missing is reported
+    here rather than when the model is used.
 
     Parameters
     ----------
@@ -259,23 +260,16 @@ def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
     except InputError as exc:
         raise error_at(source, lines, ("params",), str(exc)) from None
     name = spec.effect.name
+    eparams = {k: (math.inf if v is None else v) for k, v in spec.effect.params.items()}
     try:
-        make_effect(name)
+        effect = make_effect(name)
     except InputError as exc:
         raise error_at(source, lines, ("effect", "name"), str(exc)) from None
-    eparams = {k: (math.inf if v is None else v) for k, v in spec.effect.params.items()}
-    model = CorrectedModel(spec.vehicle, spec.terrain, params, name, eparams)
-    t = np.linspace(0.0, 1.0, 5)
-    drive = np.full(t.shape, 0.5 * params.top_track_speed_mps)
     try:
-        model.trajectory_power(t, drive, 0.5 * drive)
-    except KeyError as exc:
-        raise error_at(
-            source, lines, ("effect", "params"), f"effect {name!r} needs the parameter {exc}"
-        ) from None
-    except InputError as exc:  # the effect class names the missing or out-of-range parameter
+        type(effect).values(eparams)  # every required parameter is given
+    except InputError as exc:
         raise error_at(source, lines, ("effect", "params"), str(exc)) from None
-    return model
+    return CorrectedModel(spec.vehicle, spec.terrain, params, name, eparams)
 
 
 def polyline_trajectory(

@@ -16,17 +16,15 @@ Steps, each in its module:
    the log can tell the candidates apart, and how far the gap shrinks;
 5. :mod:`~ecoplan.diagnose.report` — text, plots and JSON; :mod:`~ecoplan.diagnose.loop` —
    the corrected model written to a file.
+
+The result is a :class:`~ecoplan.diagnose.result.Diagnosis`.  The command ``ecoplan diagnose``
+(log files in, report folder out) is :mod:`ecoplan.app.diagnose`.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import json
-import math
-import sys
-from collections.abc import Mapping, Sequence
-from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -34,7 +32,7 @@ from ecoplan._typing import RngLike
 from ecoplan.diagnose.attribute import attribute, block_bootstrap, split_masks
 from ecoplan.diagnose.calibrate import calibrate
 from ecoplan.diagnose.checks import check_logs
-from ecoplan.diagnose.effects import EffectData, prepare
+from ecoplan.diagnose.effects import prepare
 from ecoplan.diagnose.localise import (
     by_regime,
     over_space,
@@ -51,10 +49,7 @@ from ecoplan.diagnose.where_time import where_time
 from ecoplan.errors import InputError
 from ecoplan.presets import VehicleParams, vehicle
 
-if TYPE_CHECKING:
-    from ecoplan.diagnose.loop import Route
-
-__all__ = ["diagnose", "run_diagnose_cli"]
+__all__ = ["diagnose"]
 
 
 def _rng(rng: RngLike) -> np.random.Generator:
@@ -167,96 +162,3 @@ def diagnose(
         all_run=frame.run,
         all_residual_w=r_all,
     )
-
-
-def _effect_data(d: Diagnosis) -> EffectData:
-    return prepare(d.test_frame, d.calibration.params, prior=d.preset)
-
-
-def run_diagnose_cli(
-    log_paths: list[str],
-    vehicle: str,
-    terrain: str | None,
-    json_path: str | None,
-    out_dir: str | None,
-    *,
-    topics_path: str | None = None,
-    bus_voltage_v: float = 24.0,
-    routes: Mapping[str, Route] | None = None,
-) -> int:
-    """Back end of ``ecoplan diagnose LOG [LOG ...] --vehicle PRESET [--terrain PRESET]``.
-
-    Reads the logs, prints the text summary, writes the JSON (``--json FILE``; ``--json -``
-    prints it on stdout and the text on stderr) and the figures, ``report.md``, ``where_time``
-    CSV and corrected model (``--out``).  Bad input raises :class:`~ecoplan.errors.InputError`
-    subclasses (exit code 2 in the CLI).
-
-    ``topics_path`` is the topic map of ROS 2 bags (``--topics``), ``bus_voltage_v`` the bus
-    voltage assumed for BorealTC runs (``--bus-voltage``).  With ``routes`` (candidate routes of
-    a scenario, ``--scenario``) the energy ranking of the routes under the preset and under the
-    corrected model is printed (:func:`ecoplan.diagnose.loop.ranking_change`), added to the JSON
-    as the extra key ``ranking`` and written to ``ranking.json`` in ``out_dir``.
-
-    Returns
-    -------
-    int
-        Exit code (0).
-    """
-    from ecoplan.diagnose.loop import corrected_model, ranking_change, save_corrected_model
-    from ecoplan.diagnose.report import (
-        json_report,
-        save_figures,
-        save_where_time,
-        summary,
-        write_json,
-    )
-    from ecoplan.diagnose.report_md import write_report_md
-    from ecoplan.io.logs import read_logs
-    from ecoplan.io.rosbag import load_topic_map
-
-    if not log_paths:
-        raise InputError("no log file given")
-    if not (math.isfinite(bus_voltage_v) and bus_voltage_v > 0.0):
-        raise InputError(f"--bus-voltage must be a positive number of volts, got {bus_voltage_v}")
-    topic_map = load_topic_map(topics_path) if topics_path is not None else None
-    logs = read_logs(log_paths, topic_map=topic_map, bus_voltage_v=bus_voltage_v)
-    if vehicle.endswith((".yaml", ".yml")) or Path(vehicle).is_file():  # a vehicle file
-        from ecoplan.io.vehicles import load_vehicle
-
-        d = diagnose(logs, load_vehicle(vehicle).params(terrain), terrain)
-    else:
-        d = diagnose(logs, vehicle, terrain)
-    # with --json - the JSON is the only thing on stdout; the text goes to stderr
-    text = sys.stderr if json_path == "-" else sys.stdout
-    print(summary(d), file=text)
-    extra: dict[str, Any] = {}
-    if routes is not None:
-        rc = ranking_change(routes, corrected_model(d))
-        print("route ranking under the preset and the corrected model:", file=text)
-        print(rc.summary(), file=text)
-        extra["ranking"] = {
-            "routes": [
-                {"name": n, "energy_preset_j": float(eb), "energy_corrected_j": float(ec)}
-                for n, eb, ec in zip(rc.names, rc.energy_base_j, rc.energy_corrected_j, strict=True)
-            ],
-            "rank_preset": rc.rank_base,
-            "rank_corrected": rc.rank_corrected,
-            "changed": rc.changed,
-            "best_changed": rc.best_changed,
-        }
-    if json_path == "-":
-        print(json.dumps(json_report(d, extra), indent=2))
-    elif json_path is not None:
-        write_json(d, json_path, extra)
-    if out_dir is not None:
-        out = Path(out_dir)
-        out.mkdir(parents=True, exist_ok=True)
-        write_json(d, out / "diagnosis.json", extra)
-        if "ranking" in extra:
-            (out / "ranking.json").write_text(json.dumps(extra["ranking"], indent=2))
-        for p in [*save_figures(d, out), *save_where_time(d, out)]:
-            print(f"figure: {p}", file=text)
-        path = save_corrected_model(d, out / "corrected_model.json")
-        print(f"corrected model: {path}", file=text)
-        print(f"report: {write_report_md(d, out / 'report.md', extra)}", file=text)
-    return 0

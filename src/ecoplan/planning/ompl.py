@@ -547,8 +547,8 @@ def plan_ompl(
     start: ArrayLike,
     goal: ArrayLike,
     cost: CostObjective,
-    options: OmplOptions | None = None,
     *,
+    options: OmplOptions | None = None,
     initial_heading_rad: float | None = None,
 ) -> PlanResult:
     """Plan with an OMPL planner: the functional form of :meth:`OmplPlanner.plan`.

@@ -267,19 +267,18 @@ def waypoint_runs(
 ) -> list[Trajectory]:
     """A->B runs under the heading controller of the tracked paper §IV, eq. (23), closed loop.
 
-    Eq. (23) as the paper writes it, at a constant set point (``slowdown_heading_rad=None``:
-    the blind cases were built and their seeds checked on it; ``max_duration_s`` bounds a
-    run that orbits a goal).
-
     The controller is :class:`~ecoplan.dynamics.controller.WaypointFollower` (``w_sp = G
     phi_e``, saturated by eqs. 5-6, tracks by eq. 4; power-limited turning for a wheeled
     vehicle) with the controller's ICRs -- the nominal ones: it does not know an
-    asymmetry.  The step loop is :func:`~ecoplan.dynamics.rollout.rollout`, all runs in one
+    asymmetry.  It is eq. (23) as written, at a constant set point
+    (``slowdown_heading_rad=None``): the blind cases are logs of the paper's controller,
+    and the orbit of a goal abeam that the slow-down prevents ends at ``max_duration_s``
+    at worst.  The step loop is :func:`~ecoplan.dynamics.rollout.rollout`, all runs in one
     batch: the drive law (acceleration limit, lag ``tau_s``) and the pose from the true
-    ICRs, the speeds ramping linearly over each step (``hold="mean"``).  The next way point
-    is taken within ``switch_radius_m``; at the last one the commands go to zero.  Each
-    log starts with one sample at rest before the first command and ends 1 s after the
-    robot stops.
+    ICRs, the speeds ramping linearly over each step (``hold="mean"``).  The next way
+    point is taken within ``switch_radius_m``; at the last one the commands go to zero.
+    Each log starts with one sample at rest before the first command and ends 1 s after
+    the robot stops.
 
     Parameters
     ----------
@@ -315,7 +314,7 @@ def waypoint_runs(
                 task.speed_mps,
                 switch_radius_m,
                 power_limited=True,
-                slowdown_heading_rad=None,  # eq. (23) as the paper writes it
+                slowdown_heading_rad=None,
             )
             for task in tasks
         ],

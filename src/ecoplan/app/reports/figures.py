@@ -62,6 +62,24 @@ def _flat(colour: str) -> Any:
     return ListedColormap([colour])
 
 
+def _draw_contours(ax: Any, sc: Scenario, handles: list[Any]) -> None:
+    """Contour lines of the scenario's ground elevation, labelled in metres."""
+    from matplotlib.lines import Line2D
+
+    assert sc.elevation is not None
+    x0, y0, x1, y1 = sc.bounds.bounds
+    xs, ys = np.meshgrid(np.linspace(x0, x1, 200), np.linspace(y0, y1, 200))
+    z = sc.elevation(xs, ys)
+    span = float(np.ptp(z))
+    if span < 1e-6:
+        return
+    step = float(10.0 ** np.floor(np.log10(span / 4.0)))  # about 4-40 lines
+    levels = np.arange(np.ceil(z.min() / step) * step, z.max() + 1e-9, step)
+    cs = ax.contour(xs, ys, z, levels=levels, colors="#6b4f2a", linewidths=0.7, zorder=1.5)
+    ax.clabel(cs, fontsize=7, fmt="%g m")
+    handles.append(Line2D([], [], color="#6b4f2a", linewidth=0.7, label="elevation [m]"))
+
+
 def _draw_world(ax: Any, sc: Scenario) -> None:
     from matplotlib.patches import Patch
     from matplotlib.patches import Polygon as MplPolygon
@@ -110,6 +128,8 @@ def _draw_world(ax: Any, sc: Scenario) -> None:
             MplPolygon(np.asarray(obs.exterior.coords), facecolor="#3b3b3b", edgecolor="black")
         )
     handles.append(Patch(facecolor="#3b3b3b", label="obstacle"))
+    if sc.elevation is not None:  # terrain.elevation: contour lines every metre or so
+        _draw_contours(ax, sc, handles)
     ax.plot([x0, x1, x1, x0, x0], [y0, y0, y1, y1, y0], color="black", linewidth=1.0)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)

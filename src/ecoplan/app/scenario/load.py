@@ -129,17 +129,20 @@ def with_waypoints(sc: Scenario, points: Sequence[Sequence[float]]) -> Scenario:
 
 
 def with_vehicle(sc: Scenario, vehicle: str | Path) -> Scenario:
-    """The scenario with another vehicle: a vehicle file or a preset name (``--vehicle``).
+    """The scenario with another vehicle: a vehicle file, a corrected model or a preset.
 
     The scenario's overrides belong to its own vehicle and are dropped; its terrains
-    (default and regions) must exist in the new vehicle's terrain table.
+    (default and regions) must exist in the new vehicle's terrain table.  A corrected
+    model (``corrected_model.json`` of ``ecoplan diagnose --out``) drives on the terrain
+    it was calibrated on, so the scenario must give no other terrain and no regions.
 
     Parameters
     ----------
     sc : Scenario
         A loaded scenario.
     vehicle : str or Path
-        A vehicle file (``husky.yaml``, relative to the working directory) or a preset.
+        A vehicle file (``husky.yaml``), a corrected model (``*.json``), both relative to
+        the working directory, or a preset.
 
     Returns
     -------
@@ -153,7 +156,9 @@ def with_vehicle(sc: Scenario, vehicle: str | Path) -> Scenario:
     text = str(vehicle)
     path = Path(text).expanduser()
     data = sc.spec.model_dump(exclude_none=True)
-    if path.exists() or text.endswith((".yaml", ".yml")):
+    if text.lower().endswith(".json"):
+        data["vehicle"] = {"model": str(path.resolve())}
+    elif path.exists() or text.endswith((".yaml", ".yml")):
         data["vehicle"] = {"file": str(path.resolve())}
     else:
         data["vehicle"] = {"preset": text}

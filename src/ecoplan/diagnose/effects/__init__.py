@@ -42,6 +42,7 @@ from ecoplan.diagnose.effects.base import (
     Parameter,
     Params,
     Session,
+    base_power_w,
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData, effect_base_design, prepare, subsample
@@ -94,6 +95,7 @@ __all__ = [
     "TerrainChange",
     "TerrainPatch",
     "TrackTensionStep",
+    "base_power_w",
     "effect_base_design",
     "effect_class",
     "effect_names",

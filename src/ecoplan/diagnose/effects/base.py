@@ -49,8 +49,14 @@ __all__ = [
     "Params",
     "ScalarSearch",
     "Session",
+    "base_power_w",
     "eta_of",
 ]
+
+
+def base_power_w(vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray) -> FloatArray:
+    """The base model's electrical power ``P0`` at the side speeds, without any effect [W]."""
+    return np.asarray(vehicle.power(v_left, v_right).total_w, dtype=np.float64)
 
 
 #: An effect's parameters by name (:attr:`Effect.parameters`).
@@ -242,7 +248,7 @@ class Session:
         """The session of base trajectories on a vehicle."""
         t_all = np.concatenate([tr.t for tr in trajectories])
         p_base = np.concatenate(
-            [np.asarray(vehicle.power(tr.v_left, tr.v_right).total_w) for tr in trajectories]
+            [base_power_w(vehicle, tr.v_left, tr.v_right) for tr in trajectories]
         )
         moving = np.concatenate(
             [(np.abs(tr.v_left) + np.abs(tr.v_right)) > 1e-3 for tr in trajectories]
@@ -356,7 +362,7 @@ class Effect:
         v_right: FloatArray,
     ) -> FloatArray:
         """Steady-state power ``P(v_l, v_r)`` with the effect [W] (:attr:`steady` effects)."""
-        return np.asarray(vehicle.power(v_left, v_right).total_w, dtype=np.float64)
+        return base_power_w(vehicle, v_left, v_right)
 
     @classmethod
     def apply(cls, params: Params, vehicle: VehicleParams, motion: MotionLike) -> FloatArray:

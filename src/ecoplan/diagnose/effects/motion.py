@@ -25,6 +25,7 @@ from ecoplan.diagnose.effects.base import (
     Params,
     ScalarSearch,
     Session,
+    base_power_w,
     eta_of,
 )
 from ecoplan.diagnose.effects.data import (
@@ -58,7 +59,7 @@ class Inertia(Effect):
         cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         m, inertia = cls.values(params)
-        p0 = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
+        p0 = base_power_w(vehicle, motion.v_left, motion.v_right)
         return p0 + (m * motion.vx * motion.ax + inertia * motion.wz * motion.alpha) / eta_of(
             vehicle
         )

@@ -16,14 +16,18 @@ import math
 import numpy as np
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.effects.base import Effect, MotionLike, Parameter, Params, Session, eta_of
+from ecoplan.diagnose.effects.base import (
+    Effect,
+    MotionLike,
+    Parameter,
+    Params,
+    Session,
+    base_power_w,
+    eta_of,
+)
 from ecoplan.presets import VehicleParams
 
 __all__ = ["PeriodicDisturbance", "SpikeTrain", "TrackTensionStep"]
-
-
-def _base_w(vehicle: VehicleParams, motion: MotionLike) -> FloatArray:
-    return np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
 
 
 class PeriodicDisturbance(Effect):
@@ -42,7 +46,9 @@ class PeriodicDisturbance(Effect):
         cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         amp, period, phase = cls.values(params)
-        return _base_w(vehicle, motion) + amp * np.sin(2.0 * math.pi * motion.t / period + phase)
+        return base_power_w(vehicle, motion.v_left, motion.v_right) + amp * np.sin(
+            2.0 * math.pi * motion.t / period + phase
+        )
 
     @classmethod
     def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102
@@ -107,7 +113,7 @@ class SpikeTrain(Effect):
         out = np.zeros(t.size)
         for start in t[0] + g.uniform(0.0, span, n):
             out[(t >= start) & (t < start + width_s)] += amp_w
-        return _base_w(vehicle, motion) + out
+        return base_power_w(vehicle, motion.v_left, motion.v_right) + out
 
     @classmethod
     def draw(cls, draws: Params, session: Session) -> dict[str, float]:  # noqa: D102

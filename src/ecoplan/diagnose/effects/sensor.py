@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.effects.base import MotionLike, Parameter, Params, ScalarSearch
+from ecoplan.diagnose.effects.base import MotionLike, Parameter, Params, ScalarSearch, base_power_w
 from ecoplan.diagnose.effects.data import EffectData, segments
 from ecoplan.presets import VehicleParams
 
@@ -35,7 +35,7 @@ class SensorDelay(ScalarSearch):
     ) -> FloatArray:
         (delay,) = cls.values(params)
         t = motion.t
-        p = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
+        p = base_power_w(vehicle, motion.v_left, motion.v_right)
         return np.asarray(np.interp(t - delay, t, p, left=p[0], right=p[-1]), dtype=np.float64)
 
     def _bounds(self, data: EffectData) -> tuple[float, float]:

@@ -25,6 +25,7 @@ from ecoplan.diagnose.effects.base import (
     Params,
     ScalarSearch,
     Session,
+    base_power_w,
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData
@@ -134,7 +135,7 @@ class PowerSaturation(ScalarSearch):
         cls, params: Params, vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray
     ) -> FloatArray:
         (p_max,) = cls.values(params)
-        p0 = np.asarray(vehicle.power(v_left, v_right).total_w, dtype=np.float64)
+        p0 = base_power_w(vehicle, v_left, v_right)
         return np.asarray(np.minimum(p0, p_max), dtype=np.float64)
 
     @classmethod
@@ -203,7 +204,7 @@ class EfficiencyDrift(Effect):
         cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         rate, t0 = cls.values(params)
-        p0 = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
+        p0 = base_power_w(vehicle, motion.v_left, motion.v_right)
         return np.asarray(p0 / (1.0 + rate * (motion.t - t0)), dtype=np.float64)
 
     @classmethod

@@ -20,7 +20,15 @@ from typing import Any
 import numpy as np
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.effects.base import Effect, MotionLike, Parameter, Params, Session, eta_of
+from ecoplan.diagnose.effects.base import (
+    Effect,
+    MotionLike,
+    Parameter,
+    Params,
+    Session,
+    base_power_w,
+    eta_of,
+)
 from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.diagnose.replay import Frame
 from ecoplan.errors import InputError
@@ -255,7 +263,7 @@ class Slope(Effect):
         cls, params: Params, vehicle: VehicleParams, motion: MotionLike
     ) -> FloatArray:
         grade, up = cls.values(params)
-        p0 = np.asarray(vehicle.power(motion.v_left, motion.v_right).total_w, dtype=np.float64)
+        p0 = base_power_w(vehicle, motion.v_left, motion.v_right)
         c, s = np.cos(motion.yaw), np.sin(motion.yaw)
         xd, yd = motion.vx * c - motion.vy * s, motion.vx * s + motion.vy * c
         v_up = xd * math.cos(up) + yd * math.sin(up)
@@ -292,7 +300,7 @@ class SpeedDependentResistance(Effect):
         cls, params: Params, vehicle: VehicleParams, v_left: FloatArray, v_right: FloatArray
     ) -> FloatArray:
         (c,) = cls.values(params)
-        p0 = np.asarray(vehicle.power(v_left, v_right).total_w, dtype=np.float64)
+        p0 = base_power_w(vehicle, v_left, v_right)
         return p0 + c * (v_left**2 + v_right**2) / eta_of(vehicle)
 
     @classmethod
