@@ -12,8 +12,8 @@ from typing import Any
 import pytest
 
 from ecoplan.cli import main
+from ecoplan.diagnose.corrected import load_corrected_model, save_corrected_model
 from ecoplan.diagnose.corrected_file import FORMAT, CorrectedModelFile
-from ecoplan.diagnose.loop import load_corrected_model, save_corrected_model
 from ecoplan.errors import InputError
 
 GOOD: dict[str, Any] = {

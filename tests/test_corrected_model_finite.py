@@ -22,7 +22,7 @@ import pytest
 from ecoplan.app.diagnose import diagnose_logs
 from ecoplan.app.run import simulate_case
 from ecoplan.app.scenario import load_scenario
-from ecoplan.diagnose.loop import load_corrected_model, save_corrected_model
+from ecoplan.diagnose.corrected import load_corrected_model, save_corrected_model
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.io.logcsv import read_log_csv
 from ecoplan.presets import vehicle

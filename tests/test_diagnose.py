@@ -15,14 +15,9 @@ import numpy as np
 import pytest
 
 from ecoplan.app.diagnose import diagnose_logs
-from ecoplan.diagnose.loop import (
-    CorrectedModel,
-    load_corrected_model,
-    polyline_trajectory,
-    ranking_change,
-    save_corrected_model,
-)
+from ecoplan.diagnose.corrected import CorrectedModel, load_corrected_model, save_corrected_model
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.ranking import polyline_trajectory, ranking_change
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from scipy.optimize import least_squares
 
+from ecoplan.diagnose.corrected import CorrectedModel
 from ecoplan.diagnose.effects import (
     EFFECTS,
     OUTSIDE_EFFECTS,
@@ -26,7 +27,6 @@ from ecoplan.diagnose.effects import (
     prepare,
     robust_scale,
 )
-from ecoplan.diagnose.loop import CorrectedModel
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError

@@ -203,7 +203,7 @@ def test_case_is_picklable_for_worker_processes() -> None:
 
 
 def _corrected_model_file(path: Path, effect: dict[str, object]) -> Path:
-    # the format of ecoplan.diagnose.loop.save_corrected_model, written by hand
+    # the format of ecoplan.diagnose.corrected.save_corrected_model, written by hand
     path.write_text(
         json.dumps(
             {
@@ -220,7 +220,7 @@ def _corrected_model_file(path: Path, effect: dict[str, object]) -> Path:
 
 
 def test_a_corrected_model_from_diagnosis_drives_the_scenario(tmp_path: Path) -> None:
-    pytest.importorskip("ecoplan.diagnose.loop")
+    pytest.importorskip("ecoplan.diagnose.corrected")
     _corrected_model_file(
         tmp_path / "model.json",
         {"name": "speed_dependent_resistance", "params": {"c_n_s_per_m": 100.0}},
@@ -252,7 +252,7 @@ def test_corrected_model_errors_name_the_line(tmp_path: Path) -> None:
     base += "start: {x: 1, y: 1}\nwaypoints: [[8, 8]]\n"
     with pytest.raises(ScenarioError, match=r":2: vehicle.model: no such corrected-model file"):
         parse_scenario(base % (tmp_path / "absent.json", ""))
-    pytest.importorskip("ecoplan.diagnose.loop")
+    pytest.importorskip("ecoplan.diagnose.corrected")
     bad = tmp_path / "bad.json"
     bad.write_text('{"format": "something else"}')
     with pytest.raises(ScenarioError, match=r":2: vehicle.model: .*format"):

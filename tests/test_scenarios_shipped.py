@@ -244,7 +244,11 @@ def test_a_simulated_run_goes_through_ecoplan_diagnose(
     tmp_path: Path,
     capsys: pytest.CaptureFixture[str],
 ) -> None:
-    for module in ("ecoplan.diagnose.pipeline", "ecoplan.diagnose.loop", "ecoplan.diagnose.report"):
+    for module in (
+        "ecoplan.diagnose.pipeline",
+        "ecoplan.diagnose.corrected",
+        "ecoplan.diagnose.report",
+    ):
         pytest.importorskip(module)
     out_dir, _ = runs("ab_obstacle")
     saved = json.loads((out_dir / "summary.json").read_text())["cases"]

@@ -177,7 +177,7 @@ def test_vehicle_option_takes_a_corrected_model(
 ) -> None:
     from ecoplan.cli import main
 
-    # the format of ecoplan.diagnose.loop.save_corrected_model, written by hand: the preset
+    # the format of ecoplan.diagnose.corrected.save_corrected_model, written by hand: the preset
     # with a fitted speed-dependent resistance c (V_l^2 + V_r^2) / eta, c = 100 N s/m
     model = tmp_path / "corrected_model.json"
     model.write_text(

@@ -15,8 +15,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ecoplan.diagnose.loop import Route, corrected_model, ranking_change, save_corrected_model
+from ecoplan.diagnose.corrected import corrected_model, save_corrected_model
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.ranking import Route, ranking_change
 from ecoplan.diagnose.report import (
     json_report,
     save_figures,
@@ -115,7 +116,7 @@ def diagnose_logs(
         Bus voltage assumed for BorealTC runs (``--bus-voltage``) [V].
     routes : mapping of str to route, optional
         Candidate routes of a scenario (``--scenario``): their energy ranking under the preset
-        and the corrected model (:func:`ecoplan.diagnose.loop.ranking_change`) goes into the
+        and the corrected model (:func:`ecoplan.diagnose.ranking.ranking_change`) goes into the
         lines and into the JSON as the extra key ``ranking``.
 
     Returns

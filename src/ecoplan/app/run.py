@@ -598,7 +598,7 @@ def candidate_routes(
     Each case of the scenario (its ``compare`` variants, or the scenario itself) is
     planned (or takes its fixed waypoints), with the planner's alternatives when it
     returns several; every route is driven turn-on-the-spot then straight at the case's
-    speed (:func:`ecoplan.diagnose.loop.polyline_trajectory`) by the diagnosed vehicle.
+    speed (:func:`ecoplan.diagnose.ranking.polyline_trajectory`) by the diagnosed vehicle.
 
     Parameters
     ----------
@@ -620,7 +620,7 @@ def candidate_routes(
         The scenario drives another vehicle, or gives fewer than two routes.
     """
     from ecoplan.app.scenario import load_scenario
-    from ecoplan.diagnose.loop import polyline_trajectory
+    from ecoplan.diagnose.ranking import polyline_trajectory
 
     sc = load_scenario(scenario)
     if sc.vehicle_name != vehicle:

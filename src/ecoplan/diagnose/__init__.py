@@ -15,7 +15,8 @@ Modules, in the order of the pipeline:
 * :mod:`ecoplan.diagnose.pipeline` -- :func:`~ecoplan.diagnose.pipeline.diagnose`, the steps
   above in order;
 * :mod:`ecoplan.diagnose.result` -- :class:`~ecoplan.diagnose.result.Diagnosis`, what it returns;
-* :mod:`ecoplan.diagnose.loop` -- the corrected model and the route ranking under it;
+* :mod:`ecoplan.diagnose.corrected` -- the corrected model; :mod:`ecoplan.diagnose.ranking` --
+  whether it changes which route is cheapest;
   :mod:`ecoplan.diagnose.corrected_file` -- its file (format tag, schema, reader);
 * :mod:`ecoplan.diagnose.report` -- text summary, figures, JSON (and its schema);
   :mod:`ecoplan.diagnose.report_md` -- ``report.md``.

@@ -1,7 +1,7 @@
 r"""The corrected-model file: its format tag, its schema (pydantic) and its reader.
 
-:func:`ecoplan.diagnose.loop.save_corrected_model` writes the file and
-:func:`ecoplan.diagnose.loop.load_corrected_model` builds the model from what
+:func:`ecoplan.diagnose.corrected.save_corrected_model` writes the file and
+:func:`ecoplan.diagnose.corrected.load_corrected_model` builds the model from what
 :func:`read_corrected_model_file` returns.  JSON is read as YAML (JSON is a subset of it), so
 both suffixes get the YAML reader's safety limits and line numbers::
 

@@ -14,7 +14,7 @@ Steps, each in its module:
 3. :mod:`~ecoplan.diagnose.localise` — where the calibrated model's held-out gap lies;
 4. :mod:`~ecoplan.diagnose.attribute` — which candidate effect explains what is left, whether
    the log can tell the candidates apart, and how far the gap shrinks;
-5. :mod:`~ecoplan.diagnose.report` — text, plots and JSON; :mod:`~ecoplan.diagnose.loop` —
+5. :mod:`~ecoplan.diagnose.report` — text, plots and JSON; :mod:`~ecoplan.diagnose.corrected` —
    the corrected model written to a file.
 
 The result is a :class:`~ecoplan.diagnose.result.Diagnosis`.  The command ``ecoplan diagnose``

@@ -2,7 +2,7 @@
 
 A plain record.  Its renderings live apart, so that nothing here imports them:
 :mod:`ecoplan.diagnose.report` (text summary, JSON, figures), :mod:`ecoplan.diagnose.report_md`
-(``report.md``) and :mod:`ecoplan.diagnose.loop` (the corrected model).
+(``report.md``) and :mod:`ecoplan.diagnose.corrected` (the corrected model).
 """
 
 from __future__ import annotations

@@ -82,7 +82,7 @@ class Scenario:
         The planning world (inflated obstacles, free space, terrain lookup): a polygon
         world, or the inflated occupancy grid of a ``map: {ros: ...}`` scenario.
     model : CorrectedModel or None
-        The corrected model of ``vehicle.model`` (:mod:`ecoplan.diagnose.loop`), if any.
+        The corrected model of ``vehicle.model`` (:mod:`ecoplan.diagnose.corrected`), if any.
     """
 
     spec: ScenarioSpec
@@ -284,10 +284,10 @@ def _load_model(spec: ScenarioSpec, source: str, lines: LineMap) -> Any:
     """The corrected model named by ``vehicle.model`` (path relative to the scenario)."""
     assert spec.vehicle.model is not None
     try:
-        from ecoplan.diagnose.loop import load_corrected_model
+        from ecoplan.diagnose.corrected import load_corrected_model
     except ImportError:  # pragma: no cover - the diagnosis package ships with ecoplan
         raise _err(
-            source, lines, ("vehicle", "model"), "corrected models need ecoplan.diagnose.loop"
+            source, lines, ("vehicle", "model"), "corrected models need ecoplan.diagnose.corrected"
         ) from None
     path = Path(spec.vehicle.model).expanduser()
     if not path.is_absolute() and not source.startswith("<"):
