@@ -317,3 +317,36 @@ def test_cheapest_skips_cases_without_a_route_and_fails_when_none_has_one() -> N
     assert cheapest([failed, ok]) is ok
     with pytest.raises(PlanningError, match="budget spent"):
         cheapest([failed], "x.yaml")
+
+
+CORNER = """\
+name: corner
+vehicle: {preset: auriga-beta-narrow}
+terrain: asphalt
+map: {bounds: {min: [-15, -15], max: [25, 25]}}
+start: {x: 0, y: 0}
+waypoints: [[10, 0], [10, 10]]
+speed: {policy: fixed, v_mps: 0.86}
+simulation: {dt_s: 0.02, t_max_s: 150}
+controller: {gain: 0.18, d_th_m: 1.0%s}
+"""
+
+
+@pytest.mark.slow
+def test_the_controller_slowdown_is_a_scenario_setting() -> None:
+    # issue 14 item 6: a 90-degree corner at the top speed (0.86 m/s) with the default gains
+    # reaches its goal; eq. (23) as written (`slowdown_deg: null`) orbits the corner's goal at
+    # about 2 v / (pi G) = 3.04 m > d_th = 1 m and is still driving at the time limit
+    default = simulate_case(parse_scenario(CORNER % "").cases()[0])
+    paper = simulate_case(parse_scenario(CORNER % ", slowdown_deg: null").cases()[0])
+    assert default.sim is not None and paper.sim is not None
+    assert default.sim.completed
+    # within d_th plus the braking distance v^2 / (2 a) at Auriga's 0.86 m/s^2 ramp
+    assert math.hypot(default.sim.x[-1] - 10.0, default.sim.y[-1] - 10.0) <= 1.0 + 0.86 / 2
+    assert not paper.sim.completed
+    assert paper.sim.t[-1] == pytest.approx(150.0, abs=0.05)
+
+
+def test_a_slowdown_out_of_range_names_the_field() -> None:
+    with pytest.raises(ScenarioError, match=r"controller\.slowdown_deg"):
+        parse_scenario(CORNER % ", slowdown_deg: 95")

@@ -336,7 +336,10 @@ def plan_case(case: Case, *, time_budget_s: float | None = None) -> PlanOutcome:
             violations=tuple(v.message() for v in pc.violations),
         )
     # the energy estimate: the route as the heading controller drives it (issue 11, item 6)
-    ctrl = HeadingController(spec.controller.gain, speed, spec.controller.d_th_m)
+    ctrl = HeadingController(
+        spec.controller.gain, speed, spec.controller.d_th_m,
+        slowdown_heading_rad=spec.controller.slowdown_heading_rad,
+    )  # fmt: skip
     estimate = path_cost(
         plan.waypoints, sc.vehicle, speed, world=sc.world,
         initial_heading_rad=spec.start.yaw_rad, turn=ctrl, elevation=sc.elevation,
@@ -425,7 +428,10 @@ def simulate_case(
         plan = plan_case(case, time_budget_s=time_budget_s)
     spec = case.spec
     ctrl = HeadingController(
-        gain=spec.controller.gain, speed_mps=plan.speed_mps, switch_radius_m=spec.controller.d_th_m
+        gain=spec.controller.gain,
+        speed_mps=plan.speed_mps,
+        switch_radius_m=spec.controller.d_th_m,
+        slowdown_heading_rad=spec.controller.slowdown_heading_rad,
     )
     sim = simulate_waypoints(
         sc.params,

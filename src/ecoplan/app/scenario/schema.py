@@ -286,10 +286,21 @@ class SpeedSection(_Section):
 
 
 class ControllerSection(_Section):
-    """Heading controller of tracked eq. (23): ``w_sp = gain * phi_e``, switch at ``d_th_m``."""
+    """Heading controller of tracked eq. (23): ``w_sp = gain * phi_e``, switch at ``d_th_m``.
+
+    ``slowdown_deg``: heading error [deg] beyond which the forward speed falls with
+    ``cos(phi_e)`` so that no goal is orbited (:class:`ecoplan.dynamics.controller.
+    HeadingController`, default 45); ``null`` drives eq. (23) as written, at constant speed.
+    """
 
     gain: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False)] = 0.18
     d_th_m: Annotated[float, Field(gt=0.0, le=100.0, allow_inf_nan=False)] = 1.0
+    slowdown_deg: Annotated[float, Field(ge=0.0, lt=90.0, allow_inf_nan=False)] | None = 45.0
+
+    @property
+    def slowdown_heading_rad(self) -> float | None:
+        """``slowdown_deg`` in radians (None: eq. (23) as written)."""
+        return None if self.slowdown_deg is None else math.radians(self.slowdown_deg)
 
 
 class SimulationSection(_Section):
