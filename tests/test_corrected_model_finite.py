@@ -45,7 +45,7 @@ waypoints: %s
 STRAIGHT, TURN = "[[10, 0]]", "[[6, 0], [12, 3]]"
 
 
-def _check_model_and_scenario(out: Path, waypoints: str = STRAIGHT) -> None:
+def _assert_finite_model_and_scenario(out: Path, waypoints: str = STRAIGHT) -> None:
     model = load_corrected_model(out / "corrected_model.json")
     top = float(model.params.top_track_speed_mps)
     # every side-speed pair within the top speed: finite power
@@ -86,7 +86,9 @@ def test_corrected_model_of_a_zoo_log_gives_finite_energy_in_a_scenario(
     # what `diagnose --out` writes, without its figures (the real-data test below runs the CLI)
     d = diagnose([read_log_csv(log)], case.vehicle, case.terrain)
     save_corrected_model(d, out / "corrected_model.json")
-    _check_model_and_scenario(out)
+    # the file names the base vehicle the plant claims to be, and its model stays finite
+    assert load_corrected_model(out / "corrected_model.json").vehicle == case.vehicle
+    _assert_finite_model_and_scenario(out)
 
 
 def test_a_corrected_model_of_parameters_names_its_vehicle_file(tmp_path: Path) -> None:
@@ -99,7 +101,7 @@ def test_a_corrected_model_of_parameters_names_its_vehicle_file(tmp_path: Path) 
     out = tmp_path / "out"
     save_corrected_model(d, out / "corrected_model.json")
     assert load_corrected_model(out / "corrected_model.json").vehicle == case.vehicle
-    _check_model_and_scenario(out)
+    _assert_finite_model_and_scenario(out)
 
 
 @pytest.mark.slow
@@ -111,4 +113,7 @@ def test_corrected_model_of_borealtc_flooring_gives_finite_energy(
     out = tmp_path / "out"
     logs = ["borealtc:FLOORING/00", "borealtc:FLOORING/01"]
     diagnose_logs(logs, "husky-a200", terrain, out_dir=out)
-    _check_model_and_scenario(out, TURN)
+    # written by the command's back end, on the terrain asked for, and finite everywhere
+    model = load_corrected_model(out / "corrected_model.json")
+    assert (model.vehicle, model.terrain) == ("husky-a200", terrain)
+    _assert_finite_model_and_scenario(out, TURN)
