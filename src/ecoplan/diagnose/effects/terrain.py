@@ -30,6 +30,11 @@ from ecoplan.diagnose.effects.base import (
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData
+from ecoplan.diagnose.effects.fitting import (
+    WHEELED_ROBUST_ITERATIONS,
+    fit_linear,
+    huber_weights,
+)
 from ecoplan.diagnose.replay import Frame
 from ecoplan.errors import InputError
 from ecoplan.models.tracked import GRAVITY_MPS2
@@ -47,7 +52,7 @@ __all__ = [
 #: Grid discs of the terrain-patch search that are refined locally (best first).
 TERRAIN_STARTS = 3
 
-#: Most segments a ``terrain_change`` fit keeps (the longest; the others join the reference).
+#: Most segments a ``terrain_change`` fit keeps (the longest; the others keep the base model).
 TERRAIN_CHANGE_MAX_SEGMENTS = 8
 
 
@@ -174,10 +179,11 @@ class TerrainChange(Effect):
 
     Needs no pose (issue 12, item 5).  The segments are the change points of the calibrated
     residual on the training split (:func:`ecoplan.diagnose.where_time.where_time`, on each
-    log's own clock); within each segment but the reference (the longest) the friction power
-    and the rest of the base power (resistance, driver terms) get their own factors, fitted
-    jointly with the base model like every effect and scored held-out on the interleaved
-    time blocks of the same runs.  With a pose a terrain is a place, and ``terrain_patch``
+    log's own clock, relative to the model's power); within each of the
+    :data:`TERRAIN_CHANGE_MAX_SEGMENTS` longest segments the friction power and the rest of
+    the base power (resistance, driver terms) get their own factors, fitted on what the base
+    model fitted alone leaves (:meth:`_fit_coef`) and scored held-out on the interleaved time
+    blocks of the same runs.  With a pose a terrain is a place, and ``terrain_patch``
     (a disc of the map) is the candidate: this effect is offered only for logs without pose.
 
     Its segments belong to the log's clock, so it is neither generated (:meth:`apply`) nor
@@ -221,17 +227,39 @@ class TerrainChange(Effect):
             cols += [ins * data.friction_w, ins * rest]
         return np.column_stack(cols)
 
+    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        """The base model fitted alone, then the segments' gains on what it leaves.
+
+        Refitted jointly, the base model's nearly collinear columns and the segments' gains
+        took cancelling values that held the training split and missed the held-out blocks
+        (a friction factor of 613 on a BorealTC mix); the gains are Huber-weighted like the
+        wheeled fits (:func:`~ecoplan.diagnose.effects.fitting.huber_weights`).
+        """
+        c0 = fit_linear(data, data.X)
+        if not theta:
+            return c0
+        cols = self.columns(data, theta)
+        y = data.p - data.X @ c0
+        w = np.ones(y.size)
+        gains = np.zeros(cols.shape[1])
+        for _ in range(1 + WHEELED_ROBUST_ITERATIONS):
+            gains = np.asarray(
+                np.linalg.lstsq(cols * w[:, None], y * w, rcond=None)[0], dtype=np.float64
+            )
+            w = np.sqrt(huber_weights(y - cols @ gains))
+        return np.concatenate([c0, gains])
+
     def _search(self, data: EffectData) -> Any:
         from ecoplan.diagnose.where_time import where_time
 
         f = data.frame
         runs = [str(int(r)) for r in range(int(f.run.max()) + 1)] if f.n else []
-        segs = where_time(f.t, data.p - data.base_w, f.run, runs)
+        segs = where_time(f.t, data.p - data.base_w, f.run, runs, model_w=data.base_w)
         if len(segs) < 2:
             return ()
         spans = [(int(sg.run), sg.t_start_s, sg.t_end_s) for sg in segs]
         spans.sort(key=lambda sp: -(sp[2] - sp[1]))
-        kept = spans[1 : 1 + TERRAIN_CHANGE_MAX_SEGMENTS]  # the longest is the reference
+        kept = spans[:TERRAIN_CHANGE_MAX_SEGMENTS]  # the shortest beyond these keep factor 1
         return tuple(sorted(kept))
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
