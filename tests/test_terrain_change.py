@@ -1,0 +1,97 @@
+"""A terrain switch in time, found and named without pose (issue 12, items 4, 5 and 7).
+
+The logs are made here, at BorealTC's rate (6.5 Hz) with AR(1) noise: side speeds that step
+between straight runs and turns of both directions through a first-order drive, the paper's
+power on them (Auriga-β wide belts on asphalt), and on the second terrain a higher motion
+resistance, added here from its definition: a resistance force ``K`` on each track draws the
+mechanical power ``K |V|`` per track, electrical ``/ η`` (Morales et al. 2009, the resistance
+term of the track power and the drive efficiency).  The switch time is the one built in, never
+the detector's output.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+import pytest
+
+from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.result import Diagnosis
+from ecoplan.dynamics.log import Log
+from ecoplan.presets import vehicle
+
+RATE_HZ = 6.5
+DURATION_S = 240.0
+SWITCH_S = 118.0
+#: Resistance of the second terrain over the first's [-].
+RESISTANCE_RATIO = 1.8
+#: AR(1) noise: lag-one correlation and innovation standard deviation [W].
+NOISE_PHI, NOISE_W = 0.6, 12.0
+VEHICLE, TERRAIN = "auriga-beta-wide", "asphalt"
+
+
+def _drive(rng: np.random.Generator, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Side speeds: 4-9 s legs (straight, or a turn of either direction) through a 0.4 s lag."""
+    vl_cmd, vr_cmd = np.empty(t.size), np.empty(t.size)
+    i = 0
+    while i < t.size:
+        n = int(rng.uniform(4.0, 9.0) * RATE_HZ)
+        v = rng.uniform(0.15, 0.5)
+        turn = rng.choice([0.0, 0.0, -1.0, 1.0]) * rng.uniform(0.1, 0.3)
+        vl_cmd[i : i + n], vr_cmd[i : i + n] = v - turn, v + turn
+        i += n
+    a = 1.0 - np.exp(-1.0 / (RATE_HZ * 0.4))
+    vl, vr = np.empty(t.size), np.empty(t.size)
+    vl[0] = vr[0] = 0.0
+    for k in range(1, t.size):
+        vl[k] = vl[k - 1] + a * (vl_cmd[k] - vl[k - 1])
+        vr[k] = vr[k - 1] + a * (vr_cmd[k] - vr[k - 1])
+    return vl, vr
+
+
+def _ar1(rng: np.random.Generator, n: int) -> np.ndarray:
+    e = np.empty(n)
+    w = rng.normal(0.0, NOISE_W, n)
+    e[0] = w[0] / np.sqrt(1.0 - NOISE_PHI**2)
+    for k in range(1, n):
+        e[k] = NOISE_PHI * e[k - 1] + w[k]
+    return e
+
+
+def _log(seed: int, switch: bool) -> Log:
+    rng = np.random.default_rng(seed)
+    params = vehicle(VEHICLE, TERRAIN)
+    t = 1000.0 + np.arange(0.0, DURATION_S, 1.0 / RATE_HZ)  # the log's own clock
+    vl, vr = _drive(rng, t)
+    p = np.asarray(params.power(vl, vr).total_w, dtype=np.float64)
+    if switch:
+        dk_n = (RESISTANCE_RATIO - 1.0) * params.k_resistance_n
+        p = p + np.where(t - t[0] >= SWITCH_S, dk_n * (np.abs(vl) + np.abs(vr)) / params.eta, 0.0)
+    return Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id=f"s{seed}")
+
+
+@cache
+def _diagnosed(seed: int, switch: bool) -> Diagnosis:
+    return diagnose(_log(seed, switch), VEHICLE, TERRAIN)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_two_terrain_log_is_split_at_the_switch_and_named_terrain_change(seed: int) -> None:
+    d = _diagnosed(seed, True)
+    t_switch = 1000.0 + SWITCH_S
+    bounds = [s.t_end_s for s in d.where_time[:-1]]
+    assert bounds, d.where_time
+    assert min(abs(b - t_switch) for b in bounds) <= 5.0, bounds
+    assert d.verdict == "terrain_change", (d.verdict, [s.name for s in d.attribution.scores])
+    # the stretch after the switch draws more than the one before it
+    after = [s for s in d.where_time if s.t_start_s >= t_switch - 5.0]
+    before = [s for s in d.where_time if s.t_end_s <= t_switch + 5.0]
+    assert min(s.excess_w for s in after) > max(s.excess_w for s in before)
+    assert d.gap_final_w < d.gap_calibrated_w
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_single_terrain_log_is_not_named_terrain_change(seed: int) -> None:
+    d = _diagnosed(seed, False)
+    assert d.verdict != "terrain_change"
