@@ -18,6 +18,8 @@ import pytest
 
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.result import Diagnosis
+from ecoplan.diagnose.stats import coloured_noise_floor
+from ecoplan.diagnose.where_time import TimeSegment, label_segments
 from ecoplan.dynamics.log import Log
 from ecoplan.presets import vehicle
 
@@ -95,3 +97,39 @@ def test_a_two_terrain_log_is_split_at_the_switch_and_named_terrain_change(seed:
 def test_a_single_terrain_log_is_not_named_terrain_change(seed: int) -> None:
     d = _diagnosed(seed, False)
     assert d.verdict != "terrain_change"
+
+
+def test_segments_are_labelled_with_the_terrain_whose_model_drew_them() -> None:
+    # the first half drawn by the asphalt model, the second by the sand model (their own
+    # preset tables), plus white noise; the labeller sees the five terrain models
+    rng = np.random.default_rng(5)
+    t = np.arange(0.0, 200.0, 1.0 / RATE_HZ)
+    vl, vr = _drive(rng, t)
+    first, second = vehicle(VEHICLE, "asphalt"), vehicle(VEHICLE, "sand")
+    p = np.where(t < 100.0, first.power(vl, vr).total_w, second.power(vl, vr).total_w)
+    p = p + rng.normal(0.0, 10.0, t.size)
+    segs = [TimeSegment("r", 0.0, 99.9, 0.0), TimeSegment("r", 100.0, 200.0, 0.0)]
+    models = {k: vehicle(VEHICLE, k) for k in ("asphalt", "grass", "gravel", "sand", "snow")}
+    labels = label_segments(segs, t, ["r"] * t.size, vl, vr, p, models)
+    assert [lab for lab, _ in labels] == ["asphalt", "sand"]
+    assert all(mae < 15.0 for _, mae in labels)  # the noise's MAE is 10 √(2/π) ≈ 8 W
+
+
+def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_alone() -> None:
+    rng = np.random.default_rng(7)
+    n = 6000
+    # AR(1) noise alone: MAE of a Gaussian of variance σ_w² / (1 - φ²) is σ √(2/π)
+    e = _ar1(rng, n)
+    true_mae = NOISE_W / np.sqrt(1.0 - NOISE_PHI**2) * np.sqrt(2.0 / np.pi)
+    floor, phi = coloured_noise_floor(e)
+    assert floor == pytest.approx(true_mae, rel=0.1)
+    assert phi == pytest.approx(NOISE_PHI, abs=0.1)
+    # white noise plus model error that flips sign every other sample (motion changing within
+    # two samples at 6.5 Hz): lag-2 differences exceed lag-1 ones, and the ratio alone reads
+    # the strongest colour (0.9); the residual's own lag-one correlation is about 0 (the
+    # pattern + + - - correlates +1 and -1 with its neighbours in turn), so phi stays near 0
+    flip = 40.0 * np.where((np.arange(n) // 2) % 2 == 0, 1.0, -1.0)
+    r = flip + rng.normal(0.0, 10.0, n)
+    floor, phi = coloured_noise_floor(r)
+    assert phi < 0.05
+    assert floor <= float(np.mean(np.abs(r)))

@@ -37,7 +37,7 @@ import csv
 import itertools
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -45,8 +45,10 @@ import numpy as np
 from scipy.stats import median_abs_deviation
 
 from ecoplan._typing import FloatArray, IntArray
+from ecoplan.errors import InputError
+from ecoplan.presets import VehicleParams
 
-__all__ = ["TimeSegment", "where_time", "write_where_time_csv"]
+__all__ = ["TimeSegment", "label_segments", "where_time", "write_where_time_csv"]
 
 #: Keys of one ``where_time`` entry of the diagnosis JSON, in order.
 WHERE_TIME_KEYS: tuple[str, ...] = ("run", "t_start_s", "t_end_s", "excess_w")
@@ -219,6 +221,61 @@ def where_time(
             se = float(np.std(rr)) / math.sqrt(max(n, 1))
             if abs(segs[0].excess_w) > 3.0 * max(se, 1e-12):
                 out.extend(segs)
+    return out
+
+
+def label_segments(
+    segments: Sequence[TimeSegment],
+    t: FloatArray,
+    run: Sequence[str] | IntArray,
+    v_left: FloatArray,
+    v_right: FloatArray,
+    p_w: FloatArray,
+    models: Mapping[str, VehicleParams],
+) -> list[tuple[str, float]]:
+    """The most likely known terrain of each segment: the model that leaves the least MAE.
+
+    With per-terrain models of the vehicle (the terrains of its vehicle file), each segment is
+    labelled with the terrain whose model predicts the segment's logged power best: the least
+    mean absolute error, the most likely terrain under Laplace-distributed power errors.
+
+    Parameters
+    ----------
+    segments : sequence of TimeSegment
+        Segments of :func:`where_time`.
+    t : ndarray
+        Time of every sample on its log's own clock [s].
+    run : sequence of str or ndarray
+        Run name of every sample (the segments' ``run``).
+    v_left, v_right : ndarray
+        Measured side speeds [m/s].
+    p_w : ndarray
+        Logged power [W].
+    models : mapping of str to TrackedParams or WheeledParams
+        The vehicle's model on each known terrain, by terrain name.
+
+    Returns
+    -------
+    list of (str, float)
+        Per segment, the terrain's name and its model's MAE on the segment [W] (``("", nan)``
+        for a segment without samples).
+    """
+    names = list(models)
+    if not names:
+        raise InputError("label_segments needs at least one terrain model")
+    t = np.asarray(t, dtype=np.float64)
+    run_arr = np.asarray(run).astype(str)
+    p = np.asarray(p_w, dtype=np.float64)
+    preds = np.array([np.asarray(models[k].power(v_left, v_right).total_w) for k in names])
+    out: list[tuple[str, float]] = []
+    for s in segments:
+        inside = (run_arr == s.run) & (t >= s.t_start_s) & (t <= s.t_end_s)
+        if not np.any(inside):
+            out.append(("", math.nan))
+            continue
+        mae = np.mean(np.abs(preds[:, inside] - p[inside]), axis=1)
+        best = int(np.argmin(mae))
+        out.append((names[best], float(mae[best])))
     return out
 
 
