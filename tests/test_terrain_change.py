@@ -16,7 +16,10 @@ from functools import cache
 import numpy as np
 import pytest
 
+from ecoplan.diagnose.effects import make_effect, prepare
+from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import coloured_noise_floor
 from ecoplan.diagnose.where_time import TimeSegment, label_segments
@@ -133,3 +136,23 @@ def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_
     floor, phi = coloured_noise_floor(r)
     assert phi < 0.05
     assert floor <= float(np.mean(np.abs(r)))
+
+
+def test_terrain_factors_stay_in_their_physical_range() -> None:
+    # the wheeled model (nine nearly collinear coefficients refitted with the factors); the
+    # second half drives straight only and draws 1.5 x: unbounded, one segment's resistance
+    # factor came out at -0.06 (item 2: bounded, never a negative factor)
+    rng = np.random.default_rng(0)
+    base = vehicle("pioneer-3at", "asphalt")
+    t = np.arange(0.0, 240.0, 1.0 / RATE_HZ)
+    vl, vr = _drive(rng, t)
+    straight = t >= 120.0
+    vr = np.where(straight, vl, vr)
+    p = np.asarray(base.power(vl, vr).total_w)
+    p = p + np.where(straight, 0.5 * p, 0.0) + _ar1(rng, t.size)
+    frame = build_frame([Log(t=t, v_left=vl, v_right=vr, p_total=p, run_id="r")], base)
+    fitted = make_effect("terrain_change").fit(prepare(frame, base)).params_
+    lo, hi = TERRAIN_FACTOR_RANGE
+    factors = [v for k, v in fitted.items() if k.endswith("_factor")]
+    assert factors
+    assert all(lo - 1e-9 <= f <= hi + 1e-9 for f in factors), fitted

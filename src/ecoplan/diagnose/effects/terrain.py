@@ -31,6 +31,7 @@ from ecoplan.diagnose.effects.base import (
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData
+from ecoplan.diagnose.effects.fitting import fit_linear
 from ecoplan.diagnose.replay import Frame
 from ecoplan.diagnose.where_time import TimeSegment
 from ecoplan.errors import InputError
@@ -39,6 +40,7 @@ from ecoplan.presets import VehicleParams
 
 __all__ = [
     "TERRAIN_CHANGE_MAX_SEGMENTS",
+    "TERRAIN_FACTOR_RANGE",
     "TERRAIN_STARTS",
     "Slope",
     "SpeedDependentResistance",
@@ -49,8 +51,15 @@ __all__ = [
 #: Grid discs of the terrain-patch search that are refined locally (best first).
 TERRAIN_STARTS = 3
 
+#: Physical range of a segment's friction and resistance factors [-]: BorealTC's five terrains
+#: (``../shared/data/borealtc/ABOUT.md``) differ by 2.8x in mean power while moving; a factor
+#: beyond 5 (or below 1/5) would be a ground unlike all of them.
+TERRAIN_FACTOR_RANGE = (0.2, 5.0)
+
 #: Most segments with their own factors in a ``terrain_change`` fit (besides the reference).
-TERRAIN_CHANGE_MAX_SEGMENTS = 8
+#: On the tuning mixes 0-9 of ``benchmarks/borealtc_mixes.py`` 3 and 5 left the same held-out
+#: gaps, 8 a larger one on one mix (more segments of one terrain, each fitted on less data).
+TERRAIN_CHANGE_MAX_SEGMENTS = 5
 
 
 class TerrainPatch(Effect):
@@ -222,6 +231,25 @@ class TerrainChange(Effect):
             ins = self._indicator(data, seg)
             cols += [ins * data.friction_w, ins * data.resistance_w]
         return np.column_stack(cols)
+
+    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        """Joint fit, then the factors held in :data:`TERRAIN_FACTOR_RANGE` (item 2).
+
+        A factor fitted outside the range (a friction column the segment barely excites took
+        610 or -0.7 on BorealTC mixes) is set to the bound, and the base model is refitted on
+        what the bounded segments leave.
+        """
+        coef = fit_linear(data, self.design(data, theta))
+        k = data.X.shape[1]
+        if coef.size == k:
+            return coef
+        eta = eta_of(data.params)
+        lo, hi = ((f - 1.0) / eta for f in TERRAIN_FACTOR_RANGE)
+        gains = np.clip(coef[k:], lo, hi)
+        if np.array_equal(gains, coef[k:]):
+            return coef
+        base = fit_linear(data, data.X, y=data.p - self.columns(data, theta) @ gains)
+        return np.concatenate([base, gains])
 
     def _search(self, data: EffectData) -> Any:
         from ecoplan.diagnose.where_time import where_time
