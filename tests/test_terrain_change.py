@@ -20,6 +20,7 @@ from ecoplan.diagnose.effects import make_effect, prepare
 from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
+from ecoplan.diagnose.report import to_json_dict
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import coloured_noise_floor
 from ecoplan.diagnose.where_time import TimeSegment, label_segments
@@ -156,3 +157,22 @@ def test_terrain_factors_stay_in_their_physical_range() -> None:
     factors = [v for k, v in fitted.items() if k.endswith("_factor")]
     assert factors
     assert all(lo - 1e-9 <= f <= hi + 1e-9 for f in factors), fitted
+
+
+def test_the_diagnosis_labels_each_stretch_with_the_preset_terrain_that_drew_it() -> None:
+    # no pose; the first 110 s drawn by the asphalt model, the rest by the sand model (the
+    # preset's own tables), AR(1) noise; diagnosed against asphalt
+    rng = np.random.default_rng(3)
+    t = np.arange(0.0, 230.0, 1.0 / RATE_HZ)
+    vl, vr = _drive(rng, t)
+    first, second = vehicle(VEHICLE, "asphalt"), vehicle(VEHICLE, "sand")
+    p = np.where(t < 110.0, first.power(vl, vr).total_w, second.power(vl, vr).total_w)
+    log = Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id="r")
+    d = diagnose(log, VEHICLE, "asphalt")
+    assert len(d.where_time_terrain) == len(d.where_time)
+    for seg, lab in zip(d.where_time, d.where_time_terrain, strict=True):
+        if seg.t_end_s <= 110.0 + 5.0:
+            assert lab == "asphalt", (seg, lab)
+        elif seg.t_start_s >= 110.0 - 5.0:
+            assert lab == "sand", (seg, lab)
+    assert to_json_dict(d)["where_time_terrain"] == list(d.where_time_terrain)

@@ -24,9 +24,11 @@ winner's held-out reduction in W and %, its 95 % bootstrap interval, the best pa
 log cannot tell apart with the separating manoeuvre, candidates not excited or unavailable),
 ``where_time`` (segments of each run where the calibrated model's residual changes level,
 on the log's own time: ``[{"run", "t_start_s", "t_end_s", "excess_w"}]``, exactly these
-keys), ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows,
-split, the readers' ``notes`` -- assumptions such as the bus voltage, ignored columns -- and
-the input check's ``input_notes``) and,
+keys), ``where_time_terrain`` (the most likely terrain of each of those segments among the
+vehicle preset's terrains, in the same order; empty when the vehicle has one terrain or was
+given as parameters), ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration,
+dropped rows, split, the readers' ``notes`` -- assumptions such as the bus voltage, ignored
+columns -- and the input check's ``input_notes``) and,
 with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
 corrected model, both rankings, whether the order or the best route changes).
 """
@@ -131,6 +133,7 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
             "unavailable": list(att.unavailable),
         },
         "where_time": [seg.to_json() for seg in d.where_time],
+        "where_time_terrain": list(d.where_time_terrain),
         "tied": list(att.tied),
         "log": {
             "runs": d.n_runs,
