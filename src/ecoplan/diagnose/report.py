@@ -341,7 +341,8 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
 
     One panel per run (at most eight: the runs with segments first), the calibrated model's
     residual averaged over 1 s bins, the change-point segments shaded (red: the robot draws
-    more than the model, blue: less) with their excess in W.
+    more than the model, blue: less) with their excess in W and, when the preset describes
+    several terrains, each segment's most likely one.
     """
     import matplotlib
 
@@ -374,13 +375,16 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
             label="1 s mean",
         )
         rid = d.run_ids[i]
-        for seg in (s for s in d.where_time if s.run == rid):
+        labels = d.where_time_terrain or ("",) * len(d.where_time)
+        for seg, lab in zip(d.where_time, labels, strict=False):
+            if seg.run != rid:
+                continue
             colour = "#d62728" if seg.excess_w > 0 else "#1f77b4"
             ax.axvspan(seg.t_start_s, seg.t_end_s, color=colour, alpha=0.15)
             ax.text(
                 0.5 * (seg.t_start_s + seg.t_end_s),
                 0.92,
-                f"{seg.excess_w:+.0f} W",
+                f"{seg.excess_w:+.0f} W\n{lab}" if lab else f"{seg.excess_w:+.0f} W",
                 transform=ax.get_xaxis_transform(),
                 ha="center",
                 va="top",
@@ -390,7 +394,7 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
         ax.set_ylabel("W")
         ax.set_title(f"{rid}: measured - calibrated model", fontsize=8, loc="left")
     axes[-1, 0].set_xlabel("time on the log's own clock [s]")
-    axes[0, 0].legend(loc="upper right", fontsize=7)
+    axes[0, 0].legend(loc="lower right", fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "where_time.png", dpi=110)
     plt.close(fig)
