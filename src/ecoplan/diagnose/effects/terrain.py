@@ -56,9 +56,10 @@ TERRAIN_STARTS = 3
 #: beyond 5 (or below 1/5) would be a ground unlike all of them.
 TERRAIN_FACTOR_RANGE = (0.2, 5.0)
 
-#: Most segments with their own factors in a ``terrain_change`` fit (besides the reference).
-#: On the tuning mixes 0-9 of ``benchmarks/borealtc_mixes.py`` 3 and 5 left the same held-out
-#: gaps, 8 a larger one on one mix (more segments of one terrain, each fitted on less data).
+#: Most segments of one run with their own factors in a ``terrain_change`` fit (besides the
+#: reference).  On the tuning mixes 0-9 of ``benchmarks/borealtc_mixes.py`` 3 and 5 left the
+#: same held-out gaps, 8 a larger one on one mix (more segments of one terrain, each fitted on
+#: less data).
 TERRAIN_CHANGE_MAX_SEGMENTS = 5
 
 
@@ -186,7 +187,7 @@ class TerrainChange(Effect):
     Needs no pose (issue 12, item 5).  The segments are the change points of the calibrated
     residual on the training split (:func:`ecoplan.diagnose.where_time.where_time`, on each
     log's own clock, relative to the model's power), neighbours of alike level merged down to
-    one more than :data:`TERRAIN_CHANGE_MAX_SEGMENTS`.  The longest is the reference, the
+    one more than :data:`TERRAIN_CHANGE_MAX_SEGMENTS` per run.  The longest is the reference, the
     base model's terrain; within each other segment the friction power and the resistance
     power get their own factors, fitted jointly with the base model like every effect and
     scored held-out on the interleaved time blocks of the same runs.
@@ -276,27 +277,23 @@ class TerrainChange(Effect):
 
 
 def _merge(segs: list[TimeSegment], most: int) -> list[tuple[int, float, float]]:
-    """``(run, t_start_s, t_end_s)`` of the segments, neighbours merged down to ``most``.
+    """``(run, t_start_s, t_end_s)`` of the segments, neighbours merged to ``most`` per run.
 
-    The two neighbours of one run whose levels (``excess_w``) are closest merge first (their
+    The two neighbours of a run whose levels (``excess_w``) are closest merge first (their
     level the duration-weighted mean), so that a terrain split by its manoeuvres joins again
     before two terrains do.
     """
-    spans = [[int(sg.run), sg.t_start_s, sg.t_end_s, sg.excess_w] for sg in segs]
-    while len(spans) > most:
-        gaps = [
-            abs(a[3] - b[3]) if a[0] == b[0] else math.inf for a, b in itertools.pairwise(spans)
-        ]
-        j = int(np.argmin(gaps))
-        if not math.isfinite(gaps[j]):
-            spans = sorted(spans, key=lambda sp: sp[1] - sp[2])[:most]  # one per run: longest
-            spans.sort()
-            break
-        a, b = spans[j], spans[j + 1]
-        wa, wb = a[2] - a[1], b[2] - b[1]
-        level = (a[3] * wa + b[3] * wb) / max(wa + wb, 1e-12)
-        spans[j : j + 2] = [[a[0], a[1], b[2], level]]
-    return [(int(sp[0]), float(sp[1]), float(sp[2])) for sp in spans]
+    out: list[tuple[int, float, float]] = []
+    for run in sorted({int(sg.run) for sg in segs}):
+        spans = [[sg.t_start_s, sg.t_end_s, sg.excess_w] for sg in segs if int(sg.run) == run]
+        while len(spans) > most:
+            j = int(np.argmin([abs(a[2] - b[2]) for a, b in itertools.pairwise(spans)]))
+            a, b = spans[j], spans[j + 1]
+            wa, wb = a[1] - a[0], b[1] - b[0]
+            level = (a[2] * wa + b[2] * wb) / max(wa + wb, 1e-12)
+            spans[j : j + 2] = [[a[0], b[1], level]]
+        out += [(run, float(sp[0]), float(sp[1])) for sp in spans]
+    return out
 
 
 class Slope(Effect):
