@@ -25,6 +25,12 @@
    returned plan is re-evaluated exactly by :func:`ecoplan.energy.path.path_cost`).
 4. **k best**: ``networkx.shortest_simple_paths`` (Yen) on that graph; paths that revisit
    a waypoint are skipped, so the alternatives are distinct waypoint sequences.
+5. **Refinement** (:mod:`ecoplan.planning.refine`, option ``refine``): every route's
+   corners are moved, dropped and split into chains of smaller turns while the search
+   cost falls, and the result is kept only if its full evaluation is better.  The nodes
+   fix where a route may bend; an arc-only vehicle rounds an inner corner cheapest on a
+   wide arc whose vertex lies between them (``scenarios/pioneer_power_limit.yaml``:
+   553 J on the nodes, 497 J refined).
 
 Deterministic: node order follows the world's geometry, ties are broken by insertion
 order, and no randomness is used.  The time budget is checked between phases and
@@ -42,18 +48,23 @@ import numpy as np
 import shapely
 
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.path import path_cost
 from ecoplan.energy.primitives import best_spot_yaw_rate
+from ecoplan.energy.result import PathCost
 from ecoplan.energy.turns import fillet_points_many, turn_candidates
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
+from ecoplan.planning.refine import RefineOptions, refine_waypoints
 
 __all__ = ["GraphPlanner", "GraphPlannerOptions", "plan_graph"]
 
 _START, _GOAL = 0, 1
 _SOURCE, _SINK = "source", "sink"
+_REFINE = RefineOptions()  # frozen: one shared default
 
 
 @dataclass(frozen=True, slots=True)
@@ -75,6 +86,16 @@ class GraphPlannerOptions:
         Number of distinct waypoint sequences to return (>= 1).
     time_budget_s : float
         Wall-clock budget of one :meth:`GraphPlanner.plan` call [s].
+    refine : RefineOptions or None
+        Waypoint refinement of every returned route (:mod:`ecoplan.planning.refine`:
+        moves, drops and splits of its corners under the full evaluation, so corners are
+        rounded by chains of small turns between the nodes); ``None`` switches it off.
+    controller : HeadingController or None
+        The heading controller that will drive the route: a refined route is kept only
+        if, driven by it (:func:`~ecoplan.energy.path.path_cost` with ``turn=controller``),
+        it costs no more than the route on the nodes.  The fillet model assumes arcs as
+        wide as the legs allow; a controller that starts turning ``d_th`` before a
+        waypoint cannot follow a wider one.  ``None``: the fillet model alone.
     """
 
     offset_m: float = 0.05
@@ -83,6 +104,8 @@ class GraphPlannerOptions:
     corner_segments: int = 2
     k_paths: int = 3
     time_budget_s: float = 10.0
+    refine: RefineOptions | None = _REFINE
+    controller: HeadingController | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.offset_m) and self.offset_m > 0.0):
@@ -95,6 +118,12 @@ class GraphPlannerOptions:
         if not (isinstance(self.corner_segments, int) and 1 <= self.corner_segments <= 16):
             raise InputError(f"corner_segments must be in [1, 16], got {self.corner_segments!r}")
         check_budget(self.time_budget_s)
+        if self.refine is not None and not isinstance(self.refine, RefineOptions):
+            raise InputError(f"refine must be RefineOptions or None, got {self.refine!r}")
+        if self.controller is not None and not isinstance(self.controller, HeadingController):
+            raise InputError(
+                f"controller must be a HeadingController or None, got {self.controller!r}"
+            )
 
 
 def _wrap(x: FloatArray) -> FloatArray:
@@ -306,6 +335,10 @@ class GraphPlanner:
         lg = self._state_graph(pts, seg_cost, initial_heading_rad, deadline)
         deadline.check("costing the turns")
         plans = self._k_best(lg, pts, initial_heading_rad, deadline)
+        t_refine, n_eval = deadline.elapsed_s, 0
+        if self.options.refine is not None:
+            plans, n_eval = self._refine(plans, initial_heading_rad, deadline)
+        t_refine = deadline.elapsed_s - t_refine
         plans.sort(key=lambda p: (not p.cost.feasible, p.objective_value))
         return PlanResult(
             best=plans[0],
@@ -317,10 +350,42 @@ class GraphPlanner:
                 "visibility_edges": float(len(seg_cost)),
                 "states": float(lg.number_of_nodes()),
                 "transitions": float(lg.number_of_edges()),
+                "refine_evaluations": float(n_eval),
+                "refine_s": t_refine,
             },
         )
 
     # ------------------------------------------------------------------ internals
+    def _refine(
+        self, plans: list[Plan], heading: float | None, deadline: Deadline
+    ) -> tuple[list[Plan], int]:
+        """Every plan refined (:func:`refine_waypoints`) while the budget lasts."""
+        cost, out, n_eval = self.cost, [], 0
+        ctrl = self.options.controller
+
+        def driven(wps: FloatArray) -> PathCost:
+            assert ctrl is not None
+            return path_cost(
+                wps, cost.vehicle, cost.speed_mps, world=cost.world,
+                initial_heading_rad=heading, turn=ctrl, elevation=cost.elevation,
+            )  # fmt: skip
+
+        for plan in plans:
+            if deadline.expired:
+                out.append(plan)
+                continue
+            res = refine_waypoints(
+                plan.waypoints, cost, self.world, initial_heading_rad=heading,
+                options=self.options.refine, deadline=deadline,
+                also=None if ctrl is None else driven,
+            )  # fmt: skip
+            n_eval += res.evaluations
+            if res.improved:
+                pc = res.cost
+                plan = Plan(res.waypoints, pc, cost.name, cost.value(pc), cost.speed_mps)
+            out.append(plan)
+        return out, n_eval
+
     def _edges(self, pts: FloatArray) -> list[tuple[int, int]]:
         n = len(pts)
         fixed = [(int(i) + 2, int(j) + 2) for i, j in zip(*self._pairs, strict=True)]
