@@ -363,6 +363,9 @@ class GraphPlanner:
         cost, out, n_eval = self.cost, [], 0
         ctrl = self.options.controller
 
+        def evaluate(wps: FloatArray) -> PathCost:  # as every plan of _k_best
+            return cost.path(wps, initial_heading_rad=heading)
+
         def driven(wps: FloatArray) -> PathCost:
             assert ctrl is not None
             return path_cost(
@@ -376,7 +379,7 @@ class GraphPlanner:
                 continue
             res = refine_waypoints(
                 plan.waypoints, cost, self.world, initial_heading_rad=heading,
-                options=self.options.refine, deadline=deadline,
+                options=self.options.refine, deadline=deadline, evaluate=evaluate,
                 also=None if ctrl is None else driven,
             )  # fmt: skip
             n_eval += res.evaluations

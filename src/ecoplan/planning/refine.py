@@ -246,6 +246,7 @@ def refine_waypoints(
     initial_heading_rad: float | None = None,
     options: RefineOptions | None = None,
     deadline: Deadline | None = None,
+    evaluate: Callable[[FloatArray], PathCost] | None = None,
     also: Callable[[FloatArray], PathCost] | None = None,
 ) -> RefineResult:
     """Refine a route's interior waypoints by a compass search (module doc).
@@ -266,6 +267,10 @@ def refine_waypoints(
         Steps and evaluation cap.
     deadline : Deadline, optional
         The search stops, keeping the best route so far, once it has expired.
+    evaluate : callable, optional
+        The full evaluation of a waypoint array (the planner's own); None:
+        :func:`~ecoplan.energy.path.path_cost` on ``world`` with the cost's vehicle,
+        speed, turn mode, ramps and elevation.
     also : callable, optional
         A second evaluation the refined route must not rank worse under than the input
         (feasible first, then ``cost.value``), e.g. the route as a heading controller
@@ -315,12 +320,13 @@ def refine_waypoints(
         if not kept:
             h *= 0.5
 
-    def full(p: FloatArray) -> PathCost:
+    def default(p: FloatArray) -> PathCost:
         return path_cost(
             p, cost.vehicle, cost.speed_mps, world=world, initial_heading_rad=initial_heading_rad,
             turn=cost.turn, ramps=cost.ramps, elevation=cost.elevation,
         )  # fmt: skip
 
+    full = default if evaluate is None else evaluate
     pc0 = full(w0)
     if w.shape == w0.shape and np.array_equal(w, w0):
         return RefineResult(w0, pc0, n_eval, False)
