@@ -218,6 +218,10 @@ def _auto_rings(cost: CostObjective, offset_m: float) -> tuple[float, ...]:
     return tuple(float(offset_m + rmin * (1.0 / np.cos(a / 2.0) - 1.0)) for a in angles)
 
 
+def _same_route(a: FloatArray, b: FloatArray) -> bool:
+    return a.shape == b.shape and bool(np.allclose(a, b, rtol=0.0, atol=1e-9))
+
+
 class GraphPlanner:
     """Visibility-graph planner over (node, incoming heading) states.
 
@@ -386,7 +390,8 @@ class GraphPlanner:
             if res.improved:
                 pc = res.cost
                 plan = Plan(res.waypoints, pc, cost.name, cost.value(pc), cost.speed_mps)
-            out.append(plan)
+            if not any(_same_route(plan.waypoints, p.waypoints) for p in out):
+                out.append(plan)  # alternatives stay distinct after refinement
         return out, n_eval
 
     def _edges(self, pts: FloatArray) -> list[tuple[int, int]]:
