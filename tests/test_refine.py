@@ -24,6 +24,7 @@ from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.world import World, rectangle
 from ecoplan.models.limits import feasible
 from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
+from ecoplan.planning.lattice import LatticePlannerOptions
 from ecoplan.planning.refine import RefineOptions, refine_waypoints
 from ecoplan.presets import vehicle
 
@@ -186,6 +187,10 @@ def test_bad_options_are_one_line_errors() -> None:
         RefineOptions(max_evaluations=0)
     with pytest.raises(InputError, match="refine must be RefineOptions"):
         GraphPlannerOptions(refine="yes")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="refine must be RefineOptions"):
+        LatticePlannerOptions(refine=True)  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="controller must be a HeadingController"):
+        GraphPlannerOptions(controller=0.2)  # type: ignore[arg-type]
 
 
 def test_with_a_controller_the_refined_route_is_not_dearer_as_it_is_driven() -> None:
