@@ -247,7 +247,9 @@ def refine_waypoints(
     options: RefineOptions | None = None,
     deadline: Deadline | None = None,
     evaluate: Callable[[FloatArray], PathCost] | None = None,
-    also: Callable[[FloatArray], PathCost] | None = None,
+    driven: Callable[[FloatArray], PathCost] | None = None,
+    min_leg_m: float = 0.0,
+    min_gain: float = 0.0,
 ) -> RefineResult:
     """Refine a route's interior waypoints by a compass search (module doc).
 
@@ -256,8 +258,7 @@ def refine_waypoints(
     waypoints : array_like, shape (N, 2)
         The planned route [m]; start and goal stay fixed.
     cost : CostObjective
-        Vehicle, speed, turn mode and objective (its :meth:`~CostObjective.path` is the
-        full evaluation when its world is ``world``).
+        Vehicle, speed, turn mode and objective.
     world : WorldLike
         The map the route must stay free on (a :class:`~ecoplan.geometry.world.World`
         or a :class:`~ecoplan.geometry.maps.GridMap`) and its terrain.
@@ -271,17 +272,27 @@ def refine_waypoints(
         The full evaluation of a waypoint array (the planner's own); None:
         :func:`~ecoplan.energy.path.path_cost` on ``world`` with the cost's vehicle,
         speed, turn mode, ramps and elevation.
-    also : callable, optional
-        A second evaluation the refined route must not rank worse under than the input
-        (feasible first, then ``cost.value``), e.g. the route as a heading controller
-        drives it: ``lambda w: path_cost(w, ..., turn=controller)``.
+    driven : callable, optional
+        The route as it will be driven, e.g. ``lambda w: path_cost(w, ...,
+        turn=controller)`` (:mod:`ecoplan.energy.controlled`).  When given, candidates
+        are ranked by ``cost.value`` of it (feasible first) instead of the search cost,
+        and the refined route is kept if it ranks better there while ``evaluate`` still
+        finds it feasible.
+    min_leg_m : float
+        With ``driven``: candidates with a leg after the first shorter than this are
+        not tried (the controlled model rolls such paths out: slow; use the tables'
+        shortest leg, ``ControlledTurns.legs_m[0]``).
+    min_gain : float
+        The refined route is kept only if its objective (under ``driven`` when given,
+        else ``evaluate``) falls by more than this fraction: gains within a model's
+        error are not worth a different route.
 
     Returns
     -------
     RefineResult
-        The refined route and its full evaluation; the input route when the refined one
-        does not rank better in full (feasible first, then ``cost.value``), or ranks
-        worse under ``also``.
+        The refined route and its ``evaluate``; the input route when the refined one
+        does not rank better (feasible first, then ``cost.value``) under ``evaluate``,
+        or under ``driven`` when that is given.
 
     Examples
     --------
@@ -298,9 +309,21 @@ def refine_waypoints(
     """
     o = options or RefineOptions()
     w0 = as_waypoints(waypoints).copy()
-    search = _SearchCost(cost, world, initial_heading_rad)
+
+    def rank(c: PathCost) -> tuple[bool, float]:
+        return (not c.feasible, cost.value(c))
+
+    if driven is None:
+        costs = _SearchCost(cost, world, initial_heading_rad).totals
+    else:
+        drive = driven
+
+        def costs(paths: list[FloatArray]) -> FloatArray:
+            ranks = [rank(drive(p)) for p in paths]
+            return np.array([math.inf if bad else val for bad, val in ranks])
+
     w, h = w0, o.step_m
-    best = float(search.totals([w])[0])
+    best = float(costs([w])[0])
     n_eval = 1
     stopped = False
     while h >= o.min_step_m and not stopped:
@@ -311,7 +334,9 @@ def refine_waypoints(
                 stopped = True
                 break
             cands = _candidates(w, i, h)
-            vals = search.totals(cands) if cands else np.zeros(0)
+            if driven is not None and min_leg_m > 0.0:
+                cands = [c for c in cands if _legs_after_first(c) >= min_leg_m]
+            vals = costs(cands) if cands else np.zeros(0)
             n_eval += len(cands)
             k = int(np.argmin(vals)) if len(vals) else -1
             if k >= 0 and vals[k] < best - 1e-9 * max(1.0, abs(best)):
@@ -332,9 +357,21 @@ def refine_waypoints(
         return RefineResult(w0, pc0, n_eval, False)
     pc = full(w)
 
-    def rank(c: PathCost) -> tuple[bool, float]:
-        return (not c.feasible, cost.value(c))
+    def gains(new: tuple[bool, float], old: tuple[bool, float]) -> bool:
+        if new[0] != old[0]:
+            return new[0] < old[0]
+        return new[1] < old[1] - min_gain * abs(old[1])
 
-    if rank(pc) < rank(pc0) and (also is None or rank(also(w)) <= rank(also(w0))):
+    if driven is None:
+        better = gains(rank(pc), rank(pc0))
+    else:
+        better = pc.feasible >= pc0.feasible and gains(rank(driven(w)), rank(driven(w0)))
+    if better:
         return RefineResult(w, pc, n_eval, True)
     return RefineResult(w0, pc0, n_eval, False)
+
+
+def _legs_after_first(w: FloatArray) -> float:
+    """Shortest leg after the first [m] (inf for a one-segment path)."""
+    d = np.diff(w[1:], axis=0)
+    return float(np.hypot(d[:, 0], d[:, 1]).min(initial=math.inf))
