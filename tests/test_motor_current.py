@@ -7,19 +7,24 @@ terms``), never read back from the functions under test.
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from pydantic import ValidationError
 
 from ecoplan.errors import InputError
 from ecoplan.models.identify_current import (
     CurrentLog,
     friction_n_per_mu,
     identify_from_currents,
+    motor_current_spec,
+    planner_driver_terms,
     predict_currents,
+    side_force_terrain,
 )
 from ecoplan.models.identify_logs import free_driving_log
 from ecoplan.models.motor_current import (
@@ -192,3 +197,61 @@ def test_a_single_log_is_scored_on_its_last_fifth() -> None:
     assert fit.run_ids == ("r0",) and len(fit.heldout_energy_error) == 1
     assert abs(fit.heldout_energy_error[0]) < 0.03
     assert fit.values["k_resistance_n"] == pytest.approx(40.0, rel=0.1)
+
+
+MOTOR_DOC = {
+    **ROBOT50,
+    "power_log": {
+        "signal": "motor_current",
+        "bus_voltage_v": {"value": 24.0, "source": "assumption"},
+        "amps_per_newton": {"value": 0.04, "source": "assumption"},
+    },
+    "terrains": {
+        "asphalt": {
+            "mu": {"value": 0.5, "source": "assumption"},
+            "k_resistance_n": {"value": 30.0, "source": "assumption"},
+            "turn_slip_scale": {"value": 0.1, "source": "assumption"},
+            "no_load_current_a": {"value": 0.8, "source": "assumption"},
+        }
+    },
+}
+
+
+def test_a_motor_current_file_gives_planners_k_plus_the_no_load_torque() -> None:
+    v = vehicle_from_mapping(MOTOR_DOC)
+    assert motor_current_spec(v) == MotorCurrentLog(24.0, 0.04, 0.0)
+    assert side_force_terrain(v, "asphalt") == SideForceTerrain(30.0, 0.5, 0.1, 0.8)
+    # K + I0 / c = 30 N + 0.8 A / 0.04 A/N = 50 N per side
+    assert v.params("asphalt").k_resistance_n == pytest.approx(50.0)
+    with pytest.raises(InputError, match="not motor_current"):
+        motor_current_spec(vehicle_from_mapping(ROBOT50))
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda d: d["power_log"].pop("amps_per_newton"), "amps_per_newton > 0 is required"),
+        (lambda d: d["terrains"]["asphalt"].pop("turn_slip_scale"), "turn_slip_scale is required"),
+        (
+            lambda d: d["terrains"]["asphalt"]["turn_slip_scale"].update(value=0.0),
+            r"turn_slip_scale must be in \(0, 10\]",
+        ),
+    ],
+)
+def test_incomplete_motor_current_files_are_refused(edit, message) -> None:  # type: ignore[no-untyped-def]
+    doc = copy.deepcopy(MOTOR_DOC)
+    edit(doc)
+    with pytest.raises(ValidationError, match=message):
+        vehicle_from_mapping(doc)
+
+
+def test_planner_driver_terms_vanish_when_the_forces_need_none() -> None:
+    # straight driving at constant speed, no copper loss: battery = (K + I0 / c) (|V_l| + |V_r|)
+    # is the planners' model exactly, so no driver term is needed
+    v = vehicle_from_mapping(MOTOR_DOC)
+    t = np.arange(0.0, 20.0, 0.1)
+    speed = np.where(t < 10.0, 0.4, 0.7)
+    log = CurrentLog(t[t != 10.0], speed[t != 10.0], speed[t != 10.0],
+                     np.ones(t.size - 1), np.ones(t.size - 1), "asphalt")  # fmt: skip
+    terms = planner_driver_terms(v, [log], "asphalt")
+    assert all(abs(x) < 1.0 for x in terms.values()), terms

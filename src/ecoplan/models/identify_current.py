@@ -31,29 +31,36 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import least_squares, lsq_linear
 
 from ecoplan._typing import FloatArray, RngLike
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array
+from ecoplan.models.identify_logs import DriveLog, model_power
 from ecoplan.models.motor_current import (
     MotorCurrentLog,
     SideForceTerrain,
+    battery_power_w,
     side_currents_a,
     side_forces,
     turn_slip,
 )
-from ecoplan.models.tracked import TrackedParams, tracked_power
+from ecoplan.models.tracked import GRAVITY_MPS2, TrackedParams, tracked_power
 from ecoplan.models.vehicles import Vehicle
 
 __all__ = [
     "CURRENT_PARAMETERS",
+    "PLANNER_TERMS",
     "CurrentFit",
     "CurrentIdentification",
     "CurrentLog",
     "friction_n_per_mu",
+    "geometry_of",
     "identify_from_currents",
+    "motor_current_spec",
+    "planner_driver_terms",
     "predict_currents",
+    "side_force_terrain",
 ]
 
 #: Coefficients identified per terrain, in fit order.
@@ -481,3 +488,95 @@ def identify_from_currents(
         for terrain, group in sorted(by_terrain.items())
     }
     return CurrentIdentification(base, spec, fits, level)
+
+
+def motor_current_spec(vehicle: Vehicle) -> MotorCurrentLog:
+    """The :class:`MotorCurrentLog` of a vehicle file with ``power_log: motor_current``.
+
+    Raises
+    ------
+    InputError
+        The file's logs are battery power.
+    """
+    log = vehicle.spec.power_log
+    if log.signal != "motor_current" or log.bus_voltage_v is None or log.amps_per_newton is None:
+        raise InputError(f"{vehicle.name}: power_log.signal is {log.signal}, not motor_current")
+    r = log.winding_resistance_ohm
+    return MotorCurrentLog(
+        log.bus_voltage_v.value, log.amps_per_newton.value, 0.0 if r is None else r.value
+    )
+
+
+def side_force_terrain(vehicle: Vehicle, terrain: str | None = None) -> SideForceTerrain:
+    """The side-force coefficients of a terrain of a ``motor_current`` vehicle file."""
+    motor_current_spec(vehicle)  # refuses battery-power files
+    e = vehicle.terrain(terrain)
+    assert e.mu is not None and e.turn_slip_scale is not None  # schema of motor_current files
+    k = e.k_resistance_n.value if e.k_resistance_n is not None else None
+    if k is None:
+        rr = 0.0 if e.rolling_resistance is None else e.rolling_resistance.value
+        k = rr * vehicle.mass_kg * GRAVITY_MPS2 / 2.0
+    i0 = 0.0 if e.no_load_current_a is None else e.no_load_current_a.value
+    return SideForceTerrain(k, e.mu.value, e.turn_slip_scale.value, i0)
+
+
+def geometry_of(vehicle: Vehicle, terrain: str | None = None) -> dict[str, float]:
+    """Geometry and mass keywords of :func:`~ecoplan.models.motor_current.side_forces`."""
+    return _geometry(vehicle, terrain or vehicle.default_terrain)
+
+
+#: Driver terms of the planners' contact-friction model fitted to the forces' battery power.
+PLANNER_TERMS: tuple[str, ...] = ("p_braking_w", "k_nonregen_n", "p_powerup_w")
+
+
+def planner_driver_terms(
+    vehicle: Vehicle, logs: Sequence[CurrentLog], terrain: str
+) -> dict[str, float]:
+    """Driver terms that carry the side forces' battery power into the planners' model.
+
+    The planners cost motion with the contact-friction model (tracked eq. 20) of the file:
+    µ and ``K + I0 / c`` cover the forces' output and the no-load torque; what is left of
+    :func:`~ecoplan.models.motor_current.battery_power_w` on the logs' motions (the braked
+    inner side's lost power, the copper loss of turning currents) is fitted, bounded at 0,
+    to the model's driver terms: braking (cases 3-4), non-regenerated (case 2), power-up.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+        A ``motor_current`` vehicle file whose terrain entry has the side-force fit.
+    logs : sequence of CurrentLog
+        Motions to fit on (the identification logs of the terrain).
+    terrain : str
+        Terrain name.
+
+    Returns
+    -------
+    dict
+        ``p_braking_w`` [W], ``k_nonregen_n`` [N], ``p_powerup_w`` [W].
+    """
+    spec, ground = motor_current_spec(vehicle), side_force_terrain(vehicle, terrain)
+    geom = _geometry(vehicle, terrain)
+    full = vehicle.params(terrain)
+    assert isinstance(full, TrackedParams)  # _geometry refuses radius-fit files
+    params = dataclasses.replace(full, p_braking_w=0.0, k_nonregen_n=0.0, p_powerup_w=0.0)
+    rows, target = [], []
+    for log in logs:
+        fl, fr = side_forces(log.t_s, log.v_left, log.v_right, ground, **geom)
+        p_batt = battery_power_w(spec, ground, log.v_left, log.v_right, fl, fr)
+        drive = DriveLog(log.t_s, log.v_left, log.v_right, p_batt, terrain, log.run_id)
+        mass_terms = (
+            model_power(drive, vehicle, terrain) - full.power(log.v_left, log.v_right).total_w
+        )
+        base = mass_terms + params.power(log.v_left, log.v_right).total_w
+        cols = []
+        flat = dataclasses.replace(params, mu=0.0, k_resistance_n=0.0)
+        for unit in (
+            dataclasses.replace(flat, p_braking_w=1.0),
+            dataclasses.replace(flat, k_nonregen_n=1.0),
+            dataclasses.replace(flat, p_powerup_w=1.0),
+        ):
+            cols.append(unit.power(log.v_left, log.v_right).total_w)
+        rows.append(np.column_stack(cols))
+        target.append(p_batt - base)
+    res = lsq_linear(np.vstack(rows), np.concatenate(target), bounds=(0.0, np.inf))
+    return {n: float(v) for n, v in zip(PLANNER_TERMS, res.x, strict=True)}
