@@ -37,7 +37,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from ecoplan.io.borealtc import HUSKY_BUS_VOLTAGE_V, data_root, list_terrains, load_runs
 from ecoplan.models.identify import leave_one_run_out
@@ -46,7 +45,6 @@ from ecoplan.models.identify_current import (
     geometry_of,
     identify_from_currents,
     motor_current_spec,
-    planner_driver_terms,
     side_force_terrain,
 )
 from ecoplan.models.identify_logs import DriveLog, model_power
@@ -263,34 +261,24 @@ def main() -> int:
             for k, v in fit.values.items()
         )
         print(f"  {terrain:<11} {vals}")
-    doc = base.spec.model_dump(mode="json", exclude_none=True)
-    doc["terrains"] = res.terrain_entries()
+    identified = res.vehicle()
+    print("\nplanners' driver terms fitted to the forces' battery power (R assumed):")
+    for terrain in sorted(res.fits):
+        e = identified.terrain(terrain)
+        terms = {k: getattr(e, k).value for k in ("p_braking_w", "k_nonregen_n", "p_powerup_w")}
+        print(f"  {terrain:<11} " + ", ".join(f"{k} {v:.3g}" for k, v in terms.items()))
     by_terrain: dict[str, list[CurrentLog]] = {}
     for log in logs:
         by_terrain.setdefault(log.terrain, []).append(log)
-    forces = vehicle_from_mapping(doc, "identified")
-    print("\nplanners' driver terms fitted to the forces' battery power (R assumed):")
-    for terrain, group in sorted(by_terrain.items()):
-        terms = planner_driver_terms(forces, group, terrain)
-        print(f"  {terrain:<11} " + ", ".join(f"{k} {v:.3g}" for k, v in terms.items()))
-        for name, value in terms.items():
-            doc["terrains"][terrain][name] = {
-                "value": float(f"{value:.5g}"),
-                "source": "identified",
-                "ref": "least squares (>= 0) of the battery power of the identified side "
-                "forces (copper loss with the assumed winding resistance) not covered by "
-                f"mu and K + I0 / c, on the motions of the {len(group)} logs",
-            }
-    _battery_check(vehicle_from_mapping(doc, "identified"), by_terrain)
+    _battery_check(identified, by_terrain)
     if args.write is not None:
         header = (
-            "# Clearpath Husky A200 identified on the BorealTC runs (five terrains).\n"
-            "# Written by: PYTHONPATH=src python benchmarks/husky_terrains.py "
+            "Clearpath Husky A200 identified on the BorealTC runs (five terrains).\n"
+            "Written by: PYTHONPATH=src python benchmarks/husky_terrains.py "
             f"--boot {args.boot} --write <this file>\n"
-            "# The logs measure motor currents (power_log); the 24 V bus is an assumption.\n"
+            "The logs measure motor currents (power_log); the 24 V bus is an assumption."
         )
-        body = yaml.safe_dump(doc, sort_keys=False, allow_unicode=True, width=100)
-        args.write.write_text(header + body, encoding="utf-8")
+        args.write.write_text(res.to_yaml(header), encoding="utf-8")
         print(f"\nwrote {args.write}")
     print("\nall targets met" if all_ok else "\nsome targets NOT met (see the table)")
     return 0

@@ -17,6 +17,7 @@ from hypothesis import strategies as st
 from pydantic import ValidationError
 
 from ecoplan.errors import InputError
+from ecoplan.io.borealtc import data_root
 from ecoplan.models.identify_current import (
     CurrentLog,
     friction_n_per_mu,
@@ -38,6 +39,14 @@ from ecoplan.models.motor_current import (
 )
 from ecoplan.models.vehicles import vehicle_from_mapping
 from test_vehicles import ROBOT50
+
+
+def _has_borealtc_ice() -> bool:
+    try:
+        return (data_root() / "ICE").is_dir()
+    except InputError:
+        return False
+
 
 LOG = MotorCurrentLog(bus_voltage_v=24.0, amps_per_newton=0.04, winding_resistance_ohm=0.3)
 GROUND = SideForceTerrain(k_resistance_n=30.0, mu=0.6, turn_slip_scale=0.1, no_load_current_a=0.8)
@@ -173,6 +182,7 @@ def _simulated_logs(vehicle, ground, seed):  # type: ignore[no-untyped-def]
     return logs
 
 
+@pytest.mark.slow
 def test_identification_recovers_the_side_force_model_within_its_intervals() -> None:
     vehicle = vehicle_from_mapping(ROBOT50)
     truth = SideForceTerrain(k_resistance_n=25.0, mu=0.5, turn_slip_scale=0.12,
@@ -255,3 +265,28 @@ def test_planner_driver_terms_vanish_when_the_forces_need_none() -> None:
                      np.ones(t.size - 1), np.ones(t.size - 1), "asphalt")  # fmt: skip
     terms = planner_driver_terms(v, [log], "asphalt")
     assert all(abs(x) < 1.0 for x in terms.values()), terms
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(not _has_borealtc_ice(), reason="BorealTC data absent")
+def test_cli_identify_fits_motor_currents_for_a_motor_current_base(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    # husky-a200 says its logs are motor currents: `ecoplan identify` fits the side forces
+    # to the logged 24 V x (|I_L| + |I_R|) of the BorealTC ICE runs and writes a file of
+    # that semantic; its straight-driving signal is checked against the data's own table
+    from ecoplan.cli import main
+    from ecoplan.io.vehicles import load_vehicle
+
+    out = tmp_path / "husky-ice.yaml"
+    args = ["identify", "borealtc:ICE", "--base", "husky-a200", "--boot", "10"]
+    assert main([*args, "--name", "husky-ice", "--out", str(out)]) == 0
+    ice = load_vehicle(out)
+    assert ice.spec.power_log.signal == "motor_current" and ice.terrains == ["ice"]
+    entry = ice.terrain("ice")
+    assert entry.turn_slip_scale is not None and entry.no_load_current_a is not None
+    assert "ice: 13 log(s)" in capsys.readouterr().out
+    # straight driving on ice logs about 117 W (husky_terrains.py --explain, part 1, runs
+    # 00-12: 99-133 W): the file's straight signal 24 V x 2 (I0 + c K) is of that size
+    spec = motor_current_spec(ice)
+    g = side_force_terrain(ice, "ice")
+    straight_w = 24.0 * 2 * (g.no_load_current_a + spec.amps_per_newton * g.k_resistance_n)
+    assert 95.0 < straight_w < 140.0

@@ -29,8 +29,10 @@ import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+import yaml
 from scipy.optimize import least_squares, lsq_linear
 
 from ecoplan._typing import FloatArray, RngLike
@@ -46,7 +48,7 @@ from ecoplan.models.motor_current import (
     turn_slip,
 )
 from ecoplan.models.tracked import GRAVITY_MPS2, TrackedParams, tracked_power
-from ecoplan.models.vehicles import Vehicle
+from ecoplan.models.vehicles import Vehicle, vehicle_from_mapping
 
 __all__ = [
     "CURRENT_PARAMETERS",
@@ -93,6 +95,9 @@ class CurrentLog:
         Name of the log.
     grade_rad : ndarray or None
         Slope climbed along +x per sample [rad] (None: flat).
+    sides_logged : bool
+        False when only the sum ``I_l + I_r`` is known (:meth:`from_signal`): the fit then
+        uses the sum only.
     """
 
     t_s: FloatArray
@@ -103,6 +108,23 @@ class CurrentLog:
     terrain: str
     run_id: str = "log"
     grade_rad: FloatArray | None = None
+    sides_logged: bool = True
+
+    @classmethod
+    def from_signal(
+        cls,
+        t_s: FloatArray,
+        v_left: FloatArray,
+        v_right: FloatArray,
+        p_total_w: FloatArray,
+        bus_voltage_v: float,
+        terrain: str,
+        run_id: str = "log",
+    ) -> CurrentLog:
+        """A log whose power column is the logged ``V_bus (I_l + I_r)`` (sides unknown)."""
+        check_range("CurrentLog", "bus_voltage_v", bus_voltage_v, 0.0, 1e4, lo_open=True)
+        half = finite_array(f"{run_id}.p_total", p_total_w) / (2.0 * bus_voltage_v)
+        return cls(t_s, v_left, v_right, half, half.copy(), terrain, run_id, None, False)
 
     def __post_init__(self) -> None:
         n = None
@@ -204,6 +226,21 @@ class CurrentFit:
         """Median of the absolute held-out energy errors [-]."""
         return float(np.median(np.abs(self.heldout_energy_error)))
 
+    @property
+    def identified(self) -> tuple[str, ...]:
+        """Coefficients identified (all of :data:`CURRENT_PARAMETERS`)."""
+        return CURRENT_PARAMETERS
+
+    @property
+    def unidentified(self) -> tuple[str, ...]:
+        """Coefficients left at the base's values (none: every one is fitted)."""
+        return ()
+
+    @property
+    def clamped(self) -> dict[str, float]:
+        """Coefficients held at a bound against the logs (none: the model cannot need it)."""
+        return {}
+
     def ground(self) -> SideForceTerrain:
         """The identified coefficients as a :class:`SideForceTerrain`."""
         return SideForceTerrain(**{k: float(self.values[k]) for k in CURRENT_PARAMETERS})
@@ -223,12 +260,61 @@ class CurrentIdentification:
         One fit per terrain.
     level : float
         Joint confidence level of the intervals.
+    logs : tuple of CurrentLog
+        The logs (their motions also fit the planners' driver terms, :meth:`document`).
+    name : str
+        Name of the identified vehicle.
     """
 
     base: Vehicle
     spec: MotorCurrentLog
     fits: Mapping[str, CurrentFit]
     level: float
+    logs: tuple[CurrentLog, ...] = ()
+    name: str = ""
+
+    def document(self) -> dict[str, Any]:
+        """The identified vehicle file (``power_log`` of the base) as a plain mapping.
+
+        Each terrain holds the side-force fit and the planners' driver terms fitted to its
+        battery power on the logs' motions (:func:`planner_driver_terms`).
+
+        Raises
+        ------
+        InputError
+            The base vehicle's ``power_log`` is not ``motor_current``.
+        """
+        motor_current_spec(self.base)
+        doc: dict[str, Any] = self.base.spec.model_dump(mode="json", exclude_none=True)
+        doc["name"] = self.name or self.base.name
+        doc["terrains"] = self.terrain_entries()
+        if doc.get("default_terrain") not in doc["terrains"]:
+            doc["default_terrain"] = sorted(doc["terrains"])[0]
+        forces = vehicle_from_mapping(doc, f"identified:{doc['name']}")
+        for terrain, fit in self.fits.items():
+            group = [log for log in self.logs if log.terrain == terrain]
+            note = (
+                "least squares (>= 0) of the battery power of the identified side forces "
+                "(copper loss with the file's winding resistance) not covered by mu and "
+                f"K + I0 / c, on the motions of the {len(fit.run_ids)} logs"
+            )
+            for key, value in planner_driver_terms(forces, group, terrain).items():
+                doc["terrains"][terrain][key] = {
+                    "value": float(f"{value:.5g}"),
+                    "source": "identified",
+                    "ref": note,
+                }
+        return doc
+
+    def vehicle(self) -> Vehicle:
+        """The identified vehicle (see :meth:`document`)."""
+        return vehicle_from_mapping(self.document(), f"identified:{self.name}")
+
+    def to_yaml(self, header: str = "") -> str:
+        """The identified vehicle file as YAML text, ``header`` as comment lines above it."""
+        lines = [f"# {line}" if line else "#" for line in header.splitlines()]
+        body = yaml.safe_dump(self.document(), sort_keys=False, allow_unicode=True, width=100)
+        return "\n".join([*lines, body]) if lines else body
 
     def terrain_entries(self) -> dict[str, dict[str, object]]:
         """Terrain table of a vehicle file (``power_log: motor_current``) with the fits."""
@@ -260,7 +346,7 @@ class _Design:
         zero = SideForceTerrain(0.0, 0.0, 1.0)
         unit_k = SideForceTerrain(1.0, 0.0, 1.0)
         cols: dict[str, list[FloatArray]] = {k: [] for k in ("m0l", "m0r", "kl", "kr", "lam")}
-        cols.update(turn=[], sl=[], sr=[], il=[], ir=[])
+        cols.update(turn=[], sl=[], sr=[], il=[], ir=[], known=[])
         for log in logs:
             grade = 0.0 if log.grade_rad is None else log.grade_rad
             m0 = side_forces(log.t_s, log.v_left, log.v_right, zero, grade_rad=grade, **geometry)
@@ -280,6 +366,7 @@ class _Design:
             cols["sr"].append(np.where(log.v_right < 0.0, -1.0, 1.0))
             cols["il"].append(log.current_left_a)
             cols["ir"].append(log.current_right_a)
+            cols["known"].append(np.full(log.t_s.size, log.sides_logged))
         self.x = {k: np.concatenate(v) for k, v in cols.items()}
         self.cs = float(geometry["friction_n_per_mu"])
 
@@ -297,10 +384,13 @@ class _Design:
 
     def fit(self, c: float, idx: FloatArray | slice, start: FloatArray) -> FloatArray:
         meas_l, meas_r = self.x["il"][idx], self.x["ir"][idx]
+        known = self.x["known"][idx].astype(bool)
 
         def residual(theta: FloatArray) -> FloatArray:
+            # each side where the sides are logged, else the sum (and a zero)
             il, ir = self.currents(theta, c, idx)
-            return np.concatenate([il - meas_l, ir - meas_r])
+            first = np.where(known, il - meas_l, il + ir - meas_l - meas_r)
+            return np.concatenate([first, (ir - meas_r) * known])
 
         x0 = np.clip(start, _LOWER + 1e-9, _UPPER - 1e-9)
         res = least_squares(residual, x0, bounds=(_LOWER, _UPPER), x_scale=_START)
@@ -415,6 +505,7 @@ def identify_from_currents(
     base: Vehicle,
     spec: MotorCurrentLog,
     *,
+    name: str | None = None,
     level: float = 0.95,
     n_boot: int = 100,
     block_s: float = 5.0,
@@ -434,6 +525,8 @@ def identify_from_currents(
         else its default terrain, for χ).
     spec : MotorCurrentLog
         What the logs measure: bus voltage and ``c`` (held fixed, not identified).
+    name : str, optional
+        Name of the identified vehicle (default: the base's).
     level : float
         Joint confidence level of the intervals, in (0, 1).
     n_boot : int
@@ -487,7 +580,7 @@ def identify_from_currents(
         )
         for terrain, group in sorted(by_terrain.items())
     }
-    return CurrentIdentification(base, spec, fits, level)
+    return CurrentIdentification(base, spec, fits, level, tuple(logs), name or base.name)
 
 
 def motor_current_spec(vehicle: Vehicle) -> MotorCurrentLog:
