@@ -185,14 +185,15 @@ def explain() -> None:
                 f"{len(slopes)} runs (range {min(slopes):.2f} .. {max(slopes):.2f})"
             )
     print(
-        "\nReading: on every terrain the straight-driving power is about constant in speed"
-        "\n(a force, not force x speed); on ICE and SANDY_LOAM spot turns draw the same power"
-        "\nat any turning speed (on SNOW it even falls with it); the grade enters as"
-        "\nM g sin(pitch) times about 1 m/s, not times the driving speed (ICE: nearly flat, no"
-        "\nslope to read).  The logged 24 V x |I| behaves as the motor torque (the motor"
-        "\ncurrents), not as the battery power, so a model of power = force x speed misfits"
-        "\nit.  On ASPHALT the straight power also falls with speed (the fast samples are"
-        "\nsteady driving at the 0.79 m/s top speed), which no physical term here explains."
+        "\nReading: on every terrain the straight-driving signal is about constant in speed"
+        "\n(a force, not force x speed); on ICE and SANDY_LOAM spot turns draw the same signal"
+        "\nat any turning speed (Coulomb-like turning friction); the grade enters as"
+        "\nM g sin(pitch) times about 0.9 W/N at any speed: 24 V x c with c = r / (G k_t)"
+        "\nabout 0.0375 A/N.  The logged 24 V x |I| is the motor torque (the motor currents),"
+        "\nnot the battery power: the vehicle file says so (power_log: motor_current) and the"
+        "\nidentification fits side forces to it.  On ASPHALT the straight signal also falls"
+        "\nwith speed (the fast samples are steady driving at the 0.79 m/s top speed); no"
+        "\nforce term of the model falls with speed, so that part stays unexplained."
     )
 
 
