@@ -39,6 +39,7 @@ from ecoplan._typing import FloatArray, RngLike
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array
 from ecoplan.models.identify_logs import DriveLog, model_power
+from ecoplan.models.identify_logs import _blocks as _blocks  # the same moving blocks
 from ecoplan.models.motor_current import (
     MotorCurrentLog,
     SideForceTerrain,
@@ -401,11 +402,6 @@ def _noisier(log: CurrentLog, sigma: float, rng: np.random.Generator) -> Current
     """The log with white noise added to the moving sides' speeds (SIMEX step)."""
     vl, vr = (v + rng.normal(0.0, sigma, v.size) * (v != 0.0) for v in (log.v_left, log.v_right))
     return dataclasses.replace(log, v_left=vl, v_right=vr)
-
-
-def _blocks(t: FloatArray, block_s: float) -> list[FloatArray]:
-    edges = np.flatnonzero(np.diff(np.floor((t - t[0]) / block_s)) > 0) + 1
-    return [np.asarray(b) for b in np.split(np.arange(t.size), edges)]
 
 
 def _terrain_fit(
