@@ -21,6 +21,7 @@ Schema (every length in m, mass in kg, power in W, speed in m/s)::
     limits: {top_speed_mps, accel_max_mps2, p_side_max_w, p_motor_max_w, p_total_max_w}
     drivers: {p_powerup_w, p_braking_w, k_nonregen_n, nonregen_onset_mps, eta,
               regen_efficiency}
+    power_log: {signal, bus_voltage_v, amps_per_newton, winding_resistance_ohm}  # PowerLog
     default_terrain: asphalt
     terrains:
       asphalt:                     # a name a field user recognises
