@@ -4,8 +4,9 @@ The independent plant zoo (``benchmarks/plant_zoo``, written from the papers, sh
 with ecoplan) logs power with coloured (AR(1), phi = 0.8 at 20 Hz) noise, as real loggers
 that average and filter do.  A clean log of it is ``none`` -- a white-noise floor called every
 one ``unexplained`` -- and a periodic ripple the library has no effect for, far above the
-noise but of no candidate's shape, is ``unexplained``.  The truth comes from the zoo, never
-from the diagnosis.
+noise but of no candidate's shape, is ``unexplained``; so is a gain change mid-run, which a
+disc of the map can mimic but a step in time explains better.  The truth comes from the zoo,
+never from the diagnosis.
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from ecoplan.diagnose.naming import Alternative, beaten_by
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.stats import ljung_box, prewhiten
 from ecoplan.io.logcsv import read_log_csv
@@ -66,3 +68,51 @@ def test_zoo_log_verdict(
     d = diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=seed)
     assert d.verdict == expected
     assert 0.0 <= d.attribution.confidence <= 1.0
+
+
+def _alternative(name: str, after_w: float) -> Alternative:
+    return Alternative(name, after_w, 0.0, 0.5, {}, np.zeros(3))
+
+
+def test_an_alternative_as_good_as_the_effect_overrules_its_name() -> None:
+    alts = [_alternative("structural", 20.0), _alternative("time_step", 15.0)]
+    # the effect leaves 16 W: the step (15 W) is better, the structure (20 W) is not
+    assert beaten_by(16.0, alts) is alts[1]
+    assert beaten_by(15.0, alts) is alts[1]  # as good is enough
+    assert beaten_by(14.9, alts) is None
+    assert beaten_by(16.0, alts).verdict == "unexplained"  # type: ignore[union-attr]
+    assert alts[0].verdict == "none"  # the base model's own structure: no effect
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("variant", "seed"), [("a", 0), ("b", 0), ("e", 0)])
+def test_a_gain_change_mid_run_is_a_time_not_a_place(
+    tmp_path: Path, variant: str, seed: int
+) -> None:
+    # the zoo multiplies the logged power by `gain` from t_on on (an out-of-library effect):
+    # a disc of the map fitted to it must lose to a step in time, found where the zoo put it
+    case = plant_zoo.make_case(variant, "power_gain", seed)
+    path = plant_zoo.write_log(case, tmp_path / "log.csv")
+    d = diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=seed)
+    assert d.verdict == "unexplained"
+    step = next(a for a in d.attribution.alternatives if a.name == "time_step")
+    t_on = case.effect_params["t_on_frac"] * 180.0
+    assert abs(step.params["t_step_s"] - t_on) < 5.0
+    gain = case.effect_params["gain"]
+    # a gain scales friction and the rest alike (the fit is noisy on the friction's share)
+    assert abs(step.params["rest_factor"] - gain) < 0.06
+    assert abs(step.params["friction_factor"] - gain) < 0.15
+    assert step.after_w < d.gap_calibrated_w
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("variant", "seed"), [("b", 0), ("e", 1)])
+def test_a_terrain_patch_beats_a_step_in_time(tmp_path: Path, variant: str, seed: int) -> None:
+    # the zoo scales friction and resistance inside a disc of the map the robot crosses
+    case = plant_zoo.make_case(variant, "terrain_patch", seed)
+    path = plant_zoo.write_log(case, tmp_path / "log.csv")
+    d = diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=seed)
+    assert d.verdict == "terrain_patch"
+    assert d.attribution.reason == ""
+    named = next(s for s in d.attribution.scores if s.name == "terrain_patch")
+    assert all(a.after_w > named.after for a in d.attribution.alternatives)

@@ -47,6 +47,7 @@ from ecoplan.diagnose.effects import (
     NoEffect,
     make_effect,
 )
+from ecoplan.diagnose.naming import Alternative, fit_alternatives, naming_rule
 from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
 from ecoplan.diagnose.stats import (
     block_bootstrap,
@@ -307,6 +308,11 @@ class Attribution:
         Held-out power residual after the verdict's model.
     fitted : dict
         Fitted effects by name (``"none"``: the calibrated model refitted alone).
+    alternatives : list of Alternative
+        The explanations outside the library the verdict's effect had to beat
+        (:mod:`ecoplan.diagnose.naming`), with their held-out MAE.
+    reason : str
+        One line on why the verdict is what it is when an alternative decided it (else empty).
     """
 
     scores: list[EffectScore]
@@ -323,6 +329,8 @@ class Attribution:
     explained_fraction: float
     residual_after_w: FloatArray = field(repr=False)
     fitted: dict[str, Effect] = field(repr=False, default_factory=dict)
+    alternatives: list[Alternative] = field(repr=False, default_factory=list)
+    reason: str = ""
 
 
 KINEMATIC = ("actuator_lag", "icr_asymmetry")
@@ -525,6 +533,16 @@ def attribute(
         phi,
         min_gain,
     )
+    alternatives = fit_alternatives(train, test, r0, rng)
+    named = tied[0] if verdict == "ambiguous" and tied else verdict
+    named_after = next((sc.after for sc in power_scores if sc.name == named), None)
+    verdict, conf, tied, res_after, reason = naming_rule(
+        (verdict, conf, tied, res_after),
+        named_after,
+        alternatives,
+        test.frame.block.astype(np.float64),
+        rng,
+    )
     pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
     kin_win.sort(key=lambda s: -s.reduction_pct)
@@ -558,6 +576,8 @@ def attribute(
         explained,
         res_after,
         fitted,
+        alternatives,
+        reason,
     )
 
 
