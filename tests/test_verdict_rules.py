@@ -16,11 +16,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
+from ecoplan.diagnose.effects.supply import capped_speeds
 from ecoplan.diagnose.naming import Alternative, beaten_by
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.stats import ljung_box, prewhiten
 from ecoplan.io.logcsv import read_log_csv
+from ecoplan.presets import vehicle
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 sys.path.insert(0, str(BENCH))
@@ -116,3 +119,41 @@ def test_a_terrain_patch_beats_a_step_in_time(tmp_path: Path, variant: str, seed
     assert d.attribution.reason == ""
     named = next(s for s in d.attribution.scores if s.name == "terrain_patch")
     assert all(a.after_w > named.after for a in d.attribution.alternatives)
+
+
+def test_a_power_limited_drive_slows_until_the_power_is_the_cap() -> None:
+    params = vehicle("auriga-beta-wide", "marble")
+    v = np.array([0.1, 0.3, 0.5, 0.4])
+    vl, vr = v, np.array([0.1, 0.3, 0.5, -0.4])  # straight runs and a turn on the spot
+    need = np.asarray(params.power(vl, vr).total_w)
+    cap = float(np.sort(need)[1]) + 1.0  # the two cheapest motions are under the cap
+    sl, sr = capped_speeds(params, vl, vr, cap)
+    for i in range(v.size):
+        if need[i] <= cap:
+            assert sl[i] == vl[i] and sr[i] == vr[i]
+            continue
+
+        def excess(k: float, i: int = i) -> float:
+            return float(params.power(k * vl[i : i + 1], k * vr[i : i + 1]).total_w[0]) - cap
+
+        k = brentq(excess, 1e-6, 1.0)  # the scale at which the motion needs exactly the cap
+        assert sl[i] == pytest.approx(k * vl[i], rel=1e-6)
+        assert sr[i] == pytest.approx(k * vr[i], rel=1e-6)
+        assert sl[i] / sr[i] == pytest.approx(vl[i] / vr[i])  # the turn radius is kept
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("variant", "seed"), [("a", 0), ("b", 1), ("e", 0)])
+def test_a_power_limit_that_slows_the_drive_is_named(
+    tmp_path: Path, variant: str, seed: int
+) -> None:
+    # the zoo's supply gives at most cap_w: the drive slows until the power suffices, so the
+    # logged power matches the model at the logged speeds and only the speeds show the limit
+    case = plant_zoo.make_case(variant, "power_saturation", seed)
+    path = plant_zoo.write_log(case, tmp_path / "log.csv")
+    d = diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=seed)
+    assert d.verdict == "power_saturation"
+    sat = d.attribution.scores[0]
+    assert sat.name == "power_saturation" and sat.channel == "speed_mps"
+    # the calibrated model differs from the plant by a few per cent
+    assert sat.params["p_max_w"] == pytest.approx(case.effect_params["cap_w"], rel=0.1)

@@ -45,8 +45,10 @@ from ecoplan.diagnose.effects import (
     EffectData,
     IcrAsymmetry,
     NoEffect,
+    PowerSaturation,
     make_effect,
 )
+from ecoplan.diagnose.effects.supply import saturation_speed_channel
 from ecoplan.diagnose.naming import Alternative, fit_alternatives, naming_rule
 from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
 from ecoplan.diagnose.stats import (
@@ -446,7 +448,8 @@ def attribute(
     kin_names = [n for n in usable if n == "actuator_lag"]
     if "icr_asymmetry" in usable and train.frame.v_pose_err is not None:
         kin_names.append("icr_asymmetry")
-    level = alpha / max(len(candidates) + len(kin_names), 1)
+    speed_sat = "actuator_lag" in kin_names and "power_saturation" in candidates
+    level = alpha / max(len(candidates) + len(kin_names) + int(speed_sat), 1)
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
@@ -494,6 +497,28 @@ def attribute(
                 dict(lag.params_),
             )
         )
+    if speed_sat:
+        # a power limit that slows the drive shows on the speeds, not on the power
+        s0, s1, cap = saturation_speed_channel(train, test)
+        clip = PowerSaturation(theta=cap).fit(train)
+        sat = _score(
+            "power_saturation",
+            "speed_mps",
+            s0,
+            s1,
+            test,
+            rng,
+            level,
+            3 * min_gain,
+            noise_floor_mae(s0),
+            (before, clip.score(test)),
+            {"p_max_w": cap},
+        )
+        if sat.significant:
+            fitted["power_saturation"] = clip
+            residuals["power_saturation"] = test.p - clip.predict(test)
+            power_scores = [sc for sc in power_scores if sc.name != "power_saturation"]
+            kin_scores.append(sat)
     if "icr_asymmetry" in kin_names:
         k0, k1, delta = _offset_channel(train, test)
         off = IcrAsymmetry(theta=delta).fit(train)

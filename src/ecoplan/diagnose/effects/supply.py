@@ -5,17 +5,21 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
 * ``regeneration(fraction)`` -- ``P0 - regenerated_w(ρ)``: a fraction ρ of the dragged side's
   power returned, at most the non-regenerated loss (:func:`regenerated_w`), so never below
   the netted power of the sides;
-* ``power_saturation(p_max_w)`` -- the supply clips: ``min(P0, P_max)``;
+* ``power_saturation(p_max_w)`` -- the supply clips: ``min(P0, P_max)``; when commands are
+  logged the diagnosis also looks for the other face of a power limit, a drive that slows
+  down until the supply suffices (:func:`capped_speeds`, :func:`saturation_speed_channel`);
 * ``efficiency_drift(eta_rate_per_s, t0_s)`` -- η drifts linearly with time,
   ``η (1 + r (t - t0))``: ``P0 / (1 + r (t - t0))``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from ecoplan._typing import FloatArray
 from ecoplan.diagnose.effects.base import (
@@ -28,14 +32,23 @@ from ecoplan.diagnose.effects.base import (
     base_power_w,
     eta_of,
 )
-from ecoplan.diagnose.effects.data import EffectData
+from ecoplan.diagnose.effects.data import EffectData, subsample
 from ecoplan.diagnose.effects.fitting import fit_linear
+from ecoplan.diagnose.effects.motion import ActuatorLag
 from ecoplan.errors import InputError
 from ecoplan.models.power import PowerBreakdown
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 
-__all__ = ["EfficiencyDrift", "PowerSaturation", "Regeneration", "regenerated_w"]
+__all__ = [
+    "FREE_ACCEL_MPS2",
+    "EfficiencyDrift",
+    "PowerSaturation",
+    "Regeneration",
+    "capped_speeds",
+    "regenerated_w",
+    "saturation_speed_channel",
+]
 
 
 def regenerated_w(
@@ -172,6 +185,137 @@ class PowerSaturation(ScalarSearch):
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         return {"p_max_w": float(theta) if theta is not None else float("inf")}
+
+
+def capped_speeds(
+    params: VehicleParams, v_left: FloatArray, v_right: FloatArray, p_max_w: float
+) -> tuple[FloatArray, FloatArray]:
+    """Side speeds a power-limited drive reaches: both scaled down until ``P <= P_max`` [m/s].
+
+    Where the model's power at ``(v_l, v_r)`` exceeds ``p_max_w``, both sides are scaled by the
+    largest ``k`` in [0, 1] with ``P(k v_l, k v_r) <= P_max`` (bisection to 2^-30; the turn
+    radius is kept, as a drive that runs out of power slows the whole motion).  Elsewhere the
+    speeds are unchanged.
+
+    Parameters
+    ----------
+    params : TrackedParams or WheeledParams
+        The vehicle.
+    v_left, v_right : ndarray
+        Speeds the drive would reach without the limit [m/s].
+    p_max_w : float
+        Largest electrical power the supply gives [W].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        The limited side speeds [m/s].
+    """
+    vl = np.asarray(v_left, dtype=np.float64).copy()
+    vr = np.asarray(v_right, dtype=np.float64).copy()
+    over = np.flatnonzero(np.asarray(params.power(vl, vr).total_w) > p_max_w)
+    if over.size == 0:
+        return vl, vr
+    lo, hi = np.zeros(over.size), np.ones(over.size)
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        ok = np.asarray(params.power(vl[over] * mid, vr[over] * mid).total_w) <= p_max_w
+        lo = np.where(ok, mid, lo)
+        hi = np.where(ok, hi, mid)
+    vl[over] *= lo
+    vr[over] *= lo
+    return vl, vr
+
+
+def _speed_error(data: EffectData, speeds: tuple[FloatArray, FloatArray]) -> FloatArray:
+    f = data.frame
+    return np.asarray(0.5 * (np.abs(f.vl - speeds[0]) + np.abs(f.vr - speeds[1])), np.float64)
+
+
+def _with_accel(data: EffectData, accel_mps2: float) -> EffectData:
+    return dataclasses.replace(
+        data, params=dataclasses.replace(data.params, accel_max_mps2=accel_mps2)
+    )
+
+
+def _fit_cap(data: EffectData, free: tuple[FloatArray, FloatArray]) -> tuple[float, float]:
+    """The cap that best explains the speeds ``free`` fall short by: ``(cap [W], SSE)``."""
+    demand = np.asarray(data.params.power(*free).total_w, dtype=np.float64)
+
+    def sse(cap: float) -> float:
+        return float(np.sum(_speed_error(data, capped_speeds(data.params, *free, cap)) ** 2))
+
+    grid = [float(c) for c in np.quantile(demand, np.linspace(0.6, 1.0, 17))]
+    vals = [sse(c) for c in grid]
+    i = int(np.argmin(vals))
+    best = (grid[i], vals[i])
+    if i > 0:
+        lo, hi = grid[i - 1], grid[min(i + 1, len(grid) - 1)]
+        res = minimize_scalar(sse, bounds=(lo, hi), method="bounded")
+        if float(res.fun) < best[1]:
+            best = (float(res.x), float(res.fun))
+    return best if best[0] < float(np.max(demand)) else (math.inf, float(vals[-1]))
+
+
+#: Rate limits [m/s²] the speed channel of a power limit tries besides the calibrated and the
+#: preset's: none (a drive that only lags).
+FREE_ACCEL_MPS2 = 1e3
+
+
+def saturation_speed_channel(
+    train: EffectData, test: EffectData
+) -> tuple[FloatArray, FloatArray, float]:
+    """A power limit seen on the speeds: the drive falls short of its commands when it needs more.
+
+    A supply that cannot give the power a command needs makes the drive slow down until it
+    suffices; the logged power then matches the model *at the logged speeds*, and the limit
+    shows only as speeds short of the commands exactly when the power would exceed a cap.
+    The commands are followed through the drive (a lag and a rate limit,
+    :meth:`ActuatorLag.speeds`), then limited by :func:`capped_speeds`.  The rate limit
+    calibration measures where the drive is far from its command is biased by a power limit
+    (the limited samples are those), so the drive is fitted with the calibrated limit, the
+    prior's and none (:data:`FREE_ACCEL_MPS2`), the lag refitted for each, with and without a
+    cap; the reference is the best drive without a cap, the candidate the best with one.  The
+    cap is searched on the training split (a grid over the quantiles of the power the commands
+    need, then a bounded search).
+
+    Parameters
+    ----------
+    train, test : EffectData
+        Training and held-out splits (needs commands).
+
+    Returns
+    -------
+    r0, r1 : ndarray
+        Held-out side-speed error of the best drive without and with the limit [m/s].
+    p_max_w : float
+        The fitted cap [W] (inf when no cap helps).
+    """
+    sub = subsample(train)
+    prior = train.prior if train.prior is not None else train.params
+    accels = {float(train.params.accel_max_mps2), float(prior.accel_max_mps2), FREE_ACCEL_MPS2}
+    no_cap: tuple[float, float, float] = (math.inf, 0.0, 0.0)  # (sse, accel, tau)
+    with_cap: tuple[float, float, float, float] = (math.inf, 0.0, 0.0, math.inf)  # + cap
+    for accel in sorted(accels):
+        d = _with_accel(sub, accel)
+        lag = ActuatorLag()
+        lag.fit(d)
+        tau = float(lag.theta_)
+        free = lag.speeds(d, tau)
+        sse0 = float(np.sum(_speed_error(d, free) ** 2))
+        if sse0 < no_cap[0]:
+            no_cap = (sse0, accel, tau)
+        cap, sse1 = _fit_cap(d, free)
+        if sse1 < with_cap[0]:
+            with_cap = (sse1, accel, tau, cap)
+    lag = ActuatorLag()
+    t0 = _with_accel(test, no_cap[1])
+    r0 = _speed_error(t0, lag.speeds(t0, no_cap[2]))
+    cap = with_cap[3]
+    if math.isinf(cap):
+        return r0, r0, cap
+    t1 = _with_accel(test, with_cap[1])
+    return r0, _speed_error(t1, capped_speeds(t1.params, *lag.speeds(t1, with_cap[2]), cap)), cap
 
 
 class EfficiencyDrift(Effect):
