@@ -18,9 +18,12 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from ecoplan.diagnose.effects.supply import capped_speeds
+from ecoplan.diagnose.calibrate import base_design
+from ecoplan.diagnose.effects.fitting import NONREGEN_COLUMN
+from ecoplan.diagnose.effects.supply import capped_speeds, regenerated_w
 from ecoplan.diagnose.naming import Alternative, beaten_by
 from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.replay import Frame, build_frame
 from ecoplan.diagnose.stats import ljung_box, prewhiten
 from ecoplan.io.logcsv import read_log_csv
 from ecoplan.presets import vehicle
@@ -157,3 +160,51 @@ def test_a_power_limit_that_slows_the_drive_is_named(
     assert sat.name == "power_saturation" and sat.channel == "speed_mps"
     # the calibrated model differs from the plant by a few per cent
     assert sat.params["p_max_w"] == pytest.approx(case.effect_params["cap_w"], rel=0.1)
+
+
+def test_the_floor_holds_the_non_regenerated_column() -> None:
+    params = vehicle("auriga-beta-wide", "marble")
+    vl, vr = np.array([0.2, 0.3, 0.5]), np.array([0.4, 0.3, -0.5])
+    names = base_design(_frame(vl, vr), params).names
+    assert names[NONREGEN_COLUMN] == "k_nonregen_n"
+
+
+def _frame(vl: np.ndarray, vr: np.ndarray) -> Frame:
+    from ecoplan.dynamics.log import Log
+
+    t = np.arange(vl.size) * 0.05
+    lg = Log(t=t, v_left=vl, v_right=vr, p_total=np.full(vl.size, 100.0))
+    return build_frame([lg], vehicle("auriga-beta-wide", "marble"))
+
+
+def test_tracked_regeneration_returns_a_share_of_the_loss_when_the_dragged_side_gives_more() -> (
+    None
+):
+    params = vehicle("auriga-beta-wide", "marble")
+    vl, vr = np.array([0.2, 0.45, 0.3]), np.array([0.5, 0.5, 0.3])  # case 2, case 2, straight
+    pb = params.power(vl, vr)
+    loss = np.asarray(pb.nonregen_w) / params.eta  # Morales §III-C, over eta (eq. 20)
+    neg = np.maximum(-np.asarray(pb.left_w), 0) + np.maximum(-np.asarray(pb.right_w), 0)
+    for rho in (0.3, 0.7):
+        back = regenerated_w(params, pb, rho)
+        expect = rho * np.minimum(params.eta * neg, loss)
+        np.testing.assert_allclose(back, expect)
+        assert back[2] == 0.0  # straight: nothing dragged, no loss
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("variant", "seed"), [("a", 0), ("b", 1), ("e", 0)])
+def test_a_regenerating_tracked_drive_is_named_with_its_share(
+    tmp_path: Path, variant: str, seed: int
+) -> None:
+    # the zoo's driver recovers `fraction` of the non-regenerated power of case 2
+    case = plant_zoo.make_case(variant, "regeneration", seed)
+    path = plant_zoo.write_log(case, tmp_path / "log.csv")
+    d = diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=seed)
+    assert d.verdict == "regeneration"
+    reg = d.attribution.scores[0]
+    # share of the *preset's* loss: the zoo's plant k_nr (its `nonregen_n`, variant e 15-25 %
+    # off the paper's 162 N) times (1 - fraction) is what is left
+    k_plant = case.effect_params.get("nonregen_n", 162.0)
+    left = k_plant * (1.0 - case.effect_params["fraction"]) / 162.0
+    assert reg.params["fraction"] == pytest.approx(1.0 - left, abs=0.1)

@@ -58,6 +58,7 @@ from ecoplan.diagnose.stats import (
     noise_floor_mae,
     prewhiten,
 )
+from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
     "SEPARATING_MANOEUVRES",
@@ -166,6 +167,10 @@ def _signatures(data: EffectData, names: Sequence[str]) -> dict[str, FloatArray]
             cap = float(np.quantile(data.base_w, 0.9))
             sig[name] = np.minimum(cap - data.base_w, 0.0)[:, None]
         elif name in ("terrain_patch", "terrain_change"):
+            continue
+        elif name == "regeneration" and not isinstance(data.params, WheeledParams):
+            # a share of the k_nr column: told apart from the base model by the floor the
+            # refits keep k_nr above (effects.fitting.NONREGEN_FLOOR_SHARE), not by its shape
             continue
         else:
             sig[name] = eff.columns(data, None)

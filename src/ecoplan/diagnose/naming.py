@@ -29,10 +29,13 @@ import numpy as np
 
 from ecoplan._typing import FloatArray
 from ecoplan.diagnose.calibrate import calibrate
-from ecoplan.diagnose.effects import EffectData, TimeStep
+from ecoplan.diagnose.effects import EffectData, NoEffect, TimeStep, prepare
 from ecoplan.diagnose.stats import block_bootstrap
 
 __all__ = ["ALTERNATIVES", "Alternative", "beaten_by", "fit_alternatives", "naming_rule"]
+
+#: Linear parameters the structural alternative refits like the candidates (not reported).
+_LINEAR = frozenset({"mu", "k_resistance_n", "p_powerup_w", "p_braking_w", "k_nonregen_n"})
 
 #: The alternatives, by name, with what the verdict becomes when one wins.
 ALTERNATIVES: dict[str, str] = {"structural": "none", "time_step": "unexplained"}
@@ -73,11 +76,19 @@ class Alternative:
 
 
 def _structural(train: EffectData, test: EffectData) -> tuple[FloatArray, dict[str, float]]:
+    """The base model at the structure calibration identifies, refitted like every candidate.
+
+    The linear parameters are refitted as the candidates' are (:func:`fit_linear`, with its
+    floor on ``k_nr``): a structure that only lowers ``k_nr`` below the floor is the
+    ``regeneration`` effect, not a structure.
+    """
     prior = train.prior if train.prior is not None else train.params
     cal = calibrate(train.frame, prior, structural=True)
-    pred = np.asarray(cal.params.power(test.frame.vl, test.frame.vr).total_w, dtype=np.float64)
-    changed = {k: float(b) for k, (_, b) in cal.changed.items()}
-    return test.p - pred, changed
+    tr = prepare(train.frame, cal.params, train.t_rel, prior=train.prior)
+    te = prepare(test.frame, cal.params, test.t_rel, prior=test.prior)
+    refit = NoEffect().fit(tr)
+    changed = {k: float(b) for k, (_, b) in cal.changed.items() if k not in _LINEAR}
+    return te.p - refit.predict(te), {**changed, "chi": float(refit.chi_ or cal.params.chi)}
 
 
 def fit_alternatives(

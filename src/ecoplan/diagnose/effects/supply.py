@@ -2,9 +2,9 @@
 
 Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the wheeled model):
 
-* ``regeneration(fraction)`` -- ``P0 - regenerated_w(ρ)``: a fraction ρ of the dragged side's
-  power returned, at most the non-regenerated loss (:func:`regenerated_w`), so never below
-  the netted power of the sides;
+* ``regeneration(fraction)`` -- ``P0 - regenerated_w(ρ)``: a share ρ of what the dragged or
+  braking side gives back, at most the non-regenerated loss (tracked) or the braking side's
+  draw (wheeled) (:func:`regenerated_w`), so never below the netted power of the sides;
 * ``power_saturation(p_max_w)`` -- the supply clips: ``min(P0, P_max)``; when commands are
   logged the diagnosis also looks for the other face of a power limit, a drive that slows
   down until the supply suffices (:func:`capped_speeds`, :func:`saturation_speed_channel`);
@@ -33,10 +33,16 @@ from ecoplan.diagnose.effects.base import (
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData, subsample
-from ecoplan.diagnose.effects.fitting import fit_linear
+from ecoplan.diagnose.effects.fitting import (
+    NONREGEN_COLUMN,
+    fit_fixed_column,
+    fit_linear,
+    prior_nonregen,
+)
 from ecoplan.diagnose.effects.motion import ActuatorLag
 from ecoplan.errors import InputError
 from ecoplan.models.power import PowerBreakdown
+from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 
@@ -56,14 +62,18 @@ def regenerated_w(
 ) -> FloatArray:
     """Power a regenerating drive returns, bounded by what physics allows [W].
 
-    A fraction ``ρ`` (in [0, 1]) of the negative mechanical power of the dragged or braking
-    sides, ``ρ η Σ max(-P_side, 0)``, goes back to the bus -- but never more than the loss the
-    base model charges for *not* regenerating: the non-regenerated term ``k_nr (|V_l| + |V_r|)``
-    of tracked case 2 (Morales et al. 2009 §III-C; ``nonregen_w / η`` of ``P_T``), or for the
-    wheeled model (Chuy et al. 2009 §III-A, the braking side's ``|P|`` drains the battery) the
-    braking side's draw ``braking_w``.  With the cap the corrected power stays at or above the
-    netted power of the sides, the physical floor (issue 12: the unbounded form gave 314 W at
-    (0.49, 0.5) m/s on the Auriga-β, below its 428.7 W floor, and -79 W at ``ρ = 1``).
+    A share ``ρ`` (in [0, 1]) of what the drive can give back: the negative mechanical power
+    of the dragged or braking sides through the drive, ``η Σ max(-P_side, 0)``, but never more
+    than the loss the base model charges for *not* regenerating -- tracked, the
+    non-regenerated term ``k_nr (|V_l| + |V_r|)`` of case 2 (Morales et al. 2009 §III-C;
+    ``nonregen_w / η`` of ``P_T``); wheeled (Chuy et al. 2009 §III-A, the braking side's
+    ``|P|`` drains the battery), the braking side's draw ``braking_w``:
+    ``ρ min(η Σ max(-P_side, 0), loss)``.  So the corrected power stays at or above the netted
+    power of the sides, the physical floor, and a drive whose dragged side gives more than the
+    loss returns the share ``ρ`` of the loss (issue 12: the unbounded form ``ρ η |dragged
+    power|`` gave 314 W at (0.49, 0.5) m/s on the Auriga-β, below its 428.7 W floor, and
+    -79 W at ``ρ = 1``; a cap after the share, ``min(ρ η neg, loss)``, returned the whole loss
+    at most fractions, so that ``ρ`` was not what a log could measure).
 
     Parameters
     ----------
@@ -80,10 +90,18 @@ def regenerated_w(
         Non-negative power returned [W], to subtract from ``P_T``.
     """
     eta = float(getattr(params, "eta", 1.0))
+    loss = pb.braking_w if isinstance(params, WheeledParams) else pb.nonregen_w / eta
+    return _share_of_loss(params, pb, fraction, loss)
+
+
+def _share_of_loss(
+    params: VehicleParams, pb: PowerBreakdown, fraction: float | FloatArray, loss: FloatArray
+) -> FloatArray:
+    """``ρ min(η Σ max(-P_side, 0), loss)`` [W] (:func:`regenerated_w`)."""
+    eta = float(getattr(params, "eta", 1.0))
     rho = np.clip(fraction, 0.0, 1.0)
     neg = np.maximum(-pb.left_w, 0.0) + np.maximum(-pb.right_w, 0.0)
-    cap = pb.braking_w if isinstance(params, WheeledParams) else pb.nonregen_w / eta
-    return np.asarray(np.minimum(rho * eta * neg, cap), dtype=np.float64)
+    return np.asarray(rho * np.minimum(eta * neg, loss), dtype=np.float64)
 
 
 class Regeneration(ScalarSearch):
@@ -91,7 +109,11 @@ class Regeneration(ScalarSearch):
 
     ``P = P_base - regenerated_w(ρ)`` (:func:`regenerated_w`): ``ρ`` in [0, 1] is searched,
     the base model's linear parameters are refitted with the returned power in place, and the
-    correction can never take the power below the netted power of the sides.
+    correction can never take the power below the netted power of the sides.  Tracked: the
+    loss a share of which is returned is the prior's (the preset's) non-regenerated term --
+    the refit holds ``k_nr`` there, since only the product ``(1 - ρ) k_nr`` shows in a log --
+    while every refit without the effect keeps ``k_nr`` above
+    :data:`~ecoplan.diagnose.effects.fitting.NONREGEN_FLOOR_SHARE` of it.
     """
 
     name = "regeneration"
@@ -116,10 +138,17 @@ class Regeneration(ScalarSearch):
             if data.breakdown is not None
             else data.params.power(data.frame.vl, data.frame.vr)
         )
+        if isinstance(data.params, TrackedParams):
+            # the prior's loss: X's k_nr column is the non-regenerated power per newton over η
+            loss = prior_nonregen(data) * data.X[:, NONREGEN_COLUMN]
+            return _share_of_loss(data.params, pb, float(theta or 0.0), loss)
         return regenerated_w(data.params, pb, float(theta or 0.0))
 
     def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
-        return fit_linear(data, data.X, y=data.p + self._returned(data, theta))
+        y = data.p + self._returned(data, theta)
+        if isinstance(data.params, TrackedParams):
+            return fit_fixed_column(data.X, y, NONREGEN_COLUMN, prior_nonregen(data))
+        return fit_linear(data, data.X, y=y)
 
     def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
         return np.asarray(data.X @ coef - self._returned(data, theta), dtype=np.float64)
