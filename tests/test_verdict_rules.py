@@ -11,6 +11,7 @@ never from the diagnosis.
 
 from __future__ import annotations
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -21,7 +22,7 @@ from scipy.optimize import brentq
 from ecoplan.diagnose.calibrate import base_design
 from ecoplan.diagnose.effects.fitting import NONREGEN_COLUMN
 from ecoplan.diagnose.effects.supply import capped_speeds, regenerated_w
-from ecoplan.diagnose.naming import Alternative, beaten_by
+from ecoplan.diagnose.naming import Alternative, naming_rule
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import Frame, build_frame
 from ecoplan.diagnose.stats import ljung_box, prewhiten
@@ -76,18 +77,46 @@ def test_zoo_log_verdict(
     assert 0.0 <= d.attribution.confidence <= 1.0
 
 
-def _alternative(name: str, after_w: float) -> Alternative:
-    return Alternative(name, after_w, 0.0, 0.5, {}, np.zeros(3))
+def _alternative(name: str, residual: np.ndarray, p_value: float = 0.5) -> Alternative:
+    after = float(np.mean(np.abs(residual)))
+    return Alternative(name, after, 0.0, p_value, {"t_step_s": 90.0}, residual)
 
 
-def test_an_alternative_as_good_as_the_effect_overrules_its_name() -> None:
-    alts = [_alternative("structural", 20.0), _alternative("time_step", 15.0)]
-    # the effect leaves 16 W: the step (15 W) is better, the structure (20 W) is not
-    assert beaten_by(16.0, alts) is alts[1]
-    assert beaten_by(15.0, alts) is alts[1]  # as good is enough
-    assert beaten_by(14.9, alts) is None
-    assert beaten_by(16.0, alts).verdict == "unexplained"  # type: ignore[union-attr]
-    assert alts[0].verdict == "none"  # the base model's own structure: no effect
+def _rule(name: str, res: np.ndarray, alts: list[Alternative], **kw: float) -> tuple[str, str]:
+    block = np.repeat(np.arange(res.size // 20), 20).astype(float)
+    after = None if name == "none" else float(np.mean(np.abs(res)))
+    out = naming_rule((name, 0.99, (), res), after, alts, block, np.random.default_rng(0), **kw)
+    return out[0], out[4]
+
+
+def test_a_name_must_beat_a_step_in_time_significantly_and_the_structure_at_all() -> None:
+    rng = np.random.default_rng(3)
+    noise = rng.normal(0.0, 10.0, 800)
+    # the step leaves the same residual give or take a little noise: not significantly worse
+    tie = [_alternative("time_step", noise + rng.normal(0.0, 1.0, 800))]
+    verdict, reason = _rule("terrain_patch", noise, tie)
+    assert verdict == "unexplained"
+    assert reason.startswith("time_step explains the held-out gap as well as terrain_patch")
+    # a step that leaves twice the residual is clearly beaten: the name stands
+    assert _rule("terrain_patch", noise, [_alternative("time_step", 2 * noise)]) == (
+        "terrain_patch",
+        "",
+    )
+    # the structure needs only to be as good: 1 % better than the effect -> none
+    assert _rule("slope", noise, [_alternative("structural", 0.99 * noise)])[0] == "none"
+    assert _rule("slope", noise, [_alternative("structural", 1.01 * noise)])[0] == "slope"
+
+
+def test_a_significant_step_in_time_turns_none_into_unexplained() -> None:
+    noise = np.random.default_rng(4).normal(0.0, 10.0, 800)
+    gap = float(np.mean(np.abs(noise + 5.0)))
+    step = Alternative("time_step", 8.0, 0.2 * gap, 1e-6, {"t_step_s": 90.0}, noise)
+    assert _rule("none", noise + 5.0, [step], gap_w=gap, level=0.004)[0] == "unexplained"
+    # not significant at the candidates' level, or too small a share: `none` stands
+    weak = dataclasses.replace(step, p_value=0.01)
+    assert _rule("none", noise + 5.0, [weak], gap_w=gap, level=0.004)[0] == "none"
+    small = dataclasses.replace(step, reduction_w=0.05 * gap)
+    assert _rule("none", noise + 5.0, [small], gap_w=gap, level=0.004)[0] == "none"
 
 
 @pytest.mark.slow

@@ -572,6 +572,9 @@ def attribute(
         alternatives,
         test.frame.block.astype(np.float64),
         rng,
+        gap_w=before,
+        level=level,
+        min_gain=min_gain,
     )
     pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]

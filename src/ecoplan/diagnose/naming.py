@@ -17,8 +17,9 @@ training split and scored on the held-out one like the candidates:
   crosses once, or crosses again later, is a window in time, which a step to the end of the
   run does not fit.
 
-:func:`fit_alternatives` fits and scores them; :func:`beaten_by` and :func:`naming_rule` apply
-the rule.
+:func:`fit_alternatives` fits and scores them; :func:`naming_rule` applies the rule (a step
+in time must be beaten *significantly*: on a log where the robot reaches a place only after
+some instant, place and time are the same fit).
 """
 
 from __future__ import annotations
@@ -32,10 +33,19 @@ from ecoplan.diagnose.calibrate import calibrate
 from ecoplan.diagnose.effects import EffectData, NoEffect, TimeStep, prepare
 from ecoplan.diagnose.stats import block_bootstrap
 
-__all__ = ["ALTERNATIVES", "Alternative", "beaten_by", "fit_alternatives", "naming_rule"]
+__all__ = [
+    "ALTERNATIVES",
+    "BEAT_LEVEL",
+    "Alternative",
+    "fit_alternatives",
+    "naming_rule",
+]
 
 #: Linear parameters the structural alternative refits like the candidates (not reported).
 _LINEAR = frozenset({"mu", "k_resistance_n", "p_powerup_w", "p_braking_w", "k_nonregen_n"})
+
+#: One-sided level at which a named effect must beat a step in time (block bootstrap) [-].
+BEAT_LEVEL = 0.05
 
 #: The alternatives, by name, with what the verdict becomes when one wins.
 ALTERNATIVES: dict[str, str] = {"structural": "none", "time_step": "unexplained"}
@@ -71,7 +81,7 @@ class Alternative:
 
     @property
     def verdict(self) -> str:
-        """The verdict when this alternative explains the gap as well as the best effect."""
+        """The verdict when this alternative overrules the best effect (:func:`naming_rule`)."""
         return ALTERNATIVES[self.name]
 
 
@@ -132,42 +142,33 @@ def fit_alternatives(
     return out
 
 
-def beaten_by(
-    best_after_w: float, alternatives: list[Alternative], margin: float = 0.0
-) -> Alternative | None:
-    """The alternative that explains the held-out gap at least as well as the best effect.
-
-    Parameters
-    ----------
-    best_after_w : float
-        Held-out power MAE with the best candidate effect [W].
-    alternatives : list of Alternative
-        Fitted alternatives (:func:`fit_alternatives`).
-    margin : float
-        Share of ``best_after_w`` by which the effect must beat an alternative [-].
-
-    Returns
-    -------
-    Alternative or None
-        The best alternative with ``after_w <= (1 + margin) best_after_w``, or None.
-    """
-    ok = [a for a in alternatives if a.after_w <= (1.0 + margin) * best_after_w]
-    return min(ok, key=lambda a: a.after_w) if ok else None
-
-
 def naming_rule(
     verdict: tuple[str, float, tuple[str, ...], FloatArray],
     named_after_w: float | None,
     alternatives: list[Alternative],
     block: FloatArray,
     rng: np.random.Generator,
+    *,
+    gap_w: float = 0.0,
+    level: float = 0.0,
+    min_gain: float = 0.03,
 ) -> tuple[str, float, tuple[str, ...], FloatArray, str]:
     """A power-channel name stands only if it beats every alternative outside the library.
 
-    When an alternative leaves a held-out MAE no larger than the named effect's, the verdict
-    becomes the alternative's (:attr:`Alternative.verdict`: ``none`` for the structure,
-    ``unexplained`` for a change in time), as sure as the block bootstrap is that the
-    alternative is not worse than the effect (``1 -`` its one-sided p-value).
+    * ``structural``: the named effect must leave a smaller held-out MAE than the base model
+      at the structure calibration identifies, else the verdict is ``none``.
+    * ``time_step``: the named effect must be *significantly* better than a step in time
+      (one-sided block bootstrap, p < :data:`BEAT_LEVEL`), else ``unexplained``.  A place the
+      robot reached only after some instant and a change at that instant are the same fit on
+      such a log (the excess does not re-occur at the place at another time, nor away from it
+      after that time); the data cannot name the place.
+    * A ``none`` verdict where the step in time closes the gap significantly (p < ``level``,
+      the candidates' corrected level) and by at least twice the minimum gain is
+      ``unexplained``: a change in time that no effect of the library holds.
+
+    The confidence of an overruled verdict is how sure the block bootstrap is that the
+    alternative is not worse than the effect (``1 -`` its one-sided p-value), or for a ``none``
+    turned ``unexplained``, ``1 -`` the step's corrected p-value.
 
     Parameters
     ----------
@@ -175,13 +176,19 @@ def naming_rule(
         ``(verdict, confidence, tied names, held-out residual after the verdict [W])``.
     named_after_w : float or None
         Held-out power MAE of the named effect [W]; None when the verdict names no
-        power-channel effect (``none``, ``unexplained``, a kinematic effect): unchanged.
+        power-channel effect (``none``, ``unexplained``, a kinematic effect).
     alternatives : list of Alternative
         Fitted alternatives (:func:`fit_alternatives`).
     block : ndarray
         Held-out time-block labels, for the bootstrap.
     rng : numpy.random.Generator
         For the block bootstrap.
+    gap_w : float
+        Held-out power MAE of the calibrated model [W] (for the ``none`` rule).
+    level : float
+        The candidates' Bonferroni-corrected significance level (0: no ``none`` rule).
+    min_gain : float
+        The candidates' minimum relative reduction [-].
 
     Returns
     -------
@@ -191,14 +198,33 @@ def naming_rule(
     """
     name, conf, tied, res_after = verdict
     named = tied[0] if name == "ambiguous" and tied else name
+    blk = block.astype(np.float64)
     if named_after_w is None:
+        step = next((a for a in alternatives if a.name == "time_step"), None)
+        if (
+            name == "none"
+            and step is not None
+            and step.p_value < level
+            and step.reduction_w >= 2.0 * min_gain * gap_w
+        ):
+            reason = (
+                f"a step in time at t = {step.params.get('t_step_s', float('nan')):.1f} s "
+                f"closes {step.reduction_w:.1f} W of the {gap_w:.1f} W gap; no effect of the "
+                "library does"
+            )
+            return "unexplained", 1.0 - step.p_value, (), step.residual_w, reason
         return name, conf, tied, res_after, ""
-    alt = beaten_by(named_after_w, alternatives)
-    if alt is None:
-        return name, conf, tied, res_after, ""
-    _, _, _, p = block_bootstrap(res_after, alt.residual_w, block.astype(np.float64), rng)
-    reason = (
-        f"{alt.name} explains the held-out gap as well as {named} "
-        f"({alt.after_w:.1f} W against {named_after_w:.1f} W)"
-    )
-    return alt.verdict, 1.0 - p, (), alt.residual_w, reason
+    for alt in sorted(alternatives, key=lambda a: a.after_w):
+        if alt.name == "time_step":
+            _, _, _, p_beat = block_bootstrap(alt.residual_w, res_after, blk, rng)
+            overruled = p_beat >= BEAT_LEVEL
+        else:
+            overruled = alt.after_w <= named_after_w
+        if overruled:
+            _, _, _, p = block_bootstrap(res_after, alt.residual_w, blk, rng)
+            reason = (
+                f"{alt.name} explains the held-out gap as well as {named} "
+                f"({alt.after_w:.1f} W against {named_after_w:.1f} W)"
+            )
+            return alt.verdict, 1.0 - p, (), alt.residual_w, reason
+    return name, conf, tied, res_after, ""
