@@ -24,7 +24,10 @@ winner's held-out reduction in W and %, its 95 % bootstrap interval, the best pa
 log cannot tell apart with the separating manoeuvre, candidates not excited or unavailable),
 ``where_time`` (segments of each run where the calibrated model's residual changes level,
 on the log's own time: ``[{"run", "t_start_s", "t_end_s", "excess_w"}]``, exactly these
-keys), ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows,
+keys), ``naming`` (the explanations outside the library the verdict's effect had to beat,
+:mod:`ecoplan.diagnose.naming`: ``{"reason", "alternatives": [{"name", "after", "p_value",
+"params"}]}``, ``reason`` the one line on why an effect was not named, empty when none was
+overruled), ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows,
 split, the readers' ``notes`` -- assumptions such as the bus voltage, ignored columns -- and
 the input check's ``input_notes``) and,
 with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
@@ -131,6 +134,18 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
             "unavailable": list(att.unavailable),
         },
         "where_time": [seg.to_json() for seg in d.where_time],
+        "naming": {
+            "reason": att.reason,
+            "alternatives": [
+                {
+                    "name": a.name,
+                    "after": _num(a.after_w),
+                    "p_value": _num(a.p_value),
+                    "params": {k: _num(v) for k, v in a.params.items()},
+                }
+                for a in att.alternatives
+            ],
+        },
         "tied": list(att.tied),
         "log": {
             "runs": d.n_runs,
@@ -304,6 +319,8 @@ def summary(d: Diagnosis) -> str:
         )
     )
     lines.append(f"residual whiteness after the verdict (Ljung-Box): p = {att.ljung_box_p:.2g}")
+    if att.reason:
+        lines.append(f"not named: {att.reason}")
     held = {sc.name: sc.reduction_pct for sc in att.scores}
     for a, b, c, m in att.indistinguishable:
         line = f"look alike on this log: {a} / {b} (canonical corr {c:.2f}); to separate: {m}"
