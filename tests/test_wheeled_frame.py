@@ -11,7 +11,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.calibrate import RESOLVED_SUM_MPS, radius_resolved
+from ecoplan.diagnose.calibrate import RESOLVED_SUM_MPS, SETTLE_S, radius_resolved, settling
 from ecoplan.diagnose.replay import (
     TRACK_SNAP_MAX_MPS,
     build_frame,
@@ -29,17 +29,22 @@ def test_speeds_tracking_their_command_within_the_noise_take_the_command() -> No
     noise = g.normal(0.0, 0.004, ref.size)
     v = ref + noise
     v[100:110] += 0.1  # a transient the drive did not follow: kept as measured
-    out = snap_to_reference(v, ref)
-    quiet = np.abs(noise) < 0.008  # within 2 sigma: certainly inside 3 robust sigmas
+    other = 0.5 * ref + g.normal(0.0, 0.004, ref.size)  # the other side, tracking too
+    out, out_other = snap_to_reference(v, other, ref, 0.5 * ref)
+    quiet = (np.abs(noise) < 0.008) & (np.abs(other - 0.5 * ref) < 0.008)  # within 2 sigma
     quiet[100:110] = False
+    assert quiet.mean() > 0.8
     assert np.array_equal(out[quiet], ref[quiet])
+    assert np.array_equal(out_other[quiet], 0.5 * ref[quiet])
+    # the transient keeps both sides as measured: a pair never mixes reference and measurement
     assert np.array_equal(out[100:110], v[100:110])
+    assert np.array_equal(out_other[100:110], other[100:110])
 
 
 def test_a_drive_far_from_its_command_keeps_its_measured_speeds() -> None:
     ref = np.linspace(0.0, 0.5, 300)
     v = 0.8 * ref + 0.05  # a robot that never tracks its command (deviations up to 0.05 m/s)
-    out = snap_to_reference(v, ref)
+    out, _ = snap_to_reference(v, v.copy(), ref, v.copy())
     moved = out != v
     assert np.all(np.abs((v - ref)[moved]) <= TRACK_SNAP_MAX_MPS)
 
@@ -96,3 +101,14 @@ def test_the_wheeled_frame_uses_both_on_a_slow_tight_turn() -> None:
     ratio = frame.vr[steady] / frame.vl[steady]
     assert np.mean(np.abs(ratio - 1.5) < 0.03) > 0.9
     assert np.all(ref.vr[steady] / ref.vl[steady] == 1.5)
+
+
+def test_the_second_after_a_stop_is_settling_and_later_rest_is_not() -> None:
+    pioneer = vehicle("pioneer-3at", "asphalt")
+    t = np.arange(0.0, 10.0, 0.05)
+    v = np.where(t < 4.0, 0.3, 0.0)  # moves until 4 s (last moving sample 3.95 s), then rests
+    frame = build_frame(
+        [Log(t=t, v_left=v, v_right=v, p_total=np.ones(t.size))], pioneer, smooth_s=0.0
+    )
+    got = settling(frame)
+    assert np.array_equal(got, (t >= 4.0) & (t - 3.95 < SETTLE_S))

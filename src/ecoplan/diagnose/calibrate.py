@@ -52,6 +52,7 @@ __all__ = [
     "kinematic_chi",
     "onset_informative_samples",
     "radius_resolved",
+    "settling",
     "structural_onset",
     "wheeled_bounds",
     "wheeled_prior",
@@ -285,7 +286,7 @@ def fit_linear_at_chi(
         p = with_linear_params(p, d.names, _solve(d, frame.p, prior, envelope, TRACKED_RIDGE))
     else:
         prior, envelope = _wheeled_theta(p), _envelope_design(p)
-        fit = frame.subset(radius_resolved(frame.vl, frame.vr))
+        fit = frame.subset(radius_resolved(frame.vl, frame.vr) & ~settling(frame))
         for _ in range(3):
             d = base_design(fit, p)
             p = with_linear_params(p, d.names, _solve(d, fit.p, prior, envelope, WHEELED_RIDGE))
@@ -389,6 +390,28 @@ def radius_resolved(vl: FloatArray, vr: FloatArray) -> BoolArray:
     """
     total = np.abs(vl) + np.abs(vr)
     return np.asarray((total >= RESOLVED_SUM_MPS) | (total == 0.0), dtype=bool)
+
+
+#: After the side speeds read zero, the drive is taken as still settling for this long [s].
+SETTLE_S = 1.0
+
+
+def settling(frame: Frame, settle_s: float = SETTLE_S) -> BoolArray:
+    """Samples at rest less than ``settle_s`` after the run's last moving sample.
+
+    Encoders read zero below a few mm/s, while a wheeled drive slowing along an arc still
+    draws ``b(r)`` (wheeled eq. 12 at ``v -> 0``): on the zoo's wheeled plant 3-5 W for about a
+    second after each stop, which a fit of the power-up term (the only one at rest) took for
+    0.3 W of constant draw.  The wheeled coefficients are fitted without these samples.
+    """
+    moving = (np.abs(frame.vl) + np.abs(frame.vr)) > 0.0
+    last = np.where(moving, frame.t, -np.inf)
+    out = np.zeros(frame.n, dtype=bool)
+    for r in np.unique(frame.run):
+        idx = np.flatnonzero(frame.run == r)
+        since = frame.t[idx] - np.maximum.accumulate(last[idx])
+        out[idx] = ~moving[idx] & (since < settle_s)
+    return out
 
 
 def _flat(params: VehicleParams) -> dict[str, float]:

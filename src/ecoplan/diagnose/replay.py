@@ -231,24 +231,28 @@ TRACK_SNAP_SIGMAS = 3.0
 TRACK_SNAP_MAX_MPS = 0.02
 
 
-def snap_to_reference(v: FloatArray, ref: FloatArray) -> FloatArray:
-    """Side speeds that track their command within the encoder noise take the command's value.
+def snap_to_reference(
+    vl: FloatArray, vr: FloatArray, ref_left: FloatArray, ref_right: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """Side speeds that track their commands within the encoder noise take the commands' values.
 
     The wheeled power model is a function of the turn radius, i.e. of the ratio of the side
     speeds, and it is steep at small radii (Chuy et al. 2009, eqs. 14-15: ``b(r)`` falls from
     hundreds of W at ``r = 0``).  A few mm/s of encoder noise on a tight, slow turn move the
     radius by a quarter (a zoo log commanding 0.12 / 0.08 m/s, r = 1.25 m, read 1.65 m and
-    6 W instead of 12 W).  Where the smoothed measurement lies within
-    :data:`TRACK_SNAP_SIGMAS` robust deviations (MAD of ``v - ref`` over the run, at most
-    :data:`TRACK_SNAP_MAX_MPS`) of the noise-free reference ``ref`` (the commands through the
-    drive's rate limit), the robot is tracking its command and the reference is the better
-    estimate; elsewhere (transients, a drive that cannot follow) the measurement stays.
+    6 W instead of 12 W).  Where *both* smoothed sides lie within :data:`TRACK_SNAP_SIGMAS`
+    robust deviations (MAD of ``v - ref`` over the run, at most :data:`TRACK_SNAP_MAX_MPS`) of
+    their noise-free references (the commands through the drive's rate limit), the robot is
+    tracking its command and the references are the better estimate; elsewhere (transients,
+    a drive that cannot follow) both measurements stay, so that a pair never mixes the two.
     """
-    dev = v - ref
+    dev_l, dev_r = vl - ref_left, vr - ref_right
+    both = np.concatenate([dev_l, dev_r])
     tol = min(
-        TRACK_SNAP_SIGMAS * float(median_abs_deviation(dev, scale="normal")), TRACK_SNAP_MAX_MPS
+        TRACK_SNAP_SIGMAS * float(median_abs_deviation(both, scale="normal")), TRACK_SNAP_MAX_MPS
     )
-    return np.where(np.abs(dev) <= tol, ref, v)
+    track = (np.abs(dev_l) <= tol) & (np.abs(dev_r) <= tol)
+    return np.where(track, ref_left, vl), np.where(track, ref_right, vr)
 
 
 def hold_radius(
@@ -371,7 +375,7 @@ def build_frame(
             vl, vr = snap_speeds(vl, vr, snap_mps, cl, cr)
             if isinstance(params, WheeledParams):
                 if cl is not None and cr is not None:
-                    vl, vr = snap_to_reference(vl, cl), snap_to_reference(vr, cr)
+                    vl, vr = snap_to_reference(vl, vr, cl, cr)
                 vl, vr = hold_radius(vl, vr)
         tw = tracks_to_twist(vl, vr, icr)
         dt = np.diff(t)
