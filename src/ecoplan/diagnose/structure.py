@@ -38,6 +38,8 @@ from ecoplan.diagnose.calibrate import (
     calibrate,
     fit_linear_at_chi,
     onset_informative_samples,
+    radius_resolved,
+    settling,
 )
 from ecoplan.diagnose.replay import Frame
 from ecoplan.models.kinematics import tracks_to_twist
@@ -49,11 +51,9 @@ __all__ = [
     "BETA_BOUNDS",
     "BETA_MAX_LOG_HALF_WIDTH",
     "MIN_SMALL_RADIUS_SAMPLES",
-    "RESOLVED_SPEED_MPS",
     "SMALL_RADIUS_M",
     "ShapeFit",
     "StructuralCalibration",
-    "resolved_radius",
     "structural_calibration",
     "wheeled_shape",
 ]
@@ -62,10 +62,6 @@ __all__ = [
 BETA_BOUNDS = (0.5, 12.0)
 #: Radii below which Table I's shape is extrapolated (its data start at 5 m, wheeled §III) [m].
 SMALL_RADIUS_M = 5.0
-#: Forward speed above which the turn radius ``|v / w|`` is resolved by the side speeds [m/s]:
-#: below it the encoder noise (a few mm/s) turns the speed ratio, and with it ``b(r)``, into
-#: noise (on a zoo log, 7 mm/s on one side and 0 on the other read as r = 0.26 m and 185 W).
-RESOLVED_SPEED_MPS = 0.05
 #: Samples at resolved radii below :data:`SMALL_RADIUS_M` needed to try the shape.
 MIN_SMALL_RADIUS_SAMPLES = 100
 #: An exponent counts as identified when the half-width of its 95 % interval in ``ln beta`` is
@@ -107,16 +103,13 @@ class ShapeFit:
     n_small_radius: int
 
 
-def resolved_radius(frame: Frame, params: WheeledParams) -> tuple[FloatArray, BoolArray]:
-    """Turn radius ``|v / w|`` of every sample [m] and where the side speeds resolve it.
-
-    Resolved: forward speed at least :data:`RESOLVED_SPEED_MPS`.  ``inf`` in straight motion.
-    """
+def _radius_and_fit_mask(frame: Frame, params: WheeledParams) -> tuple[FloatArray, BoolArray]:
+    """Turn radius ``|v / w|`` [m] (inf when straight) and the samples the fits use."""
     tw = tracks_to_twist(frame.vl, frame.vr, params.icr)
     v, w = np.abs(tw.vx), np.abs(tw.wz)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(w > 1e-12, v / w, np.inf)
-    return r, v >= RESOLVED_SPEED_MPS
+    return r, radius_resolved(frame.vl, frame.vr) & ~settling(frame)
 
 
 def _with_beta(params: WheeledParams, beta: FloatArray) -> WheeledParams:
@@ -144,7 +137,8 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
     The exponents are searched in ``ln beta`` (``scipy.optimize.minimize``, L-BFGS-B within
     :data:`BETA_BOUNDS`) around the bounded linear fit of the coefficients at each trial
     (:func:`ecoplan.diagnose.calibrate.fit_linear_at_chi`, pulled towards ``params``' own
-    coefficients), on the samples whose radius is resolved (:func:`resolved_radius`), weakly
+    coefficients), on the samples whose radius is resolved
+    (:func:`ecoplan.diagnose.calibrate.radius_resolved`, settling stops left out), weakly
     pulled towards ``params``' exponents (:data:`BETA_PRIOR_WEIGHT`).  Their 95 % intervals
     come from the curvature of the profile log-likelihood ``n_eff / 2 ln(mse)``, with
     ``n_eff`` shrunk by the residual's lag-1 autocorrelation.  An exponent whose interval is
@@ -165,8 +159,9 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
         The exponents, their intervals and which were identified.
     """
     p0 = dataclasses.replace(params, chi=chi)
-    r, resolved = resolved_radius(frame, p0)
-    n_small = int(np.count_nonzero(resolved & (r < SMALL_RADIUS_M)))
+    r, resolved = _radius_and_fit_mask(frame, p0)
+    moving = np.abs(frame.vl) + np.abs(frame.vr) > 0.0
+    n_small = int(np.count_nonzero(resolved & moving & (r < SMALL_RADIUS_M)))
     beta0 = _preset_beta(params)
     if n_small < MIN_SMALL_RADIUS_SAMPLES:
         return ShapeFit(
