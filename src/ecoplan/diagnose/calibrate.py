@@ -19,6 +19,8 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
   yaw rate when there is one (:func:`kinematic_chi`: the model is one of the turn radius), else
   as above.  The coefficients are weakly pulled towards the preset's (ridge,
   :data:`WHEELED_RIDGE`), since a log rarely sweeps enough turn radii to separate all nine.
+  They are fitted on the samples whose side speeds resolve the turn radius
+  (:func:`radius_resolved`), without the second after each stop (:func:`settling`).
 * **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
   accelerations while a side is far from its command (saturated).
 """
@@ -488,7 +490,9 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
     params : TrackedParams or WheeledParams
         Preset parameters (structure, η, geometry and starting values).
     structural : bool
-        Also identify the non-regeneration onset (:func:`structural_onset`).  Off by default:
+        Also identify the non-regeneration onset (:func:`structural_onset`; the structure of
+        both vehicles, with intervals and what was identified, is
+        :func:`ecoplan.diagnose.structure.structural_calibration`).  Off by default:
         in the pipeline it took ``benchmarks/blind_diagnosis.py`` from 97.8 % to 93.3 % right
         on in-library effects (the onset absorbed part of regeneration, power saturation and
         terrain-patch effects), below the 95 % the diagnosis must keep.

@@ -40,6 +40,7 @@ from ecoplan.diagnose.calibrate import (
     onset_informative_samples,
     radius_resolved,
     settling,
+    structural_onset,
 )
 from ecoplan.diagnose.replay import Frame
 from ecoplan.models.kinematics import tracks_to_twist
@@ -297,8 +298,9 @@ def structural_calibration(
 ) -> StructuralCalibration:
     """Re-identify the base model's parameters and its structure on ``train``; score on ``test``.
 
-    Tracked: the non-regeneration onset (:func:`ecoplan.diagnose.calibrate.structural_onset`)
-    where the log holds case-2 samples inside the searched onsets, then the usual calibration.
+    Tracked: χ by the usual calibration, the non-regeneration onset at that χ
+    (:func:`ecoplan.diagnose.calibrate.structural_onset`) where the log holds case-2 samples
+    inside the searched onsets, then the usual calibration with that onset.
     Wheeled: χ and the coefficients (:func:`ecoplan.diagnose.calibrate.calibrate`), then the
     small-radius shape (:func:`wheeled_shape`) at that χ, then the coefficients again with the
     identified shape (pulled towards the preset's coefficients).
@@ -319,7 +321,12 @@ def structural_calibration(
     """
     if isinstance(params, TrackedParams):
         n_inf = onset_informative_samples(train, params)
-        cal = calibrate(train, params, structural=True)
+        # the onset is chosen at the calibrated χ (at the preset's, a wrong χ can pick it)
+        chi = calibrate(train, params).params.chi
+        onset = structural_onset(train, dataclasses.replace(params, chi=chi))
+        assert isinstance(onset, TrackedParams)
+        trial = dataclasses.replace(params, nonregen_onset_mps=onset.nonregen_onset_mps)
+        cal = calibrate(train, trial)
         name = "nonregen_onset_mps"
         assert isinstance(cal.params, TrackedParams)
         ident: tuple[str, ...] = (name,) if n_inf >= ONSET_MIN_INFORMATIVE else ()
