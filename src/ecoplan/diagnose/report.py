@@ -26,9 +26,12 @@ log cannot tell apart with the separating manoeuvre, candidates not excited or u
 on the log's own time: ``[{"run", "t_start_s", "t_end_s", "excess_w"}]``, exactly these
 keys), ``where_time_terrain`` (the most likely terrain of each of those segments among the
 vehicle preset's terrains, in the same order; empty when the vehicle has one terrain or was
-given as parameters), ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration,
-dropped rows, split, the readers' ``notes`` -- assumptions such as the bus voltage, ignored
-columns -- and the input check's ``input_notes``) and,
+given as parameters), ``naming`` (the explanations outside the library the verdict's
+effect had to beat, :mod:`ecoplan.diagnose.naming`: ``{"reason", "alternatives": [{"name",
+"after", "p_value", "params"}]}``, ``reason`` the one line on why an effect was not named,
+empty when none was overruled), ``tied`` (names of an ambiguous verdict), ``log`` (runs,
+duration, dropped rows, split, the readers' ``notes`` -- assumptions such as the bus voltage,
+ignored columns -- and the input check's ``input_notes``) and,
 with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
 corrected model, both rankings, whether the order or the best route changes).
 """
@@ -134,6 +137,18 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
         },
         "where_time": [seg.to_json() for seg in d.where_time],
         "where_time_terrain": list(d.where_time_terrain),
+        "naming": {
+            "reason": att.reason,
+            "alternatives": [
+                {
+                    "name": a.name,
+                    "after": _num(a.after_w),
+                    "p_value": _num(a.p_value),
+                    "params": {k: _num(v) for k, v in a.params.items()},
+                }
+                for a in att.alternatives
+            ],
+        },
         "tied": list(att.tied),
         "log": {
             "runs": d.n_runs,
@@ -307,6 +322,8 @@ def summary(d: Diagnosis) -> str:
         )
     )
     lines.append(f"residual whiteness after the verdict (Ljung-Box): p = {att.ljung_box_p:.2g}")
+    if att.reason:
+        lines.append(f"not named: {att.reason}")
     held = {sc.name: sc.reduction_pct for sc in att.scores}
     for a, b, c, m in att.indistinguishable:
         line = f"look alike on this log: {a} / {b} (canonical corr {c:.2f}); to separate: {m}"
