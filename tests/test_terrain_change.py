@@ -125,7 +125,7 @@ def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_
     # AR(1) noise alone: MAE of a Gaussian of variance σ_w² / (1 - φ²) is σ √(2/π)
     e = _ar1(rng, n)
     true_mae = NOISE_W / np.sqrt(1.0 - NOISE_PHI**2) * np.sqrt(2.0 / np.pi)
-    floor, phi = coloured_noise_floor(e)
+    floor, phi = coloured_noise_floor(e, dt_s=1.0 / RATE_HZ)
     assert floor == pytest.approx(true_mae, rel=0.1)
     assert phi == pytest.approx(NOISE_PHI, abs=0.1)
     # white noise plus model error that flips sign every other sample (motion changing within
@@ -134,7 +134,8 @@ def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_
     # pattern + + - - correlates +1 and -1 with its neighbours in turn), so phi stays near 0
     flip = 40.0 * np.where((np.arange(n) // 2) % 2 == 0, 1.0, -1.0)
     r = flip + rng.normal(0.0, 10.0, n)
-    floor, phi = coloured_noise_floor(r)
+    floor, phi = coloured_noise_floor(r, dt_s=1.0 / RATE_HZ)
+    assert coloured_noise_floor(r)[1] > 0.5  # without the step: no guard, a strong colour
     assert phi < 0.05
     assert floor <= float(np.mean(np.abs(r)))
 

@@ -458,7 +458,8 @@ def attribute(
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
-    floor, phi = coloured_noise_floor(r0, test.frame.run.astype(np.float64))
+    dt_s = float(np.median(test.frame.dt)) if test.frame.n else None
+    floor, phi = coloured_noise_floor(r0, test.frame.run.astype(np.float64), dt_s)
     fitted: dict[str, Effect] = {"none": base}
     residuals: dict[str, FloatArray] = {}
     power_scores: list[EffectScore] = []

@@ -158,7 +158,9 @@ def naming_rule(
     * ``structural``: the named effect must leave a smaller held-out MAE than the base model
       at the structure calibration identifies, else the verdict is ``none``.
     * ``time_step``: the named effect must be *significantly* better than a step in time
-      (one-sided block bootstrap, p < :data:`BEAT_LEVEL`), else ``unexplained``.  A place the
+      (one-sided block bootstrap, p < :data:`BEAT_LEVEL`), else ``unexplained``;
+      ``terrain_change`` (segments in time, offered without pose) holds the step as its
+      one-switch case and is not measured against it.  A place the
       robot reached only after some instant and a change at that instant are the same fit on
       such a log (the excess does not re-occur at the place at another time, nor away from it
       after that time); the data cannot name the place.
@@ -215,6 +217,8 @@ def naming_rule(
             return "unexplained", 1.0 - step.p_value, (), step.residual_w, reason
         return name, conf, tied, res_after, ""
     for alt in sorted(alternatives, key=lambda a: a.after_w):
+        if alt.name == "time_step" and named == "terrain_change":
+            continue  # a step in time is terrain_change's own one-switch case, not a rival
         if alt.name == "time_step":
             _, _, _, p_beat = block_bootstrap(alt.residual_w, res_after, blk, rng)
             overruled = p_beat >= BEAT_LEVEL

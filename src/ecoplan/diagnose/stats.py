@@ -17,12 +17,18 @@ from scipy.stats import bootstrap, chi2, median_abs_deviation, norm
 from ecoplan._typing import FloatArray
 
 __all__ = [
+    "LOW_RATE_DT_S",
     "block_bootstrap",
     "coloured_noise_floor",
     "ljung_box",
     "noise_floor_mae",
     "prewhiten",
 ]
+
+
+#: Sample step from which :func:`coloured_noise_floor` bounds the noise's colour by the
+#: residual's own autocorrelation (below 10 Hz) [s].
+LOW_RATE_DT_S = 0.1
 
 
 def noise_floor_mae(
@@ -65,7 +71,7 @@ def _lag_one_autocorrelation(x: FloatArray, run: FloatArray | None) -> float:
 
 
 def coloured_noise_floor(
-    residual: FloatArray, run: FloatArray | None = None
+    residual: FloatArray, run: FloatArray | None = None, dt_s: float | None = None
 ) -> tuple[float, float]:
     """Noise floor of a residual whose noise may be coloured (AR(1)): ``(MAE [W], phi)``.
 
@@ -78,13 +84,23 @@ def coloured_noise_floor(
     of scales, where a median would fall short).  Slow model error hardly changes differences
     over two samples.  White noise gives ``phi = 0``.
 
-    Low-rate guard: the residual is noise plus model error, and model error that changes
-    slowly against the sample step is more correlated from one sample to the next than the
-    noise, so the residual's own lag-one autocorrelation bounds the noise's ``phi`` from
-    above.  At a low sample rate (BorealTC's 6.5 Hz currents) the motion changes within two
-    samples and the difference ratio reads model error as colour (``phi`` 0.78 where the
-    residual's autocorrelation is -0.02, a floor twice the residual's whole MAE); the bound
-    keeps ``phi`` at what the residual shows.
+    Low-rate guard (a sample step ``dt_s`` of at least :data:`LOW_RATE_DT_S`): the residual
+    is noise plus model error, and at a low sample rate (BorealTC's 6.5 Hz currents) the
+    motion changes within two samples, so the difference ratio reads model error as colour
+    (``phi`` 0.78 where the residual's autocorrelation is -0.02, a floor twice the residual's
+    whole MAE).  There ``phi`` is bounded by the residual's own lag-one autocorrelation: model
+    error that is slow against the step is more correlated than the noise, so the bound holds
+    for the noise.  At 20 Hz model error can change faster than the noise's colour (a drive
+    switching cases) and the bound would cut a true colour: the guard is off.
+
+    Parameters
+    ----------
+    residual : ndarray
+        Power residual [W].
+    run : ndarray, optional
+        Run index of every sample (differences only within a run).
+    dt_s : float, optional
+        Sample step [s]; the low-rate guard acts from :data:`LOW_RATE_DT_S` on.
 
     Returns
     -------
@@ -102,7 +118,8 @@ def coloured_noise_floor(
     s1 = float(median_abs_deviation(d1, scale="normal"))
     s2 = float(median_abs_deviation(d2, scale="normal"))
     phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9)) if s1 > 0.0 else 0.0
-    phi = min(phi, max(_lag_one_autocorrelation(x, runs), 0.0))
+    if dt_s is not None and dt_s >= LOW_RATE_DT_S:
+        phi = min(phi, max(_lag_one_autocorrelation(x, runs), 0.0))
     return float(np.mean(np.abs(d1))) / math.sqrt(2.0 * (1.0 - phi)), phi
 
 
