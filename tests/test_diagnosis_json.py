@@ -20,6 +20,7 @@ EXTRA_KEYS = {
     "channels",
     "distinguishability",
     "where_time",
+    "where_time_terrain",
     "naming",
     "tied",
     "log",

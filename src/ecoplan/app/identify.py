@@ -3,7 +3,11 @@
 Logs are read by :func:`ecoplan.io.logs.read_logs` (ecoplan CSV, ``borealtc:TERRAIN``,
 ROS 2 bags); each is cut into pieces of one terrain by its ``terrain`` column (or given one
 terrain with ``--terrain``) and passed to
-:func:`ecoplan.models.identify_logs.identify_vehicle`.
+:func:`ecoplan.models.identify_logs.identify_vehicle` (logs of battery power), or, when the
+base vehicle file says its logs measure motor currents (``power_log: motor_current``, e.g.
+``husky-a200`` and the BorealTC runs), to
+:func:`ecoplan.models.identify_current.identify_from_currents` (the side-force model fitted
+to the logged ``V_bus (I_l + I_r)``).
 """
 
 from __future__ import annotations
@@ -18,6 +22,12 @@ from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
 from ecoplan.io.logs import read_logs
 from ecoplan.io.vehicles import load_vehicle
+from ecoplan.models.identify_current import (
+    CurrentIdentification,
+    CurrentLog,
+    identify_from_currents,
+    motor_current_spec,
+)
 from ecoplan.models.identify_logs import DriveLog, VehicleIdentification, identify_vehicle
 
 __all__ = ["drive_logs", "identify_from_logs"]
@@ -85,7 +95,7 @@ def identify_from_logs(
     speed_noise_mps: float = 0.005,
     bus_voltage_v: float = 24.0,
     rng: int = 0,
-) -> VehicleIdentification:
+) -> VehicleIdentification | CurrentIdentification:
     """Read logs, cut them by terrain and identify the base vehicle's model on them.
 
     Parameters
@@ -105,19 +115,38 @@ def identify_from_logs(
     speed_noise_mps : float
         Encoder noise of the logs' side speeds [m/s] (SIMEX correction; 0 = none).
     bus_voltage_v : float
-        Bus voltage assumed for ``borealtc:`` sources [V].
+        Bus voltage assumed for ``borealtc:`` sources [V]; with a ``motor_current`` base,
+        the voltage of every log's ``p_total = V_bus (I_l + I_r)``.
     rng : int
         Seed of the bootstrap.
 
     Returns
     -------
-    VehicleIdentification
+    VehicleIdentification or CurrentIdentification
+        The latter when the base's logs measure motor currents (``clamp`` does not apply:
+        its coefficients are bounded and cannot be driven negative).
     """
     vehicle = load_vehicle(base)
     logs = read_logs(paths, bus_voltage_v=bus_voltage_v)
     pieces = [p for log in logs for p in drive_logs(log, terrain)]
     if not pieces:
         raise InputError(f"no piece of at least {MIN_PIECE_SAMPLES} samples on one terrain")
+    if vehicle.spec.power_log.signal == "motor_current":
+        currents = [
+            CurrentLog.from_signal(
+                p.t_s, p.v_left, p.v_right, p.p_total_w, bus_voltage_v, p.terrain, p.run_id
+            )
+            for p in pieces
+        ]
+        return identify_from_currents(
+            currents,
+            vehicle,
+            motor_current_spec(vehicle),
+            name=name,
+            n_boot=n_boot,
+            speed_noise_mps=speed_noise_mps,
+            rng=rng,
+        )
     return identify_vehicle(
         pieces,
         vehicle,

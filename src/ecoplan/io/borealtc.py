@@ -395,6 +395,8 @@ def load_borealtc(
     notes = [
         f"p_total = {run.bus_voltage_v:g} V x (curL + curR): the bus voltage is an "
         "assumption (BorealTC has no voltage column; the battery sags under load)",
+        "curL, curR are motor currents: p_total is a torque (force) signal, not battery "
+        "power (husky-a200: power_log motor_current, ecoplan.models.motor_current)",
         "BorealTC: Clearpath Husky A200 (wheeled skid-steer, about 70 kg), ~6.5 Hz motor log",
     ]
     n = run.t.size

@@ -21,6 +21,7 @@ Schema (every length in m, mass in kg, power in W, speed in m/s)::
     limits: {top_speed_mps, accel_max_mps2, p_side_max_w, p_motor_max_w, p_total_max_w}
     drivers: {p_powerup_w, p_braking_w, k_nonregen_n, nonregen_onset_mps, eta,
               regen_efficiency}
+    power_log: {signal, bus_voltage_v, amps_per_newton, winding_resistance_ohm}  # PowerLog
     default_terrain: asphalt
     terrains:
       asphalt:                     # a name a field user recognises
@@ -70,6 +71,7 @@ __all__ = [
     "Geometry",
     "Inertia",
     "Limits",
+    "PowerLog",
     "Sourced",
     "SourcedSides",
     "TerrainEntry",
@@ -163,6 +165,11 @@ class TerrainEntry(_Section):
         Efficiency index χ on this terrain, in (0, 1).
     p_powerup_w, p_braking_w, k_nonregen_n : Sourced, optional
         Driver terms on this terrain (tracked §III-C), >= 0.
+    turn_slip_scale : Sourced, optional
+        Wheel slip over which the turning force saturates [-], in (0, 10] (side-force
+        model of ``power_log: motor_current``).
+    no_load_current_a : Sourced, optional
+        No-load current of a side's motor [A], >= 0 (``power_log: motor_current``).
     heldout_mae_w : float, optional
         Held-out mean absolute power error of an identified model on this terrain [W].
     """
@@ -175,6 +182,8 @@ class TerrainEntry(_Section):
     p_powerup_w: Sourced | None = None
     p_braking_w: Sourced | None = None
     k_nonregen_n: Sourced | None = None
+    turn_slip_scale: Sourced | None = None
+    no_load_current_a: Sourced | None = None
     heldout_mae_w: float | None = Field(default=None, ge=0.0)
 
     @model_validator(mode="after")
@@ -186,8 +195,47 @@ class TerrainEntry(_Section):
         for name in ("k_resistance_n", "rolling_resistance", "p_powerup_w", "p_braking_w"):
             _nonneg(getattr(self, name), name)
         _nonneg(self.k_nonregen_n, "k_nonregen_n")
+        _nonneg(self.no_load_current_a, "no_load_current_a")
+        if self.turn_slip_scale is not None and not 0.0 < self.turn_slip_scale.value <= 10.0:
+            raise ValueError(
+                f"turn_slip_scale must be in (0, 10]; got {self.turn_slip_scale.value:g}"
+            )
         if self.k_resistance_n is not None and self.rolling_resistance is not None:
             raise ValueError("give k_resistance_n or rolling_resistance, not both")
+        return self
+
+
+class PowerLog(_Section):
+    """What the vehicle's power logs measure (:mod:`ecoplan.models.motor_current`).
+
+    Attributes
+    ----------
+    signal : {"battery_power", "motor_current"}
+        ``battery_power``: the logs' power is the battery power of locomotion (the papers'
+        measurements).  ``motor_current``: the logs give ``V_bus (|I_l| + |I_r|)`` with ``I``
+        each side's motor current, a force signal (``I = I0 + c F``); the terrain table then
+        holds the side-force model (``mu``, ``k_resistance_n``, ``turn_slip_scale``,
+        ``no_load_current_a``) and the planners' battery power follows from those forces.
+    bus_voltage_v : Sourced, optional
+        Bus voltage of the logged signal [V], > 0 (motor_current).
+    amps_per_newton : Sourced, optional
+        ``c = r_wheel / (G k_t)``: motor current per newton of side force [A/N], > 0.
+    winding_resistance_ohm : Sourced, optional
+        Resistance of a side's motor winding(s) [Ω], >= 0 (copper loss).
+    """
+
+    signal: Literal["battery_power", "motor_current"] = "battery_power"
+    bus_voltage_v: Sourced | None = None
+    amps_per_newton: Sourced | None = None
+    winding_resistance_ohm: Sourced | None = None
+
+    @model_validator(mode="after")
+    def _complete(self) -> PowerLog:
+        for name in ("bus_voltage_v", "amps_per_newton"):
+            v = getattr(self, name)
+            if self.signal == "motor_current" and (v is None or v.value <= 0.0):
+                raise ValueError(f"power_log.{name} > 0 is required by signal: motor_current")
+        _nonneg(self.winding_resistance_ohm, "winding_resistance_ohm")
         return self
 
 
@@ -304,6 +352,8 @@ class VehicleFile(_Section):
         Free text.
     geometry, inertia, limits, drivers
         Vehicle-wide sections.
+    power_log : PowerLog
+        What the logs' power measures (default: battery power).
     default_terrain : str
         Terrain used when none is given; a key of ``terrains``.
     terrains : mapping of str to TerrainEntry
@@ -320,6 +370,7 @@ class VehicleFile(_Section):
     inertia: Inertia
     limits: Limits
     drivers: Drivers = Drivers()
+    power_log: PowerLog = PowerLog()
     default_terrain: str
     terrains: Annotated[dict[str, TerrainEntry], Field(min_length=1)]
     assumptions: list[str] = []
@@ -353,9 +404,13 @@ def _check_terrain(vf: VehicleFile, name: str, e: TerrainEntry) -> None:
             )
         if e.sides is not None:
             raise ValueError(f"terrains.{name}.sides belongs to the radius-fit model")
+        if vf.power_log.signal == "motor_current" and e.turn_slip_scale is None:
+            raise ValueError(f"terrains.{name}.turn_slip_scale is required by motor_current logs")
     else:
         if e.sides is None:
             raise ValueError(f"terrains.{name}.sides is required by the radius-fit model")
+        if vf.power_log.signal == "motor_current":
+            raise ValueError("power_log.signal motor_current needs the contact-friction model")
         for field in ("mu", "k_resistance_n", "p_braking_w", "k_nonregen_n"):
             if getattr(e, field) is not None:
                 raise ValueError(f"terrains.{name}.{field} belongs to the contact-friction model")
@@ -473,9 +528,15 @@ class Vehicle:
         return _value(e.rolling_resistance, 0.0) * self.mass_kg * GRAVITY_MPS2
 
     def _k_resistance(self, e: TerrainEntry) -> float:
+        """K per side [N]; with motor-current logs plus the motors' no-load torque ``I0 / c``."""
         if e.k_resistance_n is not None:
-            return e.k_resistance_n.value
-        return _value(e.rolling_resistance, 0.0) * self.mass_kg * GRAVITY_MPS2 / 2.0
+            k = e.k_resistance_n.value
+        else:
+            k = _value(e.rolling_resistance, 0.0) * self.mass_kg * GRAVITY_MPS2 / 2.0
+        log = self.spec.power_log
+        if log.signal == "motor_current" and log.amps_per_newton is not None:
+            k += _value(e.no_load_current_a, 0.0) / log.amps_per_newton.value
+        return k
 
     def params(
         self, terrain: str | None = None, overrides: Mapping[str, Any] | None = None

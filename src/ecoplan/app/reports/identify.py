@@ -9,18 +9,27 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from ecoplan.models.identify_logs import VehicleIdentification
+    from collections.abc import Mapping
+
+    from ecoplan.models.identify_current import CurrentFit, CurrentIdentification
+    from ecoplan.models.identify_logs import TerrainFit, VehicleIdentification
 
 __all__ = ["identification_lines", "identification_rows"]
 
 
-def identification_lines(res: VehicleIdentification) -> list[str]:
+def _fits(
+    res: VehicleIdentification | CurrentIdentification,
+) -> Mapping[str, TerrainFit | CurrentFit]:
+    return res.fits
+
+
+def identification_lines(res: VehicleIdentification | CurrentIdentification) -> list[str]:
     """Human-readable lines: per terrain, the held-out error, the values and their intervals.
 
     Parameters
     ----------
-    res : VehicleIdentification
-        The identification.
+    res : VehicleIdentification or CurrentIdentification
+        The identification (battery-power or motor-current logs).
 
     Returns
     -------
@@ -29,7 +38,7 @@ def identification_lines(res: VehicleIdentification) -> list[str]:
         logs could not identify and those held at 0.
     """
     lines = []
-    for terrain, fit in sorted(res.fits.items()):
+    for terrain, fit in sorted(_fits(res).items()):
         lines.append(
             f"{terrain}: {len(fit.run_ids)} log(s), {fit.n_samples} samples, held-out MAE "
             f"{fit.heldout_mae_w:.1f} W (mean power {fit.mean_power_w:.0f} W), median energy "
@@ -45,13 +54,15 @@ def identification_lines(res: VehicleIdentification) -> list[str]:
     return lines
 
 
-def identification_rows(res: VehicleIdentification) -> list[dict[str, Any]]:
+def identification_rows(
+    res: VehicleIdentification | CurrentIdentification,
+) -> list[dict[str, Any]]:
     """JSON-ready rows, one per terrain (values, intervals, held-out errors; SI units).
 
     Parameters
     ----------
-    res : VehicleIdentification
-        The identification.
+    res : VehicleIdentification or CurrentIdentification
+        The identification (battery-power or motor-current logs).
 
     Returns
     -------
@@ -69,5 +80,5 @@ def identification_rows(res: VehicleIdentification) -> list[dict[str, Any]]:
             "heldout_mae_w": fit.heldout_mae_w,
             "heldout_energy_error": list(fit.heldout_energy_error),
         }
-        for terrain, fit in sorted(res.fits.items())
+        for terrain, fit in sorted(_fits(res).items())
     ]
