@@ -290,3 +290,20 @@ def test_cli_identify_fits_motor_currents_for_a_motor_current_base(tmp_path, cap
     g = side_force_terrain(ice, "ice")
     straight_w = 24.0 * 2 * (g.no_load_current_a + spec.amps_per_newton * g.k_resistance_n)
     assert 95.0 < straight_w < 140.0
+
+
+@settings(max_examples=80, deadline=None)
+@given(vl=st.floats(-1.0, 1.0), vr=st.floats(-1.0, 1.0))
+def test_steady_side_forces_supply_rolling_and_turning_power(vl: float, vr: float) -> None:
+    # energy balance at constant side speeds: F_l V_l + F_r V_r equals the rolling power
+    # K (|V_l| + |V_r|) (moving sides) plus the turning pair's power F_turn |V_r - V_l|
+    t = np.arange(3.0)
+    fl, fr = _forces(t, np.full(3, vl), np.full(3, vr))
+    w_a = abs(vr - vl) / 1.0 * 0.25  # |ω| a with spread 1 m, a = 0.25 m
+    v = 0.5 * (vl + vr)
+    slip = w_a / math.hypot(v, w_a) if w_a > 0 else 0.0
+    turning = abs(vr - vl) > 0.01
+    f_turn = 0.6 * 200.0 * math.tanh(slip / 0.1) if turning else 0.0
+    rolling = 30.0 * sum(abs(x) for x in (vl, vr) if abs(x) > 0.01)
+    expect = rolling + f_turn * abs(vr - vl)
+    np.testing.assert_allclose(fl * vl + fr * vr, expect, rtol=1e-9, atol=1e-9)
