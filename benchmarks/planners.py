@@ -10,6 +10,7 @@ Pioneer a free one -- the cost module charges an arc-only vehicle's initial turn
 its lateral displacement, which Dubins paths cannot match; ``--aligned``: free for both):
 
 * ``graph``: :class:`ecoplan.planning.graph.GraphPlanner` with the energy cost;
+* ``graph-nodes``: the same without its waypoint refinement (the route on its nodes);
 * ``graph-length``: the same planner with the length cost (the shortest path);
 * ``ompl-<P>`` / ``ompl-<P>-length``: :class:`ecoplan.planning.ompl.OmplPlanner` with
   planner ``P`` and a ``--time`` budget, energy and length objectives (state space
@@ -35,6 +36,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import math
 import multiprocessing as mp
 import os
@@ -136,11 +138,15 @@ def run_map(args: tuple[str, int, float, tuple[str, ...], bool]) -> list[dict]:
         "length": LengthCost(spec, speed, world=world),
     }
     rows = []
-    for objective, cost in costs.items():
-        name = "graph" if objective == "energy" else "graph-length"
+    graph_runs = [("graph", "energy", True), ("graph-nodes", "energy", False),
+                  ("graph-length", "length", True)]  # fmt: skip
+    for name, objective, refine in graph_runs:
+        cost = costs[objective]
         try:
-            graph = GraphPlanner(world, cost, GraphPlannerOptions(k_paths=1, time_budget_s=60))
-            res = graph.plan(start, goal, initial_heading_rad=heading)
+            opts = GraphPlannerOptions(k_paths=1, time_budget_s=60)
+            if not refine:
+                opts = dataclasses.replace(opts, refine=None)
+            res = GraphPlanner(world, cost, opts).plan(start, goal, initial_heading_rad=heading)
             rows.append(_row(vehicle, seed, name, objective, res, "Exact solution"))
         except EcoplanError as exc:
             rows.append(_row(vehicle, seed, name, objective, None, type(exc).__name__))

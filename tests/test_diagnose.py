@@ -35,18 +35,9 @@ def _diagnosed(effect: str, seed: int = 0) -> tuple[str, Diagnosis]:
 @pytest.mark.parametrize("effect", IN_LIBRARY)
 def test_diagnosis_names_the_withheld_effect(effect: str) -> None:
     expected, d = _diagnosed(effect)
+    assert expected == effect  # every in-library effect is named, on both vehicles
     assert d.verdict == expected
-    if expected != "none":
-        assert d.attribution.scores[0].name == expected  # ranked first
-    else:
-        # a bounded regeneration on a tracked vehicle is a smaller non-regenerated term
-        # (synth._expected_verdict): the calibration re-identifies k_nonregen_n, no effect
-        # closes a material share of the gap (a candidate may nudge a gap at the noise floor by
-        # a few per cent: attribute's near-noise rule needs twice its 3 % minimum gain)
-        assert effect == "regeneration"
-        k_before, k_after = d.calibration.changed["k_nonregen_n"]
-        assert k_after < 0.5 * k_before
-        assert all(s.reduction_pct < 6.0 for s in d.attribution.scores if s.significant)
+    assert d.attribution.scores[0].name == expected  # ranked first
     assert 0.0 <= d.attribution.confidence <= 1.0
 
 

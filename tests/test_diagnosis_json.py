@@ -20,6 +20,8 @@ EXTRA_KEYS = {
     "channels",
     "distinguishability",
     "where_time",
+    "where_time_terrain",
+    "naming",
     "tied",
     "log",
 }
@@ -46,6 +48,10 @@ def test_json_has_exactly_the_stable_shape(effect: str) -> None:
         assert obj["effects"][0]["name"] == obj["verdict"]["effect"]
     for w in obj["where"]:
         assert 0.0 <= w["error_share"] <= 1.0 and 0.0 <= w["time_share"] <= 1.0
+    # the evidence of the naming rule: both alternatives, each with its held-out MAE
+    assert [a["name"] for a in obj["naming"]["alternatives"]] == ["structural", "time_step"]
+    assert all(isinstance(a["after"], float) for a in obj["naming"]["alternatives"])
+    assert isinstance(obj["naming"]["reason"], str)
 
 
 def test_saturation_cap_is_a_number_and_inf_would_be_null() -> None:

@@ -54,7 +54,9 @@ def test_no_detour_when_the_short_way_is_also_cheap() -> None:
     kw = {"initial_heading_rad": math.pi / 2}
     e = plan_graph(w, (0, 0), (10, 0), EnergyCost(TRACKED, 0.5, world=w), **kw).best
     n = plan_graph(w, (0, 0), (10, 0), LengthCost(TRACKED, 0.5, world=w), **kw).best
-    assert np.allclose(e.waypoints, n.waypoints)
+    # both pass below the wall (the refinement rounds their corners each its own way)
+    assert (e.waypoints[1:-1, 1] < 0).all() and (n.waypoints[1:-1, 1] < 0).all()
+    assert e.cost.energy_j <= n.cost.energy_j and n.cost.length_m <= e.cost.length_m
 
 
 def patch_world(patch: object) -> World:

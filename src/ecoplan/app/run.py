@@ -375,7 +375,11 @@ def _plan_with(
     elif planner.type == "graph":
         from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
 
-        options = GraphPlannerOptions(k_paths=planner.k, time_budget_s=budget)
+        c = sc.spec.controller  # refined routes must not cost more as it drives them
+        ctrl = HeadingController(
+            c.gain, speed_mps, c.d_th_m, slowdown_heading_rad=c.slowdown_heading_rad
+        )
+        options = GraphPlannerOptions(k_paths=planner.k, time_budget_s=budget, controller=ctrl)
         res = GraphPlanner(sc.world, cost, options).plan(start, goal, initial_heading_rad=heading)
     else:
         from ecoplan.planning.ompl import OmplOptions, OmplPlanner

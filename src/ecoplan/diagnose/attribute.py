@@ -45,8 +45,11 @@ from ecoplan.diagnose.effects import (
     EffectData,
     IcrAsymmetry,
     NoEffect,
+    PowerSaturation,
     make_effect,
 )
+from ecoplan.diagnose.effects.supply import saturation_speed_channel
+from ecoplan.diagnose.naming import Alternative, fit_alternatives, naming_rule
 from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
 from ecoplan.diagnose.stats import (
     block_bootstrap,
@@ -55,6 +58,7 @@ from ecoplan.diagnose.stats import (
     noise_floor_mae,
     prewhiten,
 )
+from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
     "SEPARATING_MANOEUVRES",
@@ -163,6 +167,10 @@ def _signatures(data: EffectData, names: Sequence[str]) -> dict[str, FloatArray]
             cap = float(np.quantile(data.base_w, 0.9))
             sig[name] = np.minimum(cap - data.base_w, 0.0)[:, None]
         elif name in ("terrain_patch", "terrain_change"):
+            continue
+        elif name == "regeneration" and not isinstance(data.params, WheeledParams):
+            # a share of the k_nr column: told apart from the base model by the floor the
+            # refits keep k_nr above (effects.fitting.NONREGEN_FLOOR_SHARE), not by its shape
             continue
         else:
             sig[name] = eff.columns(data, None)
@@ -307,6 +315,11 @@ class Attribution:
         Held-out power residual after the verdict's model.
     fitted : dict
         Fitted effects by name (``"none"``: the calibrated model refitted alone).
+    alternatives : list of Alternative
+        The explanations outside the library the verdict's effect had to beat
+        (:mod:`ecoplan.diagnose.naming`), with their held-out MAE.
+    reason : str
+        One line on why the verdict is what it is when an alternative decided it (else empty).
     """
 
     scores: list[EffectScore]
@@ -323,6 +336,8 @@ class Attribution:
     explained_fraction: float
     residual_after_w: FloatArray = field(repr=False)
     fitted: dict[str, Effect] = field(repr=False, default_factory=dict)
+    alternatives: list[Alternative] = field(repr=False, default_factory=list)
+    reason: str = ""
 
 
 KINEMATIC = ("actuator_lag", "icr_asymmetry")
@@ -438,7 +453,8 @@ def attribute(
     kin_names = [n for n in usable if n == "actuator_lag"]
     if "icr_asymmetry" in usable and train.frame.v_pose_err is not None:
         kin_names.append("icr_asymmetry")
-    level = alpha / max(len(candidates) + len(kin_names), 1)
+    speed_sat = "actuator_lag" in kin_names and "power_saturation" in candidates
+    level = alpha / max(len(candidates) + len(kin_names) + int(speed_sat), 1)
     base = NoEffect().fit(train)
     r0 = test.p - base.predict(test)
     before = float(np.mean(np.abs(r0)))
@@ -486,6 +502,28 @@ def attribute(
                 dict(lag.params_),
             )
         )
+    if speed_sat:
+        # a power limit that slows the drive shows on the speeds, not on the power
+        s0, s1, cap = saturation_speed_channel(train, test)
+        clip = PowerSaturation(theta=cap).fit(train)
+        sat = _score(
+            "power_saturation",
+            "speed_mps",
+            s0,
+            s1,
+            test,
+            rng,
+            level,
+            3 * min_gain,
+            noise_floor_mae(s0),
+            (before, clip.score(test)),
+            {"p_max_w": cap},
+        )
+        if sat.significant:
+            fitted["power_saturation"] = clip
+            residuals["power_saturation"] = test.p - clip.predict(test)
+            power_scores = [sc for sc in power_scores if sc.name != "power_saturation"]
+            kin_scores.append(sat)
     if "icr_asymmetry" in kin_names:
         k0, k1, delta = _offset_channel(train, test)
         off = IcrAsymmetry(theta=delta).fit(train)
@@ -525,6 +563,19 @@ def attribute(
         phi,
         min_gain,
     )
+    alternatives = fit_alternatives(train, test, r0, rng)
+    named = tied[0] if verdict == "ambiguous" and tied else verdict
+    named_after = next((sc.after for sc in power_scores if sc.name == named), None)
+    verdict, conf, tied, res_after, reason = naming_rule(
+        (verdict, conf, tied, res_after),
+        named_after,
+        alternatives,
+        test.frame.block.astype(np.float64),
+        rng,
+        gap_w=before,
+        level=level,
+        min_gain=min_gain,
+    )
     pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
     kin_win.sort(key=lambda s: -s.reduction_pct)
@@ -558,6 +609,8 @@ def attribute(
         explained,
         res_after,
         fitted,
+        alternatives,
+        reason,
     )
 
 

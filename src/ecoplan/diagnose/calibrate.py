@@ -19,6 +19,8 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
   yaw rate when there is one (:func:`kinematic_chi`: the model is one of the turn radius), else
   as above.  The coefficients are weakly pulled towards the preset's (ridge,
   :data:`WHEELED_RIDGE`), since a log rarely sweeps enough turn radii to separate all nine.
+  They are fitted on the samples whose side speeds resolve the turn radius
+  (:func:`radius_resolved`), without the second after each stop (:func:`settling`).
 * **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
   accelerations while a side is far from its command (saturated).
 """
@@ -34,7 +36,7 @@ from typing import Any
 import numpy as np
 from scipy.optimize import lsq_linear, minimize_scalar
 
-from ecoplan._typing import FloatArray
+from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.replay import Frame, smooth_derivative
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.tracked import TrackedParams
@@ -47,8 +49,12 @@ __all__ = [
     "base_design",
     "calibrate",
     "fit_accel_limit",
+    "fit_linear_at_chi",
     "grid_then_bounded",
     "kinematic_chi",
+    "onset_informative_samples",
+    "radius_resolved",
+    "settling",
     "structural_onset",
     "wheeled_bounds",
     "wheeled_prior",
@@ -265,7 +271,15 @@ def wheeled_prior(
     return prior, _envelope_design(params)
 
 
-def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[VehicleParams, float]:
+def fit_linear_at_chi(
+    frame: Frame, params: VehicleParams, chi: float
+) -> tuple[VehicleParams, float]:
+    """Fit the linear coefficients at a fixed χ; returns the parameters and the mean square error.
+
+    The coefficients are pulled towards ``params``' own (:data:`TRACKED_RIDGE`,
+    :data:`WHEELED_RIDGE`, see :func:`_solve`); the structure (onset, decay exponents, η) is
+    ``params``'.
+    """
     p = dataclasses.replace(params, chi=chi)
     if isinstance(p, TrackedParams):
         d = base_design(frame, p)
@@ -274,9 +288,10 @@ def _fit_at_chi(frame: Frame, params: VehicleParams, chi: float) -> tuple[Vehicl
         p = with_linear_params(p, d.names, _solve(d, frame.p, prior, envelope, TRACKED_RIDGE))
     else:
         prior, envelope = _wheeled_theta(p), _envelope_design(p)
+        fit = frame.subset(radius_resolved(frame.vl, frame.vr) & ~settling(frame))
         for _ in range(3):
-            d = base_design(frame, p)
-            p = with_linear_params(p, d.names, _solve(d, frame.p, prior, envelope, WHEELED_RIDGE))
+            d = base_design(fit, p)
+            p = with_linear_params(p, d.names, _solve(d, fit.p, prior, envelope, WHEELED_RIDGE))
     pred = p.power(frame.vl, frame.vr).total_w
     return p, float(np.mean((frame.p - pred) ** 2))
 
@@ -361,6 +376,46 @@ class Calibration:
     mae_after_w: float
 
 
+#: Wheeled: the side speeds resolve the turn radius when ``|V_l| + |V_r|`` is at least this
+#: [m/s] (or the robot stands still).  Below it a few mm/s of encoder noise decide the speed
+#: ratio, and with it ``b(r)``, which is steep at small radii (wheeled eqs. 14-15): on a zoo
+#: log 7 mm/s on one side and 0 on the other read as r = 0.26 m and 185 W for a true 0.1 W,
+#: and such samples pulled ``b_alpha`` from 500 to 790 W.
+RESOLVED_SUM_MPS = 0.1
+
+
+def radius_resolved(vl: FloatArray, vr: FloatArray) -> BoolArray:
+    """Samples where the side speeds resolve the wheeled turn radius (or the robot is still).
+
+    ``|V_l| + |V_r| >= RESOLVED_SUM_MPS`` (:data:`RESOLVED_SUM_MPS`), or both sides at zero
+    (the power-up term alone).  The wheeled coefficients are fitted on these only.
+    """
+    total = np.abs(vl) + np.abs(vr)
+    return np.asarray((total >= RESOLVED_SUM_MPS) | (total == 0.0), dtype=bool)
+
+
+#: After the side speeds read zero, the drive is taken as still settling for this long [s].
+SETTLE_S = 1.0
+
+
+def settling(frame: Frame, settle_s: float = SETTLE_S) -> BoolArray:
+    """Samples at rest less than ``settle_s`` after the run's last moving sample.
+
+    Encoders read zero below a few mm/s, while a wheeled drive slowing along an arc still
+    draws ``b(r)`` (wheeled eq. 12 at ``v -> 0``): on the zoo's wheeled plant 3-5 W for about a
+    second after each stop, which a fit of the power-up term (the only one at rest) took for
+    0.3 W of constant draw.  The wheeled coefficients are fitted without these samples.
+    """
+    moving = (np.abs(frame.vl) + np.abs(frame.vr)) > 0.0
+    last = np.where(moving, frame.t, -np.inf)
+    out = np.zeros(frame.n, dtype=bool)
+    for r in np.unique(frame.run):
+        idx = np.flatnonzero(frame.run == r)
+        since = frame.t[idx] - np.maximum.accumulate(last[idx])
+        out[idx] = ~moving[idx] & (since < settle_s)
+    return out
+
+
 def _flat(params: VehicleParams) -> dict[str, float]:
     out: dict[str, float] = {}
     for f in dataclasses.fields(params):
@@ -381,6 +436,24 @@ ONSET_GRID_MPS: tuple[float, ...] = (0.0, 0.025, 0.05, 0.1, 0.2)
 ONSET_MIN_INFORMATIVE = 20
 
 
+def onset_informative_samples(frame: Frame, params: TrackedParams) -> int:
+    """Case-2 samples whose speed difference lies inside the onsets :func:`structural_onset` tries.
+
+    Same-sign sides, both above the case tolerance, speed difference between the tolerance and
+    the tolerance plus the widest onset of :data:`ONSET_GRID_MPS` (Fig. 3 case 2).
+    """
+    vl, vr = frame.vl, frame.vr
+    diff = np.abs(vr - vl)
+    tol = params.case_tol_mps
+    informative = (
+        (np.sign(vl) == np.sign(vr))
+        & (np.minimum(np.abs(vl), np.abs(vr)) > tol)
+        & (diff > tol)
+        & (diff < tol + max(ONSET_GRID_MPS))
+    )
+    return int(np.count_nonzero(informative))
+
+
 def structural_onset(frame: Frame, params: VehicleParams) -> VehicleParams:
     """Identify the structure of the non-regenerated term: its onset (tracked only).
 
@@ -396,21 +469,12 @@ def structural_onset(frame: Frame, params: VehicleParams) -> VehicleParams:
     """
     if not isinstance(params, TrackedParams):
         return params
-    vl, vr = frame.vl, frame.vr
-    diff = np.abs(vr - vl)
-    tol = params.case_tol_mps
-    informative = (
-        (np.sign(vl) == np.sign(vr))
-        & (np.minimum(np.abs(vl), np.abs(vr)) > tol)
-        & (diff > tol)
-        & (diff < tol + max(ONSET_GRID_MPS))
-    )
-    if int(np.count_nonzero(informative)) < ONSET_MIN_INFORMATIVE:
+    if onset_informative_samples(frame, params) < ONSET_MIN_INFORMATIVE:
         return params
     best = (math.inf, params)
     for onset in ONSET_GRID_MPS:
         trial = dataclasses.replace(params, nonregen_onset_mps=onset)
-        _, mse = _fit_at_chi(frame, trial, trial.chi)
+        _, mse = fit_linear_at_chi(frame, trial, trial.chi)
         if mse < best[0]:
             best = (mse, trial)
     return best[1]
@@ -426,7 +490,9 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
     params : TrackedParams or WheeledParams
         Preset parameters (structure, η, geometry and starting values).
     structural : bool
-        Also identify the non-regeneration onset (:func:`structural_onset`).  Off by default:
+        Also identify the non-regeneration onset (:func:`structural_onset`; the structure of
+        both vehicles, with intervals and what was identified, is
+        :func:`ecoplan.diagnose.structure.structural_calibration`).  Off by default:
         in the pipeline it took ``benchmarks/blind_diagnosis.py`` from 97.8 % to 93.3 % right
         on in-library effects (the onset absorbed part of regeneration, power saturation and
         terrain-patch effects), below the 95 % the diagnosis must keep.
@@ -447,8 +513,8 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
     if chi_kin is not None:
         chi = chi_kin
     else:
-        chi = grid_then_bounded(lambda c: _fit_at_chi(sub, params, c)[1], *CHI_BOUNDS)
-    best, _ = _fit_at_chi(frame, params, chi)
+        chi = grid_then_bounded(lambda c: fit_linear_at_chi(sub, params, c)[1], *CHI_BOUNDS)
+    best, _ = fit_linear_at_chi(frame, params, chi)
     accel = fit_accel_limit(frame)
     if accel is not None and accel > 0.0:
         best = dataclasses.replace(best, accel_max_mps2=accel)

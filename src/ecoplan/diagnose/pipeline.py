@@ -39,6 +39,7 @@ from ecoplan.diagnose.localise import (
     over_time,
 )
 from ecoplan.diagnose.replay import (
+    Frame,
     LogLike,
     build_frame,
     case_tolerance,
@@ -46,15 +47,37 @@ from ecoplan.diagnose.replay import (
 )
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import block_bootstrap
-from ecoplan.diagnose.where_time import where_time
+from ecoplan.diagnose.where_time import TimeSegment, label_segments, where_time
 from ecoplan.errors import InputError
-from ecoplan.presets import VehicleParams, vehicle
+from ecoplan.presets import VehicleParams, terrain_names, vehicle
 
 __all__ = ["diagnose"]
 
 
 def _rng(rng: RngLike) -> np.random.Generator:
     return rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
+
+
+def _terrain_labels(
+    vehicle_name: str | VehicleParams,
+    segments: Sequence[TimeSegment],
+    frame: Frame,
+    run_ids: Sequence[str],
+) -> tuple[str, ...]:
+    """Most likely terrain of each segment among the preset's terrains (issue 12, item 5).
+
+    Only for a vehicle named by its preset whose file describes several terrains; parameters
+    given directly carry one terrain, and get no labels.
+    """
+    if not isinstance(vehicle_name, str) or not segments:
+        return ()
+    names = terrain_names(vehicle_name)
+    if len(names) < 2:
+        return ()
+    models = {t: vehicle(vehicle_name, t) for t in names}
+    run = [run_ids[int(i)] for i in frame.run]
+    labels = label_segments(segments, frame.t, run, frame.vl, frame.vr, frame.p, models)
+    return tuple(lab for lab, _ in labels)
 
 
 def diagnose(
@@ -116,6 +139,7 @@ def diagnose(
     p_cal = np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
     r_all = frame.p - p_cal
     segments = where_time(frame.t, r_all, frame.run, run_ids, model_w=p_cal)
+    labels = _terrain_labels(vehicle_name, segments, frame, run_ids)
     train = prepare(train_f, cal.params, prior=params)
     test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
@@ -162,6 +186,7 @@ def diagnose(
         log_notes=tuple(log_notes),
         where_time=segments,
         run_ids=tuple(run_ids),
+        where_time_terrain=labels,
         all_t_s=frame.t,
         all_run=frame.run,
         all_residual_w=r_all,

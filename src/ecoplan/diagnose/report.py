@@ -24,9 +24,14 @@ winner's held-out reduction in W and %, its 95 % bootstrap interval, the best pa
 log cannot tell apart with the separating manoeuvre, candidates not excited or unavailable),
 ``where_time`` (segments of each run where the calibrated model's residual changes level,
 on the log's own time: ``[{"run", "t_start_s", "t_end_s", "excess_w"}]``, exactly these
-keys), ``tied`` (names of an ambiguous verdict), ``log`` (runs, duration, dropped rows,
-split, the readers' ``notes`` -- assumptions such as the bus voltage, ignored columns -- and
-the input check's ``input_notes``) and,
+keys), ``where_time_terrain`` (the most likely terrain of each of those segments among the
+vehicle preset's terrains, in the same order; empty when the vehicle has one terrain or was
+given as parameters), ``naming`` (the explanations outside the library the verdict's
+effect had to beat, :mod:`ecoplan.diagnose.naming`: ``{"reason", "alternatives": [{"name",
+"after", "p_value", "params"}]}``, ``reason`` the one line on why an effect was not named,
+empty when none was overruled), ``tied`` (names of an ambiguous verdict), ``log`` (runs,
+duration, dropped rows, split, the readers' ``notes`` -- assumptions such as the bus voltage,
+ignored columns -- and the input check's ``input_notes``) and,
 with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
 corrected model, both rankings, whether the order or the best route changes).
 """
@@ -131,6 +136,19 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
             "unavailable": list(att.unavailable),
         },
         "where_time": [seg.to_json() for seg in d.where_time],
+        "where_time_terrain": list(d.where_time_terrain),
+        "naming": {
+            "reason": att.reason,
+            "alternatives": [
+                {
+                    "name": a.name,
+                    "after": _num(a.after_w),
+                    "p_value": _num(a.p_value),
+                    "params": {k: _num(v) for k, v in a.params.items()},
+                }
+                for a in att.alternatives
+            ],
+        },
         "tied": list(att.tied),
         "log": {
             "runs": d.n_runs,
@@ -304,6 +322,8 @@ def summary(d: Diagnosis) -> str:
         )
     )
     lines.append(f"residual whiteness after the verdict (Ljung-Box): p = {att.ljung_box_p:.2g}")
+    if att.reason:
+        lines.append(f"not named: {att.reason}")
     held = {sc.name: sc.reduction_pct for sc in att.scores}
     for a, b, c, m in att.indistinguishable:
         line = f"look alike on this log: {a} / {b} (canonical corr {c:.2f}); to separate: {m}"
@@ -338,7 +358,8 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
 
     One panel per run (at most eight: the runs with segments first), the calibrated model's
     residual averaged over 1 s bins, the change-point segments shaded (red: the robot draws
-    more than the model, blue: less) with their excess in W.
+    more than the model, blue: less) with their excess in W and, when the preset describes
+    several terrains, each segment's most likely one.
     """
     import matplotlib
 
@@ -371,13 +392,16 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
             label="1 s mean",
         )
         rid = d.run_ids[i]
-        for seg in (s for s in d.where_time if s.run == rid):
+        labels = d.where_time_terrain or ("",) * len(d.where_time)
+        for seg, lab in zip(d.where_time, labels, strict=False):
+            if seg.run != rid:
+                continue
             colour = "#d62728" if seg.excess_w > 0 else "#1f77b4"
             ax.axvspan(seg.t_start_s, seg.t_end_s, color=colour, alpha=0.15)
             ax.text(
                 0.5 * (seg.t_start_s + seg.t_end_s),
                 0.92,
-                f"{seg.excess_w:+.0f} W",
+                f"{seg.excess_w:+.0f} W\n{lab}" if lab else f"{seg.excess_w:+.0f} W",
                 transform=ax.get_xaxis_transform(),
                 ha="center",
                 va="top",
@@ -387,7 +411,7 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
         ax.set_ylabel("W")
         ax.set_title(f"{rid}: measured - calibrated model", fontsize=8, loc="left")
     axes[-1, 0].set_xlabel("time on the log's own clock [s]")
-    axes[0, 0].legend(loc="upper right", fontsize=7)
+    axes[0, 0].legend(loc="lower right", fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "where_time.png", dpi=110)
     plt.close(fig)

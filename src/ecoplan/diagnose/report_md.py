@@ -107,12 +107,14 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
             "calibrated residual changes level; excess = the stretch's mean residual minus the "
             "session's (positive: the robot draws more than the model).",
             "",
-            "| run | from [s] | to [s] | excess |",
-            "|---|---|---|---|",
+            "| run | from [s] | to [s] | excess | likely terrain |",
+            "|---|---|---|---|---|",
         ]
-        for seg in d.where_time[:30]:
+        labels = d.where_time_terrain or ("-",) * len(d.where_time)
+        for seg, lab in zip(d.where_time[:30], labels, strict=False):
             out.append(
-                f"| {seg.run} | {seg.t_start_s:.2f} | {seg.t_end_s:.2f} | {seg.excess_w:+.1f} W |"
+                f"| {seg.run} | {seg.t_start_s:.2f} | {seg.t_end_s:.2f} | {seg.excess_w:+.1f} W "
+                f"| {lab} |"
             )
         out += [""]
     out += ["## Candidates (held out, best first)", ""]

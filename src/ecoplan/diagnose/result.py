@@ -80,6 +80,9 @@ class Diagnosis:
         (all samples) changes level (:mod:`ecoplan.diagnose.where_time`).
     run_ids : tuple of str
         Identifier of every run, in order.
+    where_time_terrain : tuple of str
+        The most likely known terrain of each ``where_time`` segment, when the vehicle preset
+        describes several (:func:`ecoplan.diagnose.where_time.label_segments`); else empty.
     all_t_s, all_run, all_residual_w : ndarray
         Every sample's time on its log's clock [s], run index and calibrated residual [W].
     """
@@ -109,6 +112,7 @@ class Diagnosis:
     log_notes: tuple[str, ...] = ()
     where_time: list[TimeSegment] = field(default_factory=list)
     run_ids: tuple[str, ...] = ()
+    where_time_terrain: tuple[str, ...] = ()
     all_t_s: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
     all_run: IntArray = field(repr=False, default_factory=lambda: np.zeros(0, dtype=np.int64))
     all_residual_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))

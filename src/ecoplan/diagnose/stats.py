@@ -54,6 +54,16 @@ def _same_run_diffs(x: FloatArray, run: FloatArray | None, lag: int) -> FloatArr
     return np.asarray(d, dtype=np.float64)
 
 
+def _lag_one_autocorrelation(x: FloatArray, run: FloatArray | None) -> float:
+    """Lag-one autocorrelation of ``x`` about its mean, over neighbours of the same run."""
+    c = x - float(np.mean(x))
+    prod = c[1:] * c[:-1]
+    if run is not None:
+        prod = prod[run[1:] == run[:-1]]
+    den = float(np.dot(c, c))
+    return float(np.sum(prod)) / den if den > 0.0 else 0.0
+
+
 def coloured_noise_floor(
     residual: FloatArray, run: FloatArray | None = None
 ) -> tuple[float, float]:
@@ -67,6 +77,14 @@ def coloured_noise_floor(
     E|e|`` for Gaussian noise, which stays right when the noise grows with the power (a mixture
     of scales, where a median would fall short).  Slow model error hardly changes differences
     over two samples.  White noise gives ``phi = 0``.
+
+    Low-rate guard: the residual is noise plus model error, and model error that changes
+    slowly against the sample step is more correlated from one sample to the next than the
+    noise, so the residual's own lag-one autocorrelation bounds the noise's ``phi`` from
+    above.  At a low sample rate (BorealTC's 6.5 Hz currents) the motion changes within two
+    samples and the difference ratio reads model error as colour (``phi`` 0.78 where the
+    residual's autocorrelation is -0.02, a floor twice the residual's whole MAE); the bound
+    keeps ``phi`` at what the residual shows.
 
     Returns
     -------
@@ -84,6 +102,7 @@ def coloured_noise_floor(
     s1 = float(median_abs_deviation(d1, scale="normal"))
     s2 = float(median_abs_deviation(d2, scale="normal"))
     phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9)) if s1 > 0.0 else 0.0
+    phi = min(phi, max(_lag_one_autocorrelation(x, runs), 0.0))
     return float(np.mean(np.abs(d1))) / math.sqrt(2.0 * (1.0 - phi)), phi
 
 

@@ -2,10 +2,20 @@
 
 The calibrated model's power residual of each run is averaged over bins of ``bin_s`` seconds
 (on the run's own time column) and segmented by penalised change-point detection
-(``ruptures.Pelt``, least-squares cost: a change of the mean level).  The penalty is
-``penalty * σ² * ln(n)`` (a BIC-like choice) with ``σ`` the robust scale of the binned
-residual's first differences (``scipy.stats.median_abs_deviation`` / √2, so that the level
-changes themselves do not inflate it).
+(``ruptures.Pelt``, least-squares cost: a change of the mean of the features) on two features
+per bin:
+
+* the residual's level (relative to the model's power when it is given: a terrain scales the
+  power);
+* its ripple, ``ln`` of the mean absolute first difference within the bin (relative to the
+  model's power likewise): rough ground shakes the wheels, and on BorealTC's 6.5 Hz currents
+  a switch from flooring to snow shows in the ripple when the level hides it.
+
+Each feature is divided by its noise scale, the robust scale of neighbouring-bin differences
+(``scipy.stats.median_abs_deviation`` / √2, so that the level changes themselves do not
+inflate it), and a change point costs ``penalty * m * ln(n)`` (``m`` features, ``n`` bins: a
+BIC-like choice).  The penalty (3) and the shortest segment (12 s) were chosen on the
+training mixes 0-9 of ``benchmarks/borealtc_mixes.py``: 17 of their 18 switches within ±5 s.
 
 A segment is reported when its run has change points (every segment of that run, so that
 each switch is a boundary ``t_end_s`` / ``t_start_s``) or when the whole run departs from the
@@ -27,7 +37,7 @@ import csv
 import itertools
 import math
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -35,8 +45,10 @@ import numpy as np
 from scipy.stats import median_abs_deviation
 
 from ecoplan._typing import FloatArray, IntArray
+from ecoplan.errors import InputError
+from ecoplan.presets import VehicleParams
 
-__all__ = ["TimeSegment", "where_time", "write_where_time_csv"]
+__all__ = ["TimeSegment", "label_segments", "where_time", "write_where_time_csv"]
 
 #: Keys of one ``where_time`` entry of the diagnosis JSON, in order.
 WHERE_TIME_KEYS: tuple[str, ...] = ("run", "t_start_s", "t_end_s", "excess_w")
@@ -87,6 +99,45 @@ def _bins(
     return starts[keep], sums[keep] / counts[keep], counts[keep], np.flatnonzero(keep)
 
 
+def _ripple(t: FloatArray, r: FloatArray, bin_s: float, number: IntArray) -> FloatArray:
+    """``ln`` of the mean absolute first difference of the residual within each kept bin.
+
+    A terrain changes the ripple of the drive's current as well as its level (rough ground
+    shakes the wheels); a bin without two samples takes its neighbour's value.
+    """
+    k = np.floor((t - t[0]) / bin_s).astype(np.int64)
+    same = k[1:] == k[:-1]
+    kk = k[1:][same]
+    size = int(k[-1]) + 1 if k.size else 0
+    cnt = np.bincount(kk, minlength=size)[number]
+    tot = np.bincount(kk, weights=np.abs(np.diff(r))[same], minlength=size)[number]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rip = np.where(cnt > 0, tot / np.maximum(cnt, 1), np.nan)
+    if np.all(np.isnan(rip)):
+        return np.zeros(number.size)
+    good = np.flatnonzero(~np.isnan(rip))
+    rip = rip[good[np.clip(np.searchsorted(good, np.arange(rip.size)), 0, good.size - 1)]]
+    return np.asarray(np.log(rip + 0.01 * float(np.median(rip)) + 1e-12), dtype=np.float64)
+
+
+def _standardise(features: FloatArray, number: IntArray) -> tuple[FloatArray, int]:
+    """Each feature over its noise scale (robust scale of neighbouring-bin differences / √2).
+
+    Features without noise (a constant) are dropped; returns the scaled features and their
+    number.
+    """
+    neighbours = np.diff(number) == 1
+    cols = []
+    for x in features.T:
+        d = np.diff(x)[neighbours]
+        s = float(median_abs_deviation(d, scale="normal")) / math.sqrt(2.0) if d.size > 1 else 0.0
+        if s > 0.0:
+            cols.append(x / s)
+    if not cols:
+        return np.zeros((features.shape[0], 0)), 0
+    return np.column_stack(cols), len(cols)
+
+
 def where_time(
     t: FloatArray,
     residual_w: FloatArray,
@@ -95,8 +146,8 @@ def where_time(
     *,
     model_w: FloatArray | None = None,
     bin_s: float = 1.0,
-    min_segment_s: float = 8.0,
-    penalty: float = 4.0,
+    min_segment_s: float = 12.0,
+    penalty: float = 3.0,
 ) -> list[TimeSegment]:
     """Segments of each run where the residual departs from the rest (change points).
 
@@ -117,9 +168,10 @@ def where_time(
     bin_s : float
         Width of the averaging bins [s].
     min_segment_s : float
-        Shortest segment [s].
+        Shortest segment [s]; at most a quarter of the run, so that a short run can still
+        hold a stretch of other ground between two of the same.
     penalty : float
-        Multiplier of the ``σ² ln(n)`` penalty of a change point.
+        Multiplier of the ``m ln(n)`` penalty of a change point (``m`` standardised features).
 
     Returns
     -------
@@ -140,21 +192,21 @@ def where_time(
         name = run_ids[int(i)] if int(i) < len(run_ids) else f"run{int(i)}"
         tr, rr = t[idx], r[idx]
         starts, means, counts, number = _bins(tr, rr, bin_s)
-        signal = means
+        rel, ripple = means, _ripple(tr, rr, bin_s, number)
         if model_w is not None:
             m_abs = _bins(tr, np.abs(np.asarray(model_w, dtype=np.float64)[idx]), bin_s)[1]
-            signal = means / np.maximum(m_abs, 0.05 * float(np.mean(m_abs)) + 1e-9)
+            m_abs = np.maximum(m_abs, 0.05 * float(np.mean(m_abs)) + 1e-9)
+            rel, ripple = means / m_abs, ripple - np.log(m_abs)
         n = means.size
-        # differences of neighbouring bins only (not across a gap)
-        diffs = np.diff(signal)[np.diff(number) == 1]
-        sigma = (
-            float(median_abs_deviation(diffs, scale="normal")) / math.sqrt(2.0) if n > 2 else 0.0
-        )
+        features = np.column_stack([rel, ripple])
         bkps: list[int] = [n]
-        min_bins = max(round(min_segment_s / bin_s), 2)
-        if n >= 2 * min_bins and sigma > 0.0:
-            algo = ruptures.Pelt(model="l2", min_size=min_bins, jump=1).fit(signal[:, None])
-            bkps = list(algo.predict(pen=penalty * sigma**2 * math.log(n)))
+        shortest = min(min_segment_s, 0.25 * float(tr[-1] - tr[0]))  # room for four in a run
+        min_bins = max(round(shortest / bin_s), 2)
+        if n >= 2 * min_bins:
+            scaled, m = _standardise(features, number)
+            if m:
+                algo = ruptures.Pelt(model="l2", min_size=min_bins, jump=1).fit(scaled)
+                bkps = list(algo.predict(pen=penalty * m * math.log(n)))
         edges = [0, *bkps]
         segs = []
         for a, b in itertools.pairwise(edges):
@@ -169,6 +221,61 @@ def where_time(
             se = float(np.std(rr)) / math.sqrt(max(n, 1))
             if abs(segs[0].excess_w) > 3.0 * max(se, 1e-12):
                 out.extend(segs)
+    return out
+
+
+def label_segments(
+    segments: Sequence[TimeSegment],
+    t: FloatArray,
+    run: Sequence[str] | IntArray,
+    v_left: FloatArray,
+    v_right: FloatArray,
+    p_w: FloatArray,
+    models: Mapping[str, VehicleParams],
+) -> list[tuple[str, float]]:
+    """The most likely known terrain of each segment: the model that leaves the least MAE.
+
+    With per-terrain models of the vehicle (the terrains of its vehicle file), each segment is
+    labelled with the terrain whose model predicts the segment's logged power best: the least
+    mean absolute error, the most likely terrain under Laplace-distributed power errors.
+
+    Parameters
+    ----------
+    segments : sequence of TimeSegment
+        Segments of :func:`where_time`.
+    t : ndarray
+        Time of every sample on its log's own clock [s].
+    run : sequence of str or ndarray
+        Run name of every sample (the segments' ``run``).
+    v_left, v_right : ndarray
+        Measured side speeds [m/s].
+    p_w : ndarray
+        Logged power [W].
+    models : mapping of str to TrackedParams or WheeledParams
+        The vehicle's model on each known terrain, by terrain name.
+
+    Returns
+    -------
+    list of (str, float)
+        Per segment, the terrain's name and its model's MAE on the segment [W] (``("", nan)``
+        for a segment without samples).
+    """
+    names = list(models)
+    if not names:
+        raise InputError("label_segments needs at least one terrain model")
+    t = np.asarray(t, dtype=np.float64)
+    run_arr = np.asarray(run).astype(str)
+    p = np.asarray(p_w, dtype=np.float64)
+    preds = np.array([np.asarray(models[k].power(v_left, v_right).total_w) for k in names])
+    out: list[tuple[str, float]] = []
+    for s in segments:
+        inside = (run_arr == s.run) & (t >= s.t_start_s) & (t <= s.t_end_s)
+        if not np.any(inside):
+            out.append(("", math.nan))
+            continue
+        mae = np.mean(np.abs(preds[:, inside] - p[inside]), axis=1)
+        best = int(np.argmin(mae))
+        out.append((names[best], float(mae[best])))
     return out
 
 

@@ -25,6 +25,12 @@
    returned plan is re-evaluated exactly by :func:`ecoplan.energy.path.path_cost`).
 4. **k best**: ``networkx.shortest_simple_paths`` (Yen) on that graph; paths that revisit
    a waypoint are skipped, so the alternatives are distinct waypoint sequences.
+5. **Refinement** (:mod:`ecoplan.planning.refine`, option ``refine``): every route's
+   corners are moved, dropped and split into chains of smaller turns while the search
+   cost falls, and the result is kept only if its full evaluation is better.  The nodes
+   fix where a route may bend; an arc-only vehicle rounds an inner corner cheapest on a
+   wide arc whose vertex lies between them (``scenarios/pioneer_power_limit.yaml``:
+   553 J on the nodes, 497 J refined).
 
 Deterministic: node order follows the world's geometry, ties are broken by insertion
 order, and no randomness is used.  The time budget is checked between phases and
@@ -34,6 +40,7 @@ out before a first path is found, or when start and goal are not connected.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -42,18 +49,27 @@ import numpy as np
 import shapely
 
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.controlled import controlled_turns
 from ecoplan.energy.objective import CostObjective
+from ecoplan.energy.path import path_cost
 from ecoplan.energy.primitives import best_spot_yaw_rate
+from ecoplan.energy.result import PathCost
 from ecoplan.energy.turns import fillet_points_many, turn_candidates
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.world import World
 from ecoplan.models.limits import min_radius_for_speed
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget, check_endpoints
+from ecoplan.planning.refine import RefineOptions, refine_waypoints
 
 __all__ = ["GraphPlanner", "GraphPlannerOptions", "plan_graph"]
 
 _START, _GOAL = 0, 1
 _SOURCE, _SINK = "source", "sink"
+_REFINE = RefineOptions()  # frozen: one shared default
+# a route refined for a controller must be estimated cheaper by more than the controlled
+# model's error on the shipped scenarios (planned vs simulated within 0.7 %)
+_DRIVEN_GAIN = 0.01
 
 
 @dataclass(frozen=True, slots=True)
@@ -75,6 +91,19 @@ class GraphPlannerOptions:
         Number of distinct waypoint sequences to return (>= 1).
     time_budget_s : float
         Wall-clock budget of one :meth:`GraphPlanner.plan` call [s].
+    refine : RefineOptions or None
+        Waypoint refinement of every returned route (:mod:`ecoplan.planning.refine`:
+        moves, drops and splits of its corners under the full evaluation, so corners are
+        rounded by chains of small turns between the nodes); ``None`` switches it off.
+    controller : HeadingController or None
+        The heading controller that will drive the route.  When given, the refinement
+        minimises the energy as this controller drives the route
+        (:func:`~ecoplan.energy.path.path_cost` with ``turn=controller``: the corner
+        tables of :mod:`ecoplan.energy.controlled`, built once per vehicle and
+        controller, 5-10 s) instead of the fillet model, which assumes arcs as wide as
+        the legs allow while the controller starts turning ``d_th`` before a waypoint.
+        The refined route is kept when that estimate falls by more than 1 %, the
+        model's error.  ``None``: the fillet model.
     """
 
     offset_m: float = 0.05
@@ -83,6 +112,8 @@ class GraphPlannerOptions:
     corner_segments: int = 2
     k_paths: int = 3
     time_budget_s: float = 10.0
+    refine: RefineOptions | None = _REFINE
+    controller: HeadingController | None = None
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.offset_m) and self.offset_m > 0.0):
@@ -95,6 +126,12 @@ class GraphPlannerOptions:
         if not (isinstance(self.corner_segments, int) and 1 <= self.corner_segments <= 16):
             raise InputError(f"corner_segments must be in [1, 16], got {self.corner_segments!r}")
         check_budget(self.time_budget_s)
+        if self.refine is not None and not isinstance(self.refine, RefineOptions):
+            raise InputError(f"refine must be RefineOptions or None, got {self.refine!r}")
+        if self.controller is not None and not isinstance(self.controller, HeadingController):
+            raise InputError(
+                f"controller must be a HeadingController or None, got {self.controller!r}"
+            )
 
 
 def _wrap(x: FloatArray) -> FloatArray:
@@ -187,6 +224,10 @@ def _auto_rings(cost: CostObjective, offset_m: float) -> tuple[float, ...]:
         return ()
     angles = np.radians([60.0, 90.0, 120.0])
     return tuple(float(offset_m + rmin * (1.0 / np.cos(a / 2.0) - 1.0)) for a in angles)
+
+
+def _same_route(a: FloatArray, b: FloatArray) -> bool:
+    return a.shape == b.shape and bool(np.allclose(a, b, rtol=0.0, atol=1e-9))
 
 
 class GraphPlanner:
@@ -306,6 +347,10 @@ class GraphPlanner:
         lg = self._state_graph(pts, seg_cost, initial_heading_rad, deadline)
         deadline.check("costing the turns")
         plans = self._k_best(lg, pts, initial_heading_rad, deadline)
+        t_refine, n_eval = deadline.elapsed_s, 0
+        if self.options.refine is not None:
+            plans, n_eval = self._refine(plans, initial_heading_rad, deadline)
+        t_refine = deadline.elapsed_s - t_refine
         plans.sort(key=lambda p: (not p.cost.feasible, p.objective_value))
         return PlanResult(
             best=plans[0],
@@ -317,10 +362,50 @@ class GraphPlanner:
                 "visibility_edges": float(len(seg_cost)),
                 "states": float(lg.number_of_nodes()),
                 "transitions": float(lg.number_of_edges()),
+                "refine_evaluations": float(n_eval),
+                "refine_s": t_refine,
             },
         )
 
     # ------------------------------------------------------------------ internals
+    def _refine(
+        self, plans: list[Plan], heading: float | None, deadline: Deadline
+    ) -> tuple[list[Plan], int]:
+        """Every plan refined (:func:`refine_waypoints`) while the budget lasts."""
+        cost, out, n_eval = self.cost, [], 0
+        ctrl = self.options.controller
+        driven, min_leg = None, 0.0
+        if ctrl is not None:
+            ctrl = dataclasses.replace(ctrl, speed_mps=cost.speed_mps)  # as path_cost does
+            start_terrain = cost.terrain_at(plans[0].waypoints[0])
+            min_leg = float(controlled_turns(cost.params(start_terrain), ctrl).legs_m[0])
+
+            def driven(wps: FloatArray) -> PathCost:
+                return path_cost(
+                    wps, cost.vehicle, cost.speed_mps, world=cost.world,
+                    initial_heading_rad=heading, turn=ctrl, elevation=cost.elevation,
+                )  # fmt: skip
+
+        def evaluate(wps: FloatArray) -> PathCost:  # as every plan of _k_best
+            return cost.path(wps, initial_heading_rad=heading)
+
+        for plan in plans:
+            if deadline.expired:
+                out.append(plan)
+                continue
+            res = refine_waypoints(
+                plan.waypoints, cost, self.world, initial_heading_rad=heading,
+                options=self.options.refine, deadline=deadline, evaluate=evaluate,
+                driven=driven, min_leg_m=min_leg, min_gain=0.0 if ctrl is None else _DRIVEN_GAIN,
+            )  # fmt: skip
+            n_eval += res.evaluations
+            if res.improved:
+                pc = res.cost
+                plan = Plan(res.waypoints, pc, cost.name, cost.value(pc), cost.speed_mps)
+            if not any(_same_route(plan.waypoints, p.waypoints) for p in out):
+                out.append(plan)  # alternatives stay distinct after refinement
+        return out, n_eval
+
     def _edges(self, pts: FloatArray) -> list[tuple[int, int]]:
         n = len(pts)
         fixed = [(int(i) + 2, int(j) + 2) for i, j in zip(*self._pairs, strict=True)]

@@ -108,7 +108,6 @@ from ecoplan._typing import FloatArray, RngLike
 from ecoplan.diagnose.effects import EFFECTS as LIBRARY_EFFECTS
 from ecoplan.diagnose.effects import OUTSIDE_EFFECTS, Session, effect_class
 from ecoplan.errors import InputError
-from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 from ecoplan.synth.trajectory import Trajectory
 
@@ -364,13 +363,12 @@ def choose_effect(g: np.random.Generator, effect: str | None) -> str:
 def expected_verdict(effect: str, vehicle: VehicleParams) -> str:
     """The verdict a perfect diagnosis gives for ``effect`` on ``vehicle``.
 
-    Out-of-library effects are ``unexplained``.  A bounded ``regeneration`` on a tracked
-    vehicle (:func:`ecoplan.diagnose.effects.regenerated_w`) returns at most the
-    non-regenerated term ``k_nr (|V_l| + |V_r|)`` of case 2, and at the moderate and large
-    fractions it is capped there on almost every case-2 sample: it *is* a smaller ``k_nr``,
-    which the structural calibration re-identifies (issue 12: an effect is named only if it
-    beats every re-identification of the base model).  Its expected verdict is ``none``, with
-    ``k_nonregen_n`` lowered by the calibration.
+    Out-of-library effects are ``unexplained``; every other effect is named.  A bounded
+    ``regeneration`` on a tracked vehicle (:func:`ecoplan.diagnose.effects.regenerated_w`)
+    returns a share of the non-regenerated term ``k_nr (|V_l| + |V_r|)`` of case 2, which
+    looks like a smaller ``k_nr``; the diagnosis keeps ``k_nr`` above a floor below which it
+    is the effect (:data:`ecoplan.diagnose.effects.fitting.NONREGEN_FLOOR_SHARE`), so it is
+    named (it was ``none`` while the share was not bounded that way).
 
     Parameters
     ----------
@@ -386,6 +384,4 @@ def expected_verdict(effect: str, vehicle: VehicleParams) -> str:
     """
     if effect in OUT_OF_LIBRARY:
         return "unexplained"
-    if effect == "regeneration" and not isinstance(vehicle, WheeledParams):
-        return "none"
     return effect

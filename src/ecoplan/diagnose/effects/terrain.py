@@ -5,7 +5,7 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
 * ``terrain_patch(center_x_m, center_y_m, radius_m, friction_factor, resistance_factor)`` --
   inside the disc ``|p - c| < R``: ``P0 + ((f_μ - 1) P_friction + (f_K - 1) P_resistance) / η``
   (tracked: exactly ``μ -> f_μ μ`` and ``K -> f_K K``);
-* ``terrain_change`` -- friction and the rest rescaled per time segment of the log (diagnosis
+* ``terrain_change`` -- friction and resistance rescaled per time segment of the log (diagnosis
   only: logs without pose);
 * ``slope(grade_rad, uphill_heading_rad)`` -- ``P0 + m g sin(θ) v_up / η``, ``v_up`` the world
   velocity along the uphill heading (negative downhill);
@@ -14,6 +14,7 @@ Generation (``P0`` the base model's power, ``η`` tracked eq. 20, 1 for the whee
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Any
 
@@ -30,13 +31,16 @@ from ecoplan.diagnose.effects.base import (
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData
+from ecoplan.diagnose.effects.fitting import fit_linear
 from ecoplan.diagnose.replay import Frame
+from ecoplan.diagnose.where_time import TimeSegment
 from ecoplan.errors import InputError
 from ecoplan.models.tracked import GRAVITY_MPS2
 from ecoplan.presets import VehicleParams
 
 __all__ = [
     "TERRAIN_CHANGE_MAX_SEGMENTS",
+    "TERRAIN_FACTOR_RANGE",
     "TERRAIN_STARTS",
     "Slope",
     "SpeedDependentResistance",
@@ -47,8 +51,15 @@ __all__ = [
 #: Grid discs of the terrain-patch search that are refined locally (best first).
 TERRAIN_STARTS = 3
 
-#: Most segments a ``terrain_change`` fit keeps (the longest; the others join the reference).
-TERRAIN_CHANGE_MAX_SEGMENTS = 8
+#: Physical range of a segment's friction and resistance factors [-]: BorealTC's five terrains
+#: (``../shared/data/borealtc/ABOUT.md``) differ by 2.8x in mean power while moving; a factor
+#: beyond 5 (or below 1/5) would be a ground unlike all of them.
+TERRAIN_FACTOR_RANGE = (0.2, 5.0)
+
+#: Most segments with their own factors in a ``terrain_change`` fit (besides the reference).
+#: On the tuning mixes 0-9 of ``benchmarks/borealtc_mixes.py`` 3 and 5 left the same held-out
+#: gaps, 8 a larger one on one mix (more segments of one terrain, each fitted on less data).
+TERRAIN_CHANGE_MAX_SEGMENTS = 5
 
 
 class TerrainPatch(Effect):
@@ -170,23 +181,24 @@ class TerrainPatch(Effect):
 
 
 class TerrainChange(Effect):
-    """Piecewise-constant terrain over time: friction and the rest of the power rescaled.
+    """Piecewise-constant terrain over time: friction and resistance rescaled per segment.
 
     Needs no pose (issue 12, item 5).  The segments are the change points of the calibrated
     residual on the training split (:func:`ecoplan.diagnose.where_time.where_time`, on each
-    log's own clock); within each segment but the reference (the longest) the friction power
-    and the rest of the base power (resistance, driver terms) get their own factors, fitted
-    jointly with the base model like every effect and scored held-out on the interleaved
-    time blocks of the same runs.  With a pose a terrain is a place, and ``terrain_patch``
-    (a disc of the map) is the candidate: this effect is offered only for logs without pose.
+    log's own clock, relative to the model's power), neighbours of alike level merged down to
+    one more than :data:`TERRAIN_CHANGE_MAX_SEGMENTS`.  The longest is the reference, the
+    base model's terrain; within each other segment the friction power and the resistance
+    power get their own factors, fitted jointly with the base model like every effect and
+    scored held-out on the interleaved time blocks of the same runs.
+    With a pose a terrain is a place, and ``terrain_patch`` (a disc of the map) is the
+    candidate: this effect is offered only for logs without pose.
 
     Its segments belong to the log's clock, so it is neither generated (:meth:`apply`) nor
     carried over to new routes by the corrected model (:attr:`on_routes`).  Parameters per
-    kept segment ``i``: ``seg{i}_run``, ``seg{i}_t_start_s``, ``seg{i}_t_end_s``,
-    ``seg{i}_friction_factor`` (the friction's scale, ``1 + g η`` as for ``terrain_patch``, ``g``
-    the fitted gain of the segment's mechanical friction power), ``seg{i}_rest_factor``
-    (``1 + g``, the fitted gain of the rest of the base power, ``P_T`` minus the friction's
-    mechanical part), and ``segments``, their number.
+    segment ``i``: ``seg{i}_run``, ``seg{i}_t_start_s``, ``seg{i}_t_end_s``,
+    ``seg{i}_friction_factor`` and ``seg{i}_resistance_factor`` (``1 + g η`` as for
+    ``terrain_patch``, ``g`` the fitted gain of the segment's mechanical friction or
+    resistance power: ``μ`` and ``K`` scaled), and ``segments``, their number.
     """
 
     name = "terrain_change"
@@ -214,25 +226,42 @@ class TerrainChange(Effect):
     def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         if not theta:
             return np.zeros((data.frame.n, 0))
-        rest = data.base_w - data.friction_w
         cols = []
         for seg in theta:
             ins = self._indicator(data, seg)
-            cols += [ins * data.friction_w, ins * rest]
+            cols += [ins * data.friction_w, ins * data.resistance_w]
         return np.column_stack(cols)
+
+    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        """Joint fit, then the factors held in :data:`TERRAIN_FACTOR_RANGE` (item 2).
+
+        A factor fitted outside the range (a friction column the segment barely excites took
+        610 or -0.7 on BorealTC mixes) is set to the bound, and the base model is refitted on
+        what the bounded segments leave.
+        """
+        coef = fit_linear(data, self.design(data, theta))
+        k = data.X.shape[1]
+        if coef.size == k:
+            return coef
+        eta = eta_of(data.params)
+        lo, hi = ((f - 1.0) / eta for f in TERRAIN_FACTOR_RANGE)
+        gains = np.clip(coef[k:], lo, hi)
+        if np.array_equal(gains, coef[k:]):
+            return coef
+        base = fit_linear(data, data.X, y=data.p - self.columns(data, theta) @ gains)
+        return np.concatenate([base, gains])
 
     def _search(self, data: EffectData) -> Any:
         from ecoplan.diagnose.where_time import where_time
 
         f = data.frame
         runs = [str(int(r)) for r in range(int(f.run.max()) + 1)] if f.n else []
-        segs = where_time(f.t, data.p - data.base_w, f.run, runs)
+        segs = where_time(f.t, data.p - data.base_w, f.run, runs, model_w=data.base_w)
         if len(segs) < 2:
             return ()
-        spans = [(int(sg.run), sg.t_start_s, sg.t_end_s) for sg in segs]
-        spans.sort(key=lambda sp: -(sp[2] - sp[1]))
-        kept = spans[1 : 1 + TERRAIN_CHANGE_MAX_SEGMENTS]  # the longest is the reference
-        return tuple(sorted(kept))
+        spans = _merge(segs, TERRAIN_CHANGE_MAX_SEGMENTS + 1)
+        reference = max(spans, key=lambda sp: sp[2] - sp[1])  # the base model's own terrain
+        return tuple(sp for sp in spans if sp != reference)
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         k, eta = data.X.shape[1], eta_of(data.params)
@@ -242,8 +271,32 @@ class TerrainChange(Effect):
             out[f"seg{i}_t_start_s"] = float(t0)
             out[f"seg{i}_t_end_s"] = float(t1)
             out[f"seg{i}_friction_factor"] = 1.0 + float(coef[k + 2 * i]) * eta
-            out[f"seg{i}_rest_factor"] = 1.0 + float(coef[k + 2 * i + 1])
+            out[f"seg{i}_resistance_factor"] = 1.0 + float(coef[k + 2 * i + 1]) * eta
         return out
+
+
+def _merge(segs: list[TimeSegment], most: int) -> list[tuple[int, float, float]]:
+    """``(run, t_start_s, t_end_s)`` of the segments, neighbours merged down to ``most``.
+
+    The two neighbours of one run whose levels (``excess_w``) are closest merge first (their
+    level the duration-weighted mean), so that a terrain split by its manoeuvres joins again
+    before two terrains do.
+    """
+    spans = [[int(sg.run), sg.t_start_s, sg.t_end_s, sg.excess_w] for sg in segs]
+    while len(spans) > most:
+        gaps = [
+            abs(a[3] - b[3]) if a[0] == b[0] else math.inf for a, b in itertools.pairwise(spans)
+        ]
+        j = int(np.argmin(gaps))
+        if not math.isfinite(gaps[j]):
+            spans = sorted(spans, key=lambda sp: sp[1] - sp[2])[:most]  # one per run: longest
+            spans.sort()
+            break
+        a, b = spans[j], spans[j + 1]
+        wa, wb = a[2] - a[1], b[2] - b[1]
+        level = (a[3] * wa + b[3] * wb) / max(wa + wb, 1e-12)
+        spans[j : j + 2] = [[a[0], a[1], b[2], level]]
+    return [(int(sp[0]), float(sp[1]), float(sp[2])) for sp in spans]
 
 
 class Slope(Effect):

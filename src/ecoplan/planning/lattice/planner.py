@@ -25,6 +25,7 @@ from ecoplan.planning.lattice.primitives import (
     terrain_costs,
 )
 from ecoplan.planning.lattice.smooth import Smoother, simplify
+from ecoplan.planning.refine import RefineOptions, refine_waypoints
 
 __all__ = ["LatticePlanner", "LatticePlannerOptions", "plan_lattice"]
 
@@ -56,6 +57,11 @@ class LatticePlannerOptions:
         previous one).  On the 200 m sites of ``benchmarks/lattice_scale.py`` the first
         pass saves 1-2 % of the energy and further passes less than 0.1 %, at about the
         cost of the first each, hence the default 1.
+    refine : RefineOptions or None
+        Waypoint refinement after smoothing (:mod:`ecoplan.planning.refine`: the
+        graph planner's step, which moves, drops and splits corners off the lattice's
+        headings); ``None`` (default) skips it, so large sites keep their plan times.
+        Not used with penalty weights.
     """
 
     cell_m: float | None = None
@@ -63,6 +69,7 @@ class LatticePlannerOptions:
     turn_room_m: float | None = None
     time_budget_s: float = 1.0
     smoothing_passes: int = 1
+    refine: RefineOptions | None = None
 
     def __post_init__(self) -> None:
         if self.cell_m is not None and not (math.isfinite(self.cell_m) and self.cell_m > 0.0):
@@ -75,6 +82,8 @@ class LatticePlannerOptions:
         passes = self.smoothing_passes
         if isinstance(passes, bool) or not isinstance(passes, int) or passes < 0:
             raise InputError(f"smoothing_passes must be an integer >= 0, got {passes!r}")
+        if self.refine is not None and not isinstance(self.refine, RefineOptions):
+            raise InputError(f"refine must be RefineOptions or None, got {self.refine!r}")
 
 
 def _auto_cell(grid: GridMap) -> float:
@@ -436,6 +445,15 @@ class LatticePlanner:
             t_smooth, t_eval = t_smooth + t1 - t0, t_eval + deadline.elapsed_s - t1
             if self._rank(pc_stage) < best_key:
                 wps, pc, best_key = stage, pc_stage, self._rank(pc_stage)
+        if self.options.refine is not None and self.weights is None and not deadline.expired:
+            t0 = deadline.elapsed_s
+            ref = refine_waypoints(
+                wps, self.cost, self.grid, initial_heading_rad=initial_heading_rad,
+                options=self.options.refine, deadline=deadline,
+            )  # fmt: skip
+            t_smooth += deadline.elapsed_s - t0
+            if ref.improved:
+                wps, pc = ref.waypoints, ref.cost
         name = "penalty" if self.weights is not None else self.cost.name
         plan = Plan(
             waypoints=wps,

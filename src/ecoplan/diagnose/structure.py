@@ -1,0 +1,351 @@
+"""Calibrate the structure, not only the parameters (issue 12, item 1).
+
+The base model has conventions that real robots (and other authors) choose differently.  Left
+at the preset's, a wrong convention is read as an effect.  :func:`structural_calibration`
+identifies them from the training split where the log excites them, leaves them at the
+preset's where it does not, says which, and scores the result on the held-out split -- the
+"structural re-identification" a named effect must beat.
+
+* **Tracked** (Morales et al. 2009 §III-C): the onset of the non-regenerated term, the paper's
+  step or a ramp of some width (:func:`ecoplan.diagnose.calibrate.structural_onset`).
+* **Wheeled** (Chuy et al. 2009, eqs. 14-15): the shape of ``a(r)`` and ``b(r)`` at small
+  radii, i.e. the decay exponents ``a_beta`` and ``b_beta`` of each side
+  (:func:`wheeled_shape`).  Table I's fits come from radii of 5 m and more
+  (:data:`ecoplan.models.wheeled.ASPHALT_RADII_M`): below, the shape is an extrapolation,
+  and another plant's (or robot's) family can decay faster or slower.  An exponent is
+  identified only when the log holds enough samples at resolved radii below 5 m and its
+  interval is narrow (:data:`BETA_MAX_LOG_HALF_WIDTH`); otherwise it stays at the preset's.
+
+Every calibrated model stays physical: the exponents are bounded in :data:`BETA_BOUNDS`
+(``a(r)``, ``b(r)`` then stay monotone in ``r``, their sign of ``alpha`` being the preset's,
+:func:`ecoplan.diagnose.calibrate.wheeled_bounds`), the straight-line slope ``a_inf >= 0``, the
+efficiencies are not touched.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import minimize
+
+from ecoplan._typing import BoolArray, FloatArray
+from ecoplan.diagnose.calibrate import (
+    CAL_SEARCH_SAMPLES,
+    ONSET_MIN_INFORMATIVE,
+    Calibration,
+    calibrate,
+    fit_linear_at_chi,
+    onset_informative_samples,
+    radius_resolved,
+    settling,
+    structural_onset,
+)
+from ecoplan.diagnose.replay import Frame
+from ecoplan.models.kinematics import tracks_to_twist
+from ecoplan.models.tracked import TrackedParams
+from ecoplan.models.wheeled import WheeledParams
+from ecoplan.presets import VehicleParams
+
+__all__ = [
+    "BETA_BOUNDS",
+    "BETA_MAX_LOG_HALF_WIDTH",
+    "MIN_SMALL_RADIUS_SAMPLES",
+    "SMALL_RADIUS_M",
+    "ShapeFit",
+    "StructuralCalibration",
+    "structural_calibration",
+    "wheeled_shape",
+]
+
+#: Range of the decay exponents ``a_beta``, ``b_beta`` searched (wheeled eqs. 14-15) [-].
+BETA_BOUNDS = (0.5, 12.0)
+#: Radii below which Table I's shape is extrapolated (its data start at 5 m, wheeled §III) [m].
+SMALL_RADIUS_M = 5.0
+#: Samples at resolved radii below :data:`SMALL_RADIUS_M` needed to try the shape.
+MIN_SMALL_RADIUS_SAMPLES = 100
+#: An exponent counts as identified when the half-width of its 95 % interval in ``ln beta`` is
+#: below this (a factor of 1.35 either way); a wider one is left at the preset's.
+BETA_MAX_LOG_HALF_WIDTH = 0.3
+#: Pull of the exponents towards the preset's: added ``weight * sum(ln(beta / beta_0)^2)`` to
+#: the relative mean square error (a tenth of a percent per unit of ``ln beta`` squared).
+BETA_PRIOR_WEIGHT = 1e-3
+_BETA_NAMES = ("inner.a_beta", "inner.b_beta", "outer.a_beta", "outer.b_beta")
+
+
+@dataclass(frozen=True, slots=True)
+class ShapeFit:
+    """The small-radius shape of the wheeled ``a(r)``, ``b(r)`` identified from a log.
+
+    Attributes
+    ----------
+    params : WheeledParams
+        Parameters with the identified exponents (the others at the preset's), linear
+        coefficients refitted.
+    beta : dict of str to float
+        Exponent name (``"inner.a_beta"`` ...) -> value used [-].
+    interval : dict of str to (float, float)
+        Exponent name -> 95 % interval from the profile curvature (an empty dict when the log
+        does not excite the small radii) [-].
+    identified : tuple of str
+        Exponents taken from the log.
+    at_preset : tuple of str
+        Exponents left at the preset's, because the log does not pin them.
+    n_small_radius : int
+        Samples at resolved radii below :data:`SMALL_RADIUS_M`.
+    """
+
+    params: WheeledParams
+    beta: dict[str, float]
+    interval: dict[str, tuple[float, float]]
+    identified: tuple[str, ...]
+    at_preset: tuple[str, ...]
+    n_small_radius: int
+
+
+def _radius_and_fit_mask(frame: Frame, params: WheeledParams) -> tuple[FloatArray, BoolArray]:
+    """Turn radius ``|v / w|`` [m] (inf when straight) and the samples the fits use."""
+    tw = tracks_to_twist(frame.vl, frame.vr, params.icr)
+    v, w = np.abs(tw.vx), np.abs(tw.wz)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(w > 1e-12, v / w, np.inf)
+    return r, radius_resolved(frame.vl, frame.vr) & ~settling(frame)
+
+
+def _with_beta(params: WheeledParams, beta: FloatArray) -> WheeledParams:
+    inner = dataclasses.replace(params.inner, a_beta=float(beta[0]), b_beta=float(beta[1]))
+    outer = dataclasses.replace(params.outer, a_beta=float(beta[2]), b_beta=float(beta[3]))
+    return dataclasses.replace(params, inner=inner, outer=outer)
+
+
+def _preset_beta(params: WheeledParams) -> FloatArray:
+    i, o = params.inner, params.outer
+    return np.array([i.a_beta, i.b_beta, o.a_beta, o.b_beta], dtype=np.float64)
+
+
+def _strided(frame: Frame, mask: BoolArray) -> Frame:
+    idx = np.flatnonzero(mask)
+    step = max(int(np.ceil(idx.size / CAL_SEARCH_SAMPLES)), 1)
+    keep = np.zeros(frame.n, dtype=bool)
+    keep[idx[::step]] = True
+    return frame.subset(keep)
+
+
+def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
+    """Identify the decay exponents of wheeled eqs. (14)-(15) where the log excites them.
+
+    The exponents are searched in ``ln beta`` (``scipy.optimize.minimize``, L-BFGS-B within
+    :data:`BETA_BOUNDS`) around the bounded linear fit of the coefficients at each trial
+    (:func:`ecoplan.diagnose.calibrate.fit_linear_at_chi`, pulled towards ``params``' own
+    coefficients), on the samples whose radius is resolved
+    (:func:`ecoplan.diagnose.calibrate.radius_resolved`, settling stops left out), weakly
+    pulled towards ``params``' exponents (:data:`BETA_PRIOR_WEIGHT`).  Their 95 % intervals
+    come from the curvature of the profile log-likelihood ``n_eff / 2 ln(mse)``, with
+    ``n_eff`` shrunk by the residual's lag-1 autocorrelation.  An exponent whose interval is
+    wider than :data:`BETA_MAX_LOG_HALF_WIDTH` is set back to the preset's and the rest refitted.
+
+    Parameters
+    ----------
+    frame : Frame
+        Training split.
+    params : WheeledParams
+        Preset parameters (the prior of the shape and of the coefficients).
+    chi : float
+        Efficiency index the radius is computed with (calibrated beforehand) [-].
+
+    Returns
+    -------
+    ShapeFit
+        The exponents, their intervals and which were identified.
+    """
+    p0 = dataclasses.replace(params, chi=chi)
+    r, resolved = _radius_and_fit_mask(frame, p0)
+    moving = np.abs(frame.vl) + np.abs(frame.vr) > 0.0
+    n_small = int(np.count_nonzero(resolved & moving & (r < SMALL_RADIUS_M)))
+    beta0 = _preset_beta(params)
+    if n_small < MIN_SMALL_RADIUS_SAMPLES:
+        return ShapeFit(
+            p0, dict(zip(_BETA_NAMES, beta0.tolist(), strict=True)), {}, (), _BETA_NAMES, n_small
+        )
+    sub = _strided(frame, resolved)
+    lb0 = np.log(beta0)
+    mse0 = fit_linear_at_chi(sub, p0, chi)[1]
+    bounds = [(float(np.log(BETA_BOUNDS[0])), float(np.log(BETA_BOUNDS[1])))] * 4
+
+    def objective(lb: FloatArray, free: BoolArray) -> float:
+        full = np.where(free, lb, lb0)
+        mse = fit_linear_at_chi(sub, _with_beta(p0, np.exp(full)), chi)[1]
+        return float(mse / mse0 + BETA_PRIOR_WEIGHT * np.sum((full - lb0) ** 2))
+
+    free = np.ones(4, dtype=bool)
+    lb = lb0.copy()
+    half = np.full(4, np.inf)
+    for _ in range(2):
+        res = minimize(
+            objective,
+            lb0.copy(),
+            args=(free,),
+            method="L-BFGS-B",
+            bounds=bounds,
+            options={"maxiter": 30},
+        )
+        lb = np.where(free, res.x, lb0)
+        half = _log_half_widths(sub, p0, chi, lb)
+        keep = free & (half < BETA_MAX_LOG_HALF_WIDTH)
+        if np.array_equal(keep, free):
+            break
+        free = keep
+        if not free.any():
+            lb = lb0.copy()
+            break
+    beta = np.exp(np.where(free, lb, lb0))
+    fitted, _ = fit_linear_at_chi(frame.subset(resolved), _with_beta(p0, beta), chi)
+    assert isinstance(fitted, WheeledParams)
+    interval = {
+        n: (float(np.exp(lb[i] - half[i])), float(np.exp(lb[i] + half[i])))
+        for i, n in enumerate(_BETA_NAMES)
+        if np.isfinite(half[i])
+    }
+    return ShapeFit(
+        params=fitted,
+        beta=dict(zip(_BETA_NAMES, beta.tolist(), strict=True)),
+        interval=interval,
+        identified=tuple(n for n, f in zip(_BETA_NAMES, free, strict=True) if f),
+        at_preset=tuple(n for n, f in zip(_BETA_NAMES, free, strict=True) if not f),
+        n_small_radius=n_small,
+    )
+
+
+def _log_half_widths(frame: Frame, params: WheeledParams, chi: float, lb: FloatArray) -> FloatArray:
+    """95 % half-widths of ``ln beta`` from the profile log-likelihood's curvature."""
+    p, mse = fit_linear_at_chi(frame, _with_beta(params, np.exp(lb)), chi)
+    resid = frame.p - p.power(frame.vl, frame.vr).total_w
+    rho = (
+        float(np.clip(np.corrcoef(resid[:-1], resid[1:])[0, 1], 0.0, 0.99))
+        if resid.size > 3
+        else 0.0
+    )
+    n_eff = resid.size * (1.0 - rho) / (1.0 + rho)
+
+    def nll(x: FloatArray) -> float:
+        return (
+            0.5
+            * n_eff
+            * float(np.log(fit_linear_at_chi(frame, _with_beta(params, np.exp(x)), chi)[1]))
+        )
+
+    h = 0.05
+    f0 = 0.5 * n_eff * float(np.log(mse))
+    hess = np.empty((4, 4))
+    eye = np.eye(4) * h
+    for i in range(4):
+        for j in range(i, 4):
+            if i == j:
+                val = (nll(lb + eye[i]) - 2.0 * f0 + nll(lb - eye[i])) / h**2
+            else:
+                val = (
+                    nll(lb + eye[i] + eye[j])
+                    - nll(lb + eye[i] - eye[j])
+                    - nll(lb - eye[i] + eye[j])
+                    + nll(lb - eye[i] - eye[j])
+                ) / (4.0 * h**2)
+            hess[i, j] = hess[j, i] = val
+    try:
+        cov = np.linalg.inv(hess)
+    except np.linalg.LinAlgError:
+        return np.full(4, np.inf)
+    var = np.diag(cov)
+    return np.where(var > 0.0, 1.96 * np.sqrt(np.abs(var)), np.inf)
+
+
+@dataclass(frozen=True, slots=True)
+class StructuralCalibration:
+    """The base model re-identified with its structure (the re-identification effects must beat).
+
+    Attributes
+    ----------
+    calibration : Calibration
+        Calibrated parameters (structure included) and the training MAE before and after.
+    heldout_mae_w : float
+        MAE of the calibrated model on the held-out split [W] (nan without one).
+    identified : tuple of str
+        Structure parameters taken from the log (``"nonregen_onset_mps"``; ``"inner.a_beta"``
+        ...).
+    at_preset : tuple of str
+        Structure parameters left at the preset's, because the log does not excite them.
+    value : dict of str to float
+        Structure parameter -> value used.
+    interval : dict of str to (float, float)
+        Structure parameter -> 95 % interval, where one is known.
+    """
+
+    calibration: Calibration
+    heldout_mae_w: float
+    identified: tuple[str, ...]
+    at_preset: tuple[str, ...]
+    value: dict[str, float]
+    interval: dict[str, tuple[float, float]]
+
+    @property
+    def params(self) -> VehicleParams:
+        """The structurally re-identified parameters."""
+        return self.calibration.params
+
+
+def structural_calibration(
+    train: Frame, params: VehicleParams, test: Frame | None = None
+) -> StructuralCalibration:
+    """Re-identify the base model's parameters and its structure on ``train``; score on ``test``.
+
+    Tracked: χ by the usual calibration, the non-regeneration onset at that χ
+    (:func:`ecoplan.diagnose.calibrate.structural_onset`) where the log holds case-2 samples
+    inside the searched onsets, then the usual calibration with that onset.
+    Wheeled: χ and the coefficients (:func:`ecoplan.diagnose.calibrate.calibrate`), then the
+    small-radius shape (:func:`wheeled_shape`) at that χ, then the coefficients again with the
+    identified shape (pulled towards the preset's coefficients).
+
+    Parameters
+    ----------
+    train : Frame
+        Training split.
+    params : TrackedParams or WheeledParams
+        Preset parameters (the prior).
+    test : Frame, optional
+        Held-out split for :attr:`StructuralCalibration.heldout_mae_w`.
+
+    Returns
+    -------
+    StructuralCalibration
+        The model, its held-out gap and which structure parameters were identified.
+    """
+    if isinstance(params, TrackedParams):
+        n_inf = onset_informative_samples(train, params)
+        # the onset is chosen at the calibrated χ (at the preset's, a wrong χ can pick it)
+        chi = calibrate(train, params).params.chi
+        onset = structural_onset(train, dataclasses.replace(params, chi=chi))
+        assert isinstance(onset, TrackedParams)
+        trial = dataclasses.replace(params, nonregen_onset_mps=onset.nonregen_onset_mps)
+        cal = calibrate(train, trial)
+        name = "nonregen_onset_mps"
+        assert isinstance(cal.params, TrackedParams)
+        ident: tuple[str, ...] = (name,) if n_inf >= ONSET_MIN_INFORMATIVE else ()
+        value = {name: cal.params.nonregen_onset_mps}
+        interval: dict[str, tuple[float, float]] = {}
+    else:
+        chi = calibrate(train, params).params.chi
+        shape = wheeled_shape(train, params, chi)
+        cal = calibrate(train, _with_beta(params, _preset_beta(shape.params)))
+        ident, value, interval = shape.identified, shape.beta, shape.interval
+    names = ("nonregen_onset_mps",) if isinstance(params, TrackedParams) else _BETA_NAMES
+    gap = float("nan")
+    if test is not None and test.n > 0:
+        gap = float(np.mean(np.abs(test.p - cal.params.power(test.vl, test.vr).total_w)))
+    return StructuralCalibration(
+        calibration=cal,
+        heldout_mae_w=gap,
+        identified=ident,
+        at_preset=tuple(n for n in names if n not in ident),
+        value=value,
+        interval=interval,
+    )

@@ -1,0 +1,178 @@
+"""A terrain switch in time, found and named without pose (issue 12, items 4, 5 and 7).
+
+The logs are made here, at BorealTC's rate (6.5 Hz) with AR(1) noise: side speeds that step
+between straight runs and turns of both directions through a first-order drive, the paper's
+power on them (Auriga-β wide belts on asphalt), and on the second terrain a higher motion
+resistance, added here from its definition: a resistance force ``K`` on each track draws the
+mechanical power ``K |V|`` per track, electrical ``/ η`` (Morales et al. 2009, the resistance
+term of the track power and the drive efficiency).  The switch time is the one built in, never
+the detector's output.
+"""
+
+from __future__ import annotations
+
+from functools import cache
+
+import numpy as np
+import pytest
+
+from ecoplan.diagnose.effects import make_effect, prepare
+from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE
+from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.replay import build_frame
+from ecoplan.diagnose.report import to_json_dict
+from ecoplan.diagnose.result import Diagnosis
+from ecoplan.diagnose.stats import coloured_noise_floor
+from ecoplan.diagnose.where_time import TimeSegment, label_segments
+from ecoplan.dynamics.log import Log
+from ecoplan.presets import vehicle
+
+RATE_HZ = 6.5
+DURATION_S = 240.0
+SWITCH_S = 118.0
+#: Resistance of the second terrain over the first's [-].
+RESISTANCE_RATIO = 1.8
+#: AR(1) noise: lag-one correlation and innovation standard deviation [W].
+NOISE_PHI, NOISE_W = 0.6, 12.0
+VEHICLE, TERRAIN = "auriga-beta-wide", "asphalt"
+
+
+def _drive(rng: np.random.Generator, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Side speeds: 4-9 s legs (straight, or a turn of either direction) through a 0.4 s lag."""
+    vl_cmd, vr_cmd = np.empty(t.size), np.empty(t.size)
+    i = 0
+    while i < t.size:
+        n = int(rng.uniform(4.0, 9.0) * RATE_HZ)
+        v = rng.uniform(0.15, 0.5)
+        turn = rng.choice([0.0, 0.0, -1.0, 1.0]) * rng.uniform(0.1, 0.3)
+        vl_cmd[i : i + n], vr_cmd[i : i + n] = v - turn, v + turn
+        i += n
+    a = 1.0 - np.exp(-1.0 / (RATE_HZ * 0.4))
+    vl, vr = np.empty(t.size), np.empty(t.size)
+    vl[0] = vr[0] = 0.0
+    for k in range(1, t.size):
+        vl[k] = vl[k - 1] + a * (vl_cmd[k] - vl[k - 1])
+        vr[k] = vr[k - 1] + a * (vr_cmd[k] - vr[k - 1])
+    return vl, vr
+
+
+def _ar1(rng: np.random.Generator, n: int) -> np.ndarray:
+    e = np.empty(n)
+    w = rng.normal(0.0, NOISE_W, n)
+    e[0] = w[0] / np.sqrt(1.0 - NOISE_PHI**2)
+    for k in range(1, n):
+        e[k] = NOISE_PHI * e[k - 1] + w[k]
+    return e
+
+
+def _log(seed: int, switch: bool) -> Log:
+    rng = np.random.default_rng(seed)
+    params = vehicle(VEHICLE, TERRAIN)
+    t = 1000.0 + np.arange(0.0, DURATION_S, 1.0 / RATE_HZ)  # the log's own clock
+    vl, vr = _drive(rng, t)
+    p = np.asarray(params.power(vl, vr).total_w, dtype=np.float64)
+    if switch:
+        dk_n = (RESISTANCE_RATIO - 1.0) * params.k_resistance_n
+        p = p + np.where(t - t[0] >= SWITCH_S, dk_n * (np.abs(vl) + np.abs(vr)) / params.eta, 0.0)
+    return Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id=f"s{seed}")
+
+
+@cache
+def _diagnosed(seed: int, switch: bool) -> Diagnosis:
+    return diagnose(_log(seed, switch), VEHICLE, TERRAIN)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_two_terrain_log_is_split_at_the_switch_and_named_terrain_change(seed: int) -> None:
+    d = _diagnosed(seed, True)
+    t_switch = 1000.0 + SWITCH_S
+    bounds = [s.t_end_s for s in d.where_time[:-1]]
+    assert bounds, d.where_time
+    assert min(abs(b - t_switch) for b in bounds) <= 5.0, bounds
+    assert d.verdict == "terrain_change", (d.verdict, [s.name for s in d.attribution.scores])
+    # the stretch after the switch draws more than the one before it
+    after = [s for s in d.where_time if s.t_start_s >= t_switch - 5.0]
+    before = [s for s in d.where_time if s.t_end_s <= t_switch + 5.0]
+    assert min(s.excess_w for s in after) > max(s.excess_w for s in before)
+    assert d.gap_final_w < d.gap_calibrated_w
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_single_terrain_log_is_not_named_terrain_change(seed: int) -> None:
+    d = _diagnosed(seed, False)
+    assert d.verdict != "terrain_change"
+
+
+def test_segments_are_labelled_with_the_terrain_whose_model_drew_them() -> None:
+    # the first half drawn by the asphalt model, the second by the sand model (their own
+    # preset tables), plus white noise; the labeller sees the five terrain models
+    rng = np.random.default_rng(5)
+    t = np.arange(0.0, 200.0, 1.0 / RATE_HZ)
+    vl, vr = _drive(rng, t)
+    first, second = vehicle(VEHICLE, "asphalt"), vehicle(VEHICLE, "sand")
+    p = np.where(t < 100.0, first.power(vl, vr).total_w, second.power(vl, vr).total_w)
+    p = p + rng.normal(0.0, 10.0, t.size)
+    segs = [TimeSegment("r", 0.0, 99.9, 0.0), TimeSegment("r", 100.0, 200.0, 0.0)]
+    models = {k: vehicle(VEHICLE, k) for k in ("asphalt", "grass", "gravel", "sand", "snow")}
+    labels = label_segments(segs, t, ["r"] * t.size, vl, vr, p, models)
+    assert [lab for lab, _ in labels] == ["asphalt", "sand"]
+    assert all(mae < 15.0 for _, mae in labels)  # the noise's MAE is 10 √(2/π) ≈ 8 W
+
+
+def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_alone() -> None:
+    rng = np.random.default_rng(7)
+    n = 6000
+    # AR(1) noise alone: MAE of a Gaussian of variance σ_w² / (1 - φ²) is σ √(2/π)
+    e = _ar1(rng, n)
+    true_mae = NOISE_W / np.sqrt(1.0 - NOISE_PHI**2) * np.sqrt(2.0 / np.pi)
+    floor, phi = coloured_noise_floor(e)
+    assert floor == pytest.approx(true_mae, rel=0.1)
+    assert phi == pytest.approx(NOISE_PHI, abs=0.1)
+    # white noise plus model error that flips sign every other sample (motion changing within
+    # two samples at 6.5 Hz): lag-2 differences exceed lag-1 ones, and the ratio alone reads
+    # the strongest colour (0.9); the residual's own lag-one correlation is about 0 (the
+    # pattern + + - - correlates +1 and -1 with its neighbours in turn), so phi stays near 0
+    flip = 40.0 * np.where((np.arange(n) // 2) % 2 == 0, 1.0, -1.0)
+    r = flip + rng.normal(0.0, 10.0, n)
+    floor, phi = coloured_noise_floor(r)
+    assert phi < 0.05
+    assert floor <= float(np.mean(np.abs(r)))
+
+
+def test_terrain_factors_stay_in_their_physical_range() -> None:
+    # the wheeled model (nine nearly collinear coefficients refitted with the factors); the
+    # second half drives straight only and draws 1.5 x: unbounded, one segment's resistance
+    # factor came out at -0.06 (item 2: bounded, never a negative factor)
+    rng = np.random.default_rng(0)
+    base = vehicle("pioneer-3at", "asphalt")
+    t = np.arange(0.0, 240.0, 1.0 / RATE_HZ)
+    vl, vr = _drive(rng, t)
+    straight = t >= 120.0
+    vr = np.where(straight, vl, vr)
+    p = np.asarray(base.power(vl, vr).total_w)
+    p = p + np.where(straight, 0.5 * p, 0.0) + _ar1(rng, t.size)
+    frame = build_frame([Log(t=t, v_left=vl, v_right=vr, p_total=p, run_id="r")], base)
+    fitted = make_effect("terrain_change").fit(prepare(frame, base)).params_
+    lo, hi = TERRAIN_FACTOR_RANGE
+    factors = [v for k, v in fitted.items() if k.endswith("_factor")]
+    assert factors
+    assert all(lo - 1e-9 <= f <= hi + 1e-9 for f in factors), fitted
+
+
+def test_the_diagnosis_labels_each_stretch_with_the_preset_terrain_that_drew_it() -> None:
+    # no pose; the first 110 s drawn by the asphalt model, the rest by the sand model (the
+    # preset's own tables), AR(1) noise; diagnosed against asphalt
+    rng = np.random.default_rng(3)
+    t = np.arange(0.0, 230.0, 1.0 / RATE_HZ)
+    vl, vr = _drive(rng, t)
+    first, second = vehicle(VEHICLE, "asphalt"), vehicle(VEHICLE, "sand")
+    p = np.where(t < 110.0, first.power(vl, vr).total_w, second.power(vl, vr).total_w)
+    log = Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id="r")
+    d = diagnose(log, VEHICLE, "asphalt")
+    assert len(d.where_time_terrain) == len(d.where_time)
+    for seg, lab in zip(d.where_time, d.where_time_terrain, strict=True):
+        if seg.t_end_s <= 110.0 + 5.0:
+            assert lab == "asphalt", (seg, lab)
+        elif seg.t_start_s >= 110.0 - 5.0:
+            assert lab == "sand", (seg, lab)
+    assert to_json_dict(d)["where_time_terrain"] == list(d.where_time_terrain)
