@@ -307,3 +307,26 @@ def test_steady_side_forces_supply_rolling_and_turning_power(vl: float, vr: floa
     rolling = 30.0 * sum(abs(x) for x in (vl, vr) if abs(x) > 0.01)
     expect = rolling + f_turn * abs(vr - vl)
     np.testing.assert_allclose(fl * vl + fr * vr, expect, rtol=1e-9, atol=1e-9)
+
+
+def test_planner_driver_terms_carry_the_copper_loss_of_straight_and_spot_turns() -> None:
+    # R = 0.3 Ω; λ0 = 0.01 makes the turning force saturated (Coulomb, as the planners' µ).
+    # Straight at 0.5 m/s: the planners' K + I0/c covers output and no-load torque, the rest
+    # is copper 2 R (I0 + c K)^2 -> p_powerup.  Spot turn at 0.3 m/s per side: both sides
+    # drive K + F_t, the planners' µ c_S |ΔV| + K_eff Σ|V| covers the output, the rest is
+    # 2 R (I0 + c (K + F_t))^2 = p_powerup + p_braking (cases 3-4).
+    doc = copy.deepcopy(MOTOR_DOC)
+    doc["power_log"]["winding_resistance_ohm"] = {"value": 0.3, "source": "assumption"}
+    doc["terrains"]["asphalt"]["turn_slip_scale"]["value"] = 0.01
+    doc["drivers"] = {"eta": 1.0}  # the forces' battery power holds the motor losses already
+    v = vehicle_from_mapping(doc)
+    f_t = 0.5 * friction_n_per_mu(v.params("asphalt"))  # µ c_S, tanh(1 / 0.01) = 1
+    t = np.arange(0.0, 10.0, 0.1)
+    ones = np.ones_like(t)
+    straight = CurrentLog(t, 0.5 * ones, 0.5 * ones, ones, ones, "asphalt", "straight")
+    spot = CurrentLog(t, -0.3 * ones, 0.3 * ones, ones, ones, "asphalt", "spot")
+    terms = planner_driver_terms(v, [straight, spot], "asphalt")
+    copper_straight = 2 * 0.3 * (0.8 + 0.04 * 30.0) ** 2
+    copper_spot = 2 * 0.3 * (0.8 + 0.04 * (30.0 + f_t)) ** 2
+    assert terms["p_powerup_w"] == pytest.approx(copper_straight, rel=1e-6)
+    assert terms["p_braking_w"] == pytest.approx(copper_spot - copper_straight, rel=1e-6)

@@ -628,6 +628,8 @@ def planner_driver_terms(
     :func:`~ecoplan.models.motor_current.battery_power_w` on the logs' motions (the braked
     inner side's lost power, the copper loss of turning currents) is fitted, bounded at 0,
     to the model's driver terms: braking (cases 3-4), non-regenerated (case 2), power-up.
+    The file's η divides the planners' mechanical terms on top of these explicit motor
+    losses: keep it 1 unless the drivers themselves lose power (husky-a200: 1).
 
     Parameters
     ----------
