@@ -330,3 +330,21 @@ def test_planner_driver_terms_carry_the_copper_loss_of_straight_and_spot_turns()
     copper_spot = 2 * 0.3 * (0.8 + 0.04 * (30.0 + f_t)) ** 2
     assert terms["p_powerup_w"] == pytest.approx(copper_straight, rel=1e-6)
     assert terms["p_braking_w"] == pytest.approx(copper_spot - copper_straight, rel=1e-6)
+
+
+def test_logged_power_is_battery_power_unless_the_file_logs_motor_currents() -> None:
+    from ecoplan.models.logged_power import logged_power_w
+    from ecoplan.presets import vehicle
+
+    vl, vr = np.array([0.3, 0.4, -0.2]), np.array([0.3, 0.6, 0.2])
+    pioneer = vehicle("pioneer-3at", "asphalt")
+    np.testing.assert_array_equal(logged_power_w(pioneer, vl, vr), pioneer.power(vl, vr).total_w)
+    # a motor_current file: steady straight driving logs 24 V x 2 (I0 + c K) = 24 x 2 x
+    # (0.8 + 0.04 x 30) = 96 W whatever the speed (MOTOR_DOC values)
+    params = vehicle(vehicle_from_mapping(MOTOR_DOC), "asphalt")
+    np.testing.assert_allclose(logged_power_w(params, [0.3, 0.8], [0.3, 0.8]), 96.0)
+    # with times, the mass terms count: 0.5 m/s² straight adds M a / 2 per side
+    t = np.linspace(0.0, 1.0, 11)
+    v = 0.2 + 0.5 * t
+    expect = 24.0 * 2 * (0.8 + 0.04 * (30.0 + 0.5 * 50.0 * 0.5))
+    np.testing.assert_allclose(logged_power_w(params, v, v, t), expect)

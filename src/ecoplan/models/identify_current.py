@@ -65,7 +65,6 @@ __all__ = [
     "friction_n_per_mu",
     "geometry_of",
     "identify_from_currents",
-    "logged_signal_w",
     "motor_current_spec",
     "planner_driver_terms",
     "predict_currents",
@@ -671,29 +670,3 @@ def planner_driver_terms(
         target.append(p_batt - base)
     res = lsq_linear(np.vstack(rows), np.concatenate(target), bounds=(0.0, np.inf))
     return {n: float(v) for n, v in zip(PLANNER_TERMS, res.x, strict=True)}
-
-
-def logged_signal_w(
-    vehicle: Vehicle,
-    terrain: str | None,
-    t_s: FloatArray,
-    v_left: FloatArray,
-    v_right: FloatArray,
-) -> FloatArray:
-    """What a ``motor_current`` vehicle's log would show, ``V_bus (I_l + I_r)`` [W].
-
-    The quantity to compare with such a log's ``p_total`` (the planners' ``params.power`` is
-    the battery power, a different quantity).
-
-    >>> from ecoplan.models.vehicles import shipped_vehicle
-    >>> husky = shipped_vehicle("husky-a200")
-    >>> t, v = np.arange(5.0), np.full(5, 0.5)
-    >>> g, c = side_force_terrain(husky, "ice"), motor_current_spec(husky).amps_per_newton
-    >>> expect = 24.0 * 2 * (g.no_load_current_a + c * g.k_resistance_n)  # straight, steady
-    >>> bool(np.allclose(logged_signal_w(husky, "ice", t, v, v), expect))
-    True
-    """
-    spec, ground = motor_current_spec(vehicle), side_force_terrain(vehicle, terrain)
-    log = CurrentLog(t_s, v_left, v_right, np.zeros_like(t_s), np.zeros_like(t_s), "any")
-    il, ir = predict_currents(log, ground, spec, geometry_of(vehicle, terrain))
-    return spec.bus_voltage_v * (il + ir)
