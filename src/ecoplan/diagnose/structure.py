@@ -81,8 +81,9 @@ class ShapeFit:
     Attributes
     ----------
     params : WheeledParams
-        Parameters with the identified exponents (the others at the preset's), linear
-        coefficients refitted.
+        Parameters at ``chi`` with the identified exponents (the others at the preset's);
+        the linear coefficients are refitted when the shape was searched, the preset's when
+        the log has too few small-radius samples.
     beta : dict of str to float
         Exponent name (``"inner.a_beta"`` ...) -> value used [-].
     interval : dict of str to (float, float)
