@@ -116,8 +116,9 @@ HUSKY_BASE: dict[str, object] = {
         "mass 70 kg (BorealTC ABOUT.md: the robot with its payload); yaw inertia a uniform box",
         "battery power = sum over sides of max(F v, 0) + I0 |v| / c + I^2 R (motor output, "
         "no-load torque, copper loss), braking not regenerated; the planners' contact-friction "
-        "power uses K + I0 / c with Coulomb turning friction (the slip saturation and I^2 R "
-        "are not in it) and no idle power (the logs do not measure it)",
+        "power uses K + I0 / c, Coulomb turning friction (no slip saturation) and driver terms "
+        "fitted to what that battery power leaves on the logs' motions (copper loss, braked "
+        "inner side); no idle power of the electronics (the logs do not measure it)",
         "top speed 1.0 m/s (Clearpath specification); acceleration 1.0 m/s^2 (assumption)",
         "held-out errors: leave-one-run-out on the runs of the terrain",
     ],

@@ -84,6 +84,7 @@ def run_case(args: tuple[str, str, int, float, str]) -> dict[str, Any]:
         "gap_calibrated_w": float("nan"),
         "gap_final_w": float("nan"),
         "best": "",
+        "reason": "",
         "error": "",
         "wall_s": float("nan"),
     }
@@ -104,6 +105,7 @@ def run_case(args: tuple[str, str, int, float, str]) -> dict[str, Any]:
     row["verdict"] = d.verdict
     row["confidence"] = float(att.confidence)
     row["best"] = att.scores[0].name if att.scores else ""
+    row["reason"] = att.reason  # why the naming rule overruled the best effect, if it did
     row["gap_calibrated_w"] = d.gap_calibrated_w
     row["gap_final_w"] = d.gap_final_w
     exp = case.expected

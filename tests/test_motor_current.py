@@ -290,3 +290,61 @@ def test_cli_identify_fits_motor_currents_for_a_motor_current_base(tmp_path, cap
     g = side_force_terrain(ice, "ice")
     straight_w = 24.0 * 2 * (g.no_load_current_a + spec.amps_per_newton * g.k_resistance_n)
     assert 95.0 < straight_w < 140.0
+
+
+@settings(max_examples=80, deadline=None)
+@given(vl=st.floats(-1.0, 1.0), vr=st.floats(-1.0, 1.0))
+def test_steady_side_forces_supply_rolling_and_turning_power(vl: float, vr: float) -> None:
+    # energy balance at constant side speeds: F_l V_l + F_r V_r equals the rolling power
+    # K (|V_l| + |V_r|) (moving sides) plus the turning pair's power F_turn |V_r - V_l|
+    t = np.arange(3.0)
+    fl, fr = _forces(t, np.full(3, vl), np.full(3, vr))
+    w_a = abs(vr - vl) / 1.0 * 0.25  # |ω| a with spread 1 m, a = 0.25 m
+    v = 0.5 * (vl + vr)
+    slip = w_a / math.hypot(v, w_a) if w_a > 0 else 0.0
+    turning = abs(vr - vl) > 0.01
+    f_turn = 0.6 * 200.0 * math.tanh(slip / 0.1) if turning else 0.0
+    rolling = 30.0 * sum(abs(x) for x in (vl, vr) if abs(x) > 0.01)
+    expect = rolling + f_turn * abs(vr - vl)
+    np.testing.assert_allclose(fl * vl + fr * vr, expect, rtol=1e-9, atol=1e-9)
+
+
+def test_planner_driver_terms_carry_the_copper_loss_of_straight_and_spot_turns() -> None:
+    # R = 0.3 Ω; λ0 = 0.01 makes the turning force saturated (Coulomb, as the planners' µ).
+    # Straight at 0.5 m/s: the planners' K + I0/c covers output and no-load torque, the rest
+    # is copper 2 R (I0 + c K)^2 -> p_powerup.  Spot turn at 0.3 m/s per side: both sides
+    # drive K + F_t, the planners' µ c_S |ΔV| + K_eff Σ|V| covers the output, the rest is
+    # 2 R (I0 + c (K + F_t))^2 = p_powerup + p_braking (cases 3-4).
+    doc = copy.deepcopy(MOTOR_DOC)
+    doc["power_log"]["winding_resistance_ohm"] = {"value": 0.3, "source": "assumption"}
+    doc["terrains"]["asphalt"]["turn_slip_scale"]["value"] = 0.01
+    doc["drivers"] = {"eta": 1.0}  # the forces' battery power holds the motor losses already
+    v = vehicle_from_mapping(doc)
+    f_t = 0.5 * friction_n_per_mu(v.params("asphalt"))  # µ c_S, tanh(1 / 0.01) = 1
+    t = np.arange(0.0, 10.0, 0.1)
+    ones = np.ones_like(t)
+    straight = CurrentLog(t, 0.5 * ones, 0.5 * ones, ones, ones, "asphalt", "straight")
+    spot = CurrentLog(t, -0.3 * ones, 0.3 * ones, ones, ones, "asphalt", "spot")
+    terms = planner_driver_terms(v, [straight, spot], "asphalt")
+    copper_straight = 2 * 0.3 * (0.8 + 0.04 * 30.0) ** 2
+    copper_spot = 2 * 0.3 * (0.8 + 0.04 * (30.0 + f_t)) ** 2
+    assert terms["p_powerup_w"] == pytest.approx(copper_straight, rel=1e-6)
+    assert terms["p_braking_w"] == pytest.approx(copper_spot - copper_straight, rel=1e-6)
+
+
+def test_logged_power_is_battery_power_unless_the_file_logs_motor_currents() -> None:
+    from ecoplan.models.logged_power import logged_power_w
+    from ecoplan.presets import vehicle
+
+    vl, vr = np.array([0.3, 0.4, -0.2]), np.array([0.3, 0.6, 0.2])
+    pioneer = vehicle("pioneer-3at", "asphalt")
+    np.testing.assert_array_equal(logged_power_w(pioneer, vl, vr), pioneer.power(vl, vr).total_w)
+    # a motor_current file: steady straight driving logs 24 V x 2 (I0 + c K) = 24 x 2 x
+    # (0.8 + 0.04 x 30) = 96 W whatever the speed (MOTOR_DOC values)
+    params = vehicle(vehicle_from_mapping(MOTOR_DOC), "asphalt")
+    np.testing.assert_allclose(logged_power_w(params, [0.3, 0.8], [0.3, 0.8]), 96.0)
+    # with times, the mass terms count: 0.5 m/s² straight adds M a / 2 per side
+    t = np.linspace(0.0, 1.0, 11)
+    v = 0.2 + 0.5 * t
+    expect = 24.0 * 2 * (0.8 + 0.04 * (30.0 + 0.5 * 50.0 * 0.5))
+    np.testing.assert_allclose(logged_power_w(params, v, v, t), expect)

@@ -22,8 +22,10 @@ from ecoplan.app.scenario.build import Case, Scenario, build_scenario
 from ecoplan.app.scenario.elevation import climb_power_w
 from ecoplan.app.scenario.schema import BatterySection, PlannerSection
 from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.controlled import corner_pairs
 from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.energy.path import path_cost
+from ecoplan.energy.primitives import params_on
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.models.limits import check_tracks
@@ -375,10 +377,14 @@ def _plan_with(
     elif planner.type == "graph":
         from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions
 
-        c = sc.spec.controller  # refined routes must not cost more as it drives them
+        c = sc.spec.controller  # the route is refined as this controller drives it
         ctrl = HeadingController(
             c.gain, speed_mps, c.d_th_m, slowdown_heading_rad=c.slowdown_heading_rad
         )
+        # its corner and corner-pair tables (seconds; cached, and the estimate needs them
+        # too) are built before the planner's clock starts
+        params0 = params_on(sc.vehicle, sc.world.terrain_at(np.asarray([start]))[0])
+        corner_pairs(params0, dataclasses.replace(ctrl, speed_mps=speed_mps))
         options = GraphPlannerOptions(k_paths=planner.k, time_budget_s=budget, controller=ctrl)
         res = GraphPlanner(sc.world, cost, options).plan(start, goal, initial_heading_rad=heading)
     else:

@@ -32,6 +32,7 @@ from ecoplan._typing import FloatArray
 from ecoplan.diagnose.calibrate import calibrate
 from ecoplan.diagnose.effects import EffectData, NoEffect, TimeStep, prepare
 from ecoplan.diagnose.stats import block_bootstrap
+from ecoplan.errors import InputError
 
 __all__ = [
     "ALTERNATIVES",
@@ -136,7 +137,8 @@ def fit_alternatives(
             r1 = test.p - step.predict(test)
             params = dict(step.params_)
         else:
-            raise ValueError(f"unknown alternative {name!r}")  # pragma: no cover - internal
+            known = ", ".join(ALTERNATIVES)
+            raise InputError(f"naming alternative {name!r} is not one of: {known}")
         red, _, _, p = block_bootstrap(r0, r1, block, rng)
         out.append(Alternative(name, float(np.mean(np.abs(r1))), red, p, params, r1))
     return out

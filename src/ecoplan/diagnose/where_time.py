@@ -46,6 +46,7 @@ from scipy.stats import median_abs_deviation
 
 from ecoplan._typing import FloatArray, IntArray
 from ecoplan.errors import InputError
+from ecoplan.models.logged_power import logged_power_w
 from ecoplan.presets import VehicleParams
 
 __all__ = ["TimeSegment", "label_segments", "where_time", "write_where_time_csv"]
@@ -266,7 +267,8 @@ def label_segments(
     t = np.asarray(t, dtype=np.float64)
     run_arr = np.asarray(run).astype(str)
     p = np.asarray(p_w, dtype=np.float64)
-    preds = np.array([np.asarray(models[k].power(v_left, v_right).total_w) for k in names])
+    # the quantity the log shows (battery power, or motor currents: models.logged_power)
+    preds = np.array([logged_power_w(models[k], v_left, v_right) for k in names])
     out: list[tuple[str, float]] = []
     for s in segments:
         inside = (run_arr == s.run) & (t >= s.t_start_s) & (t <= s.t_end_s)

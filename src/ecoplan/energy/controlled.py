@@ -410,7 +410,12 @@ def corner_pairs(
     CornerPairs
         The correction table.
     """
-    single = controlled_turns(params, controller, dt_s)
+    # called as path_cost calls it when dt_s is the default: the cache keys on the
+    # arguments as given, and a third positional one would tabulate everything again
+    if dt_s == _DT_S:
+        single = controlled_turns(params, controller)
+    else:
+        single = controlled_turns(params, controller, dt_s)
     v = controller.speed_mps
     leg = float(single.legs_m[-1])
     a_in = single.angles_rad[::2]

@@ -38,7 +38,12 @@ from scipy.optimize import least_squares, lsq_linear
 from ecoplan._typing import FloatArray, RngLike
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_range, finite_array
-from ecoplan.models.identify_logs import DriveLog, model_power
+from ecoplan.models.identify_logs import (
+    DriveLog,
+    check_fit_options,
+    model_power,
+    simex_widen,
+)
 from ecoplan.models.identify_logs import _blocks as _blocks  # the same moving blocks
 from ecoplan.models.motor_current import (
     MotorCurrentLog,
@@ -437,11 +442,7 @@ def _terrain_fit(
         ]
         shift = theta - np.mean(sims, axis=0)
         theta = np.clip(theta + shift, _LOWER, _UPPER)
-        # the extrapolation is itself uncertain: span the naive and corrected intervals,
-        # widened by the size of the correction
-        pad = np.abs(shift)
-        lo = np.maximum(np.minimum(lo, lo + shift) - pad, _LOWER)
-        hi = np.maximum(hi, hi + shift) + pad
+        lo, hi = simex_widen(lo, hi, shift, 0.0)
     mae, energy = _holdout(logs, geometry, spec, holdout_fraction, theta)
     signal = np.concatenate([log.logged_power_w(spec.bus_voltage_v) for log in logs])
     return CurrentFit(
@@ -551,12 +552,10 @@ def identify_from_currents(
     """
     if not logs:
         raise InputError("identify: no logs given")
-    check_range("identify_from_currents", "level", level, 0.0, 1.0, lo_open=True, hi_open=True)
-    check_range("identify_from_currents", "n_boot", n_boot, 10, 100_000)
-    check_range("identify_from_currents", "block_s", block_s, 0.0, lo_open=True)
-    check_range("identify_from_currents", "holdout_fraction", holdout_fraction, 0.05, 0.5)
-    check_range("identify_from_currents", "speed_noise_mps", speed_noise_mps, 0.0, 0.5)
-    check_range("identify_from_currents", "n_simex", n_simex, 1, 1000)
+    check_fit_options(
+        "identify_from_currents", level, n_boot, block_s, holdout_fraction, speed_noise_mps,
+        n_simex,
+    )  # fmt: skip
     gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
     by_terrain: dict[str, list[CurrentLog]] = {}
     for log in logs:
@@ -628,6 +627,8 @@ def planner_driver_terms(
     :func:`~ecoplan.models.motor_current.battery_power_w` on the logs' motions (the braked
     inner side's lost power, the copper loss of turning currents) is fitted, bounded at 0,
     to the model's driver terms: braking (cases 3-4), non-regenerated (case 2), power-up.
+    The file's η divides the planners' mechanical terms on top of these explicit motor
+    losses: keep it 1 unless the drivers themselves lose power (husky-a200: 1).
 
     Parameters
     ----------

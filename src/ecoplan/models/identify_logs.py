@@ -59,9 +59,11 @@ __all__ = [
     "DriveLog",
     "TerrainFit",
     "VehicleIdentification",
+    "check_fit_options",
     "free_driving_log",
     "identify_vehicle",
     "model_power",
+    "simex_widen",
 ]
 
 #: Parameters identified per terrain, in design-matrix order.
@@ -336,6 +338,36 @@ class VehicleIdentification:
         return "\n".join([*lines, body]) if lines else body
 
 
+def check_fit_options(
+    owner: str,
+    level: float,
+    n_boot: int,
+    block_s: float,
+    holdout_fraction: float,
+    speed_noise_mps: float,
+    n_simex: int,
+) -> None:
+    """Range checks of the options the log identifications share (one-line InputError)."""
+    check_range(owner, "level", level, 0.0, 1.0, lo_open=True, hi_open=True)
+    check_range(owner, "n_boot", n_boot, 10, 100_000)
+    check_range(owner, "block_s", block_s, 0.0, lo_open=True)
+    check_range(owner, "holdout_fraction", holdout_fraction, 0.05, 0.5)
+    check_range(owner, "speed_noise_mps", speed_noise_mps, 0.0, 0.5)
+    check_range(owner, "n_simex", n_simex, 1, 1000)
+
+
+def simex_widen(
+    lo: FloatArray, hi: FloatArray, shift: FloatArray, floor: float
+) -> tuple[FloatArray, FloatArray]:
+    """Bootstrap interval after a SIMEX correction ``shift`` of the estimate.
+
+    The linear extrapolation is itself uncertain: the interval spans the naive and the
+    shifted ones, widened by the size of the correction on both sides (lower end >= floor).
+    """
+    pad = np.abs(shift)
+    return np.maximum(np.minimum(lo, lo + shift) - pad, floor), np.maximum(hi, hi + shift) + pad
+
+
 def _round(x: float) -> float:
     return float(f"{x:.5g}")
 
@@ -431,10 +463,8 @@ def _terrain_fit(
         theta = np.clip(theta + shift, 0.0, _UPPER)
         # the linear extrapolation is itself uncertain: the interval spans the naive and the
         # corrected ones, widened by the size of the correction on both sides
-        pad = np.abs(shift)
-        lo_b = np.maximum(np.minimum(lo_b, lo_b + shift) - pad, 0.0)
-        hi_b = np.maximum(hi_b, hi_b + shift) + pad
-        lo_u, hi_u = np.minimum(lo_u, lo_u + shift) - pad, np.maximum(hi_u, hi_u + shift) + pad
+        lo_b, hi_b = simex_widen(lo_b, hi_b, shift, 0.0)
+        lo_u, hi_u = simex_widen(lo_u, hi_u, shift, -np.inf)
     clamped: dict[str, float] = {}
     for j in free:
         if hi_u[j] < 0.0:
@@ -561,13 +591,10 @@ def identify_vehicle(
     """
     if not logs:
         raise InputError("identify: no logs given")
-    check_range("identify_vehicle", "level", level, 0.0, 1.0, lo_open=True, hi_open=True)
-    check_range("identify_vehicle", "n_boot", n_boot, 20, 100_000)
-    check_range("identify_vehicle", "block_s", block_s, 0.0, lo_open=True)
-    check_range("identify_vehicle", "holdout_fraction", holdout_fraction, 0.05, 0.5)
+    check_fit_options(
+        "identify_vehicle", level, n_boot, block_s, holdout_fraction, speed_noise_mps, n_simex
+    )
     check_range("identify_vehicle", "speed_tol_mps", speed_tol_mps, 0.0, 0.5)
-    check_range("identify_vehicle", "speed_noise_mps", speed_noise_mps, 0.0, 0.5)
-    check_range("identify_vehicle", "n_simex", n_simex, 1, 1000)
     gen = rng if isinstance(rng, np.random.Generator) else np.random.default_rng(rng)
     by_terrain: dict[str, list[DriveLog]] = {}
     for log in logs:

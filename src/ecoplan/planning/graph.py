@@ -103,7 +103,10 @@ class GraphPlannerOptions:
         controller, 5-10 s) instead of the fillet model, which assumes arcs as wide as
         the legs allow while the controller starts turning ``d_th`` before a waypoint.
         The refined route is kept when that estimate falls by more than 1 %, the
-        model's error.  ``None``: the fillet model.
+        model's error.  Tables not yet cached are built inside :meth:`GraphPlanner.plan`
+        and cannot be interrupted, so build them first to keep the time budget
+        (``corner_pairs(params, controller)``, as ``ecoplan run`` does).  ``None``: the
+        fillet model.
     """
 
     offset_m: float = 0.05

@@ -38,7 +38,7 @@ from ecoplan.diagnose.effects.fitting import fit_linear
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.presets import VehicleParams
 
-__all__ = ["ActuatorLag", "IcrAsymmetry", "Inertia"]
+__all__ = ["ActuatorLag", "IcrAsymmetry", "Inertia", "lag_speed_channel", "offset_pose_channel"]
 
 
 class Inertia(Effect):
@@ -181,3 +181,52 @@ class ActuatorLag(ScalarSearch):
         self.coef_ = fit_linear(data, self.design(data, self.theta_))
         self.params_ = {"tau_s": float(self.theta_)}
         return self
+
+
+def lag_speed_channel(
+    train: EffectData, test: EffectData
+) -> tuple[FloatArray, FloatArray, Effect, float]:
+    """The lag on the speeds: held-out side-speed error without and with the fitted lag.
+
+    Returns
+    -------
+    r0, r1 : ndarray
+        Held-out side-speed error without and with the lag [m/s].
+    lag : ActuatorLag
+        The lag fitted on ``train``.
+    power_w : float
+        Held-out power MAE of the model driven by the commands without a lag [W].
+    """
+    lag = ActuatorLag()
+    lag.fit(train)
+    f = test.frame
+    s0 = lag.speeds(test, 0.0)
+    s1 = lag.speeds(test, float(lag.theta_))
+    r0 = 0.5 * (np.abs(f.vl - s0[0]) + np.abs(f.vr - s0[1]))
+    r1 = 0.5 * (np.abs(f.vl - s1[0]) + np.abs(f.vr - s1[1]))
+    no_lag = ActuatorLag(theta=0.0).fit(train)
+    return r0, r1, lag, no_lag.score(test)
+
+
+def offset_pose_channel(
+    train: EffectData, test: EffectData
+) -> tuple[FloatArray, FloatArray, float]:
+    """The ICR offset on the pose: held-out pose-speed error without and with it, the offset.
+
+    The forward speed from the pose departs from the side speeds' by ``w_z d`` (eq. 2): the
+    offset ``d`` [m] is its least-squares slope on the training split.
+
+    Returns
+    -------
+    r0, r1 : ndarray
+        Held-out pose-speed error at the preset's offset and at the fitted one [m/s].
+    offset_m : float
+        The fitted ICR offset [m].
+    """
+    assert train.frame.v_pose_err is not None and test.frame.v_pose_err is not None
+    d0 = float(train.params.icr_offset_m)
+    wz = train.frame.wz
+    den = float(np.dot(wz, wz))
+    delta = d0 + (float(np.dot(wz, train.frame.v_pose_err - d0 * wz)) / den if den > 0 else 0.0)
+    e = test.frame.v_pose_err
+    return e - d0 * test.frame.wz, e - delta * test.frame.wz, delta
