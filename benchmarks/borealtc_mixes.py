@@ -15,10 +15,7 @@ change-point penalty and shortest segment were chosen), the measured-only mixes 
 * the share of segment time whose terrain label
   (:func:`ecoplan.diagnose.where_time.label_segments`) is right, with per-terrain models
   identified on the first run of each terrain (not used in the mixes), and with the
-  ``husky-a200`` vehicle file's tables (identified on all BorealTC runs, so in-sample here;
-  since the file says its logs hold motor currents -- ``power_log: motor_current`` -- its
-  models' battery power is not the logged ``24 V x current``, and this line compares unlike
-  signals until the labeller predicts the logged signal).
+  ``husky-a200`` vehicle file's tables (identified on all BorealTC runs, so in-sample here).
 
 Vehicle: no Husky preset here; the ``pioneer-3at`` structure (wheeled paper eqs. 12-15) with the
 Husky's mass, track width and top speed, whose coefficients are first identified on one run
