@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -83,3 +84,35 @@ def finite_pair(
             f"{name_a} and {name_b} have shapes {xa.shape} and {xb.shape}, which do not broadcast"
         ) from None
     return ba, bb
+
+
+def check_log_fields(log: Any, names: tuple[str, ...]) -> None:
+    """Validate and normalise a frozen identification log in place (its ``__post_init__``).
+
+    Each named field that is not None becomes a finite 1-D float array, all of one length
+    (>= 3 samples); ``t_s`` must be strictly increasing; ``terrain`` is stripped and
+    lower-cased. ``log`` needs ``run_id``, ``t_s`` and ``terrain`` attributes.
+
+    Raises
+    ------
+    InputError
+        Naming the run and the field that is wrong.
+    """
+    n = None
+    for name in names:
+        val = getattr(log, name)
+        if val is None:
+            continue
+        arr = finite_array(f"{log.run_id}.{name}", val)
+        if arr.ndim != 1 or (n is not None and arr.size != n):
+            raise InputError(f"{log.run_id}.{name}: expected a 1-D array of {n} samples")
+        n = arr.size
+        object.__setattr__(log, name, arr)
+    if n is None or n < 3:
+        raise InputError(f"{log.run_id}: a log needs at least 3 samples")
+    if np.any(np.diff(log.t_s) <= 0.0):
+        raise InputError(f"{log.run_id}.t_s must be strictly increasing")
+    terrain = str(log.terrain).strip().lower()
+    if not terrain:
+        raise InputError(f"{log.run_id}: the terrain is empty")
+    object.__setattr__(log, "terrain", terrain)

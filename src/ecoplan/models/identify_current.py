@@ -37,7 +37,7 @@ from scipy.optimize import least_squares, lsq_linear
 
 from ecoplan._typing import FloatArray, RngLike
 from ecoplan.errors import InputError
-from ecoplan.models._validate import check_range, finite_array
+from ecoplan.models._validate import check_log_fields, check_range, finite_array
 from ecoplan.models.identify_logs import (
     DriveLog,
     check_fit_options,
@@ -133,27 +133,10 @@ class CurrentLog:
         return cls(t_s, v_left, v_right, half, half.copy(), terrain, run_id, None, False)
 
     def __post_init__(self) -> None:
-        n = None
         names = ("t_s", "v_left", "v_right", "current_left_a", "current_right_a", "grade_rad")
-        for name in names:
-            val = getattr(self, name)
-            if val is None:
-                continue
-            arr = finite_array(f"{self.run_id}.{name}", val)
-            if arr.ndim != 1 or (n is not None and arr.size != n):
-                raise InputError(f"{self.run_id}.{name}: expected a 1-D array of {n} samples")
-            n = arr.size
-            object.__setattr__(self, name, arr)
-        if n is None or n < 3:
-            raise InputError(f"{self.run_id}: a log needs at least 3 samples")
-        if np.any(np.diff(self.t_s) <= 0.0):
-            raise InputError(f"{self.run_id}.t_s must be strictly increasing")
+        check_log_fields(self, names)
         if np.any(self.current_left_a < 0.0) or np.any(self.current_right_a < 0.0):
             raise InputError(f"{self.run_id}: motor currents are magnitudes, >= 0 A")
-        terrain = str(self.terrain).strip().lower()
-        if not terrain:
-            raise InputError(f"{self.run_id}: the terrain is empty")
-        object.__setattr__(self, "terrain", terrain)
 
     def logged_power_w(self, bus_voltage_v: float) -> FloatArray:
         """The logged signal ``V_bus (I_l + I_r)`` [W]."""

@@ -49,7 +49,7 @@ from scipy.optimize import lsq_linear
 
 from ecoplan._typing import FloatArray, RngLike
 from ecoplan.errors import InputError
-from ecoplan.models._validate import check_range, finite_array
+from ecoplan.models._validate import check_log_fields, check_range
 from ecoplan.models.inertial import inertial_power_of_tracks
 from ecoplan.models.tracked import TrackedParams, tracked_power
 from ecoplan.models.vehicles import Vehicle, vehicle_from_mapping
@@ -105,24 +105,7 @@ class DriveLog:
     grade_rad: FloatArray | None = None
 
     def __post_init__(self) -> None:
-        n = None
-        for name in ("t_s", "v_left", "v_right", "p_total_w", "grade_rad"):
-            val = getattr(self, name)
-            if val is None:
-                continue
-            arr = finite_array(f"{self.run_id}.{name}", val)
-            if arr.ndim != 1 or (n is not None and arr.size != n):
-                raise InputError(f"{self.run_id}.{name}: expected a 1-D array of {n} samples")
-            n = arr.size
-            object.__setattr__(self, name, arr)
-        if n is None or n < 3:
-            raise InputError(f"{self.run_id}: a log needs at least 3 samples")
-        if np.any(np.diff(self.t_s) <= 0.0):
-            raise InputError(f"{self.run_id}.t_s must be strictly increasing")
-        terrain = str(self.terrain).strip().lower()
-        if not terrain:
-            raise InputError(f"{self.run_id}: the terrain is empty")
-        object.__setattr__(self, "terrain", terrain)
+        check_log_fields(self, ("t_s", "v_left", "v_right", "p_total_w", "grade_rad"))
 
     @property
     def n_samples(self) -> int:
