@@ -9,8 +9,8 @@ without an initial heading (as ``tests/test_lattice.py`` checks them):
   route on its nodes: the planner as it was before :mod:`ecoplan.planning.refine`);
 * ``graph``: the same with its default refinement;
 * ``lattice``: :class:`ecoplan.planning.lattice.LatticePlanner` on the map rasterised at
-  5 cm, 12.5 cm nodes, default options (no refinement);
-* ``lattice+refine``: the same with ``refine=RefineOptions()``.
+  5 cm, 12.5 cm nodes, refinement off (``refine=None``; as it was before);
+* ``lattice+refine``: the same with ``refine=RefineOptions()`` (the default options).
 
 Prints the energies [J], the ratios graph / lattice (the acceptance: within 2 % both
 ways, with both refined) and the graph's plan times [s] (one run each: indicative).
