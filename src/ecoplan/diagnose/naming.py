@@ -30,7 +30,7 @@ import numpy as np
 
 from ecoplan._typing import FloatArray
 from ecoplan.diagnose.calibrate import calibrate
-from ecoplan.diagnose.effects import EffectData, NoEffect, TimeStep, prepare
+from ecoplan.diagnose.effects import EFFECTS, EffectData, NoEffect, TimeStep, prepare
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.errors import InputError
 
@@ -219,8 +219,9 @@ def naming_rule(
             return "unexplained", 1.0 - step.p_value, (), step.residual_w, reason
         return name, conf, tied, res_after, ""
     for alt in sorted(alternatives, key=lambda a: a.after_w):
-        if alt.name == "time_step" and named == "terrain_change":
-            continue  # a step in time is terrain_change's own one-switch case, not a rival
+        named_cls = EFFECTS.get(named)
+        if alt.name == "time_step" and named_cls is not None and named_cls.segments_in_time:
+            continue  # a step in time is the effect's own one-switch case, not a rival
         if alt.name == "time_step":
             _, _, _, p_beat = block_bootstrap(alt.residual_w, res_after, blk, rng)
             overruled = p_beat >= BEAT_LEVEL

@@ -305,6 +305,9 @@ class Effect:
     #: Whether the corrected model carries it over to new routes (False: a logging artefact
     #: or a fit tied to the log's own clock).
     on_routes: ClassVar[bool] = True
+    #: Fitted as levels over segments of the log's time, so a step in time is one of its
+    #: own cases, not a rival explanation (:mod:`ecoplan.diagnose.naming`).
+    segments_in_time: ClassVar[bool] = False
 
     def __init__(self, theta: Any = None) -> None:
         self.theta = theta

@@ -203,6 +203,7 @@ class TerrainChange(Effect):
     """
 
     name = "terrain_change"
+    segments_in_time = True
     on_routes = False
 
     @classmethod
