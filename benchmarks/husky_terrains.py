@@ -32,13 +32,21 @@ Targets (issue 13): beat the baseline's MAE on every terrain; median energy erro
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import itertools
 import sys
 from pathlib import Path
 
 import numpy as np
 
-from ecoplan.io.borealtc import HUSKY_BUS_VOLTAGE_V, data_root, list_terrains, load_runs
+from ecoplan.io.borealtc import (
+    HUSKY_BUS_VOLTAGE_V,
+    BorealRun,
+    at_rest_mask,
+    data_root,
+    list_terrains,
+    load_runs,
+)
 from ecoplan.models.identify import leave_one_run_out
 from ecoplan.models.identify_current import (
     CurrentLog,
@@ -216,11 +224,30 @@ def _battery_check(vehicle: Vehicle, runs_by_terrain: dict[str, list[CurrentLog]
         )
 
 
+def _kept(run: BorealRun, drop: np.ndarray) -> BorealRun:
+    """The run without the samples ``drop`` marks (the static baseline has no derivatives)."""
+    if not drop.any():
+        return run
+    keep = ~drop
+    cut = {
+        f.name: getattr(run, f.name)[keep]
+        for f in dataclasses.fields(run)
+        if isinstance(getattr(run, f.name), np.ndarray)
+    }
+    return dataclasses.replace(run, **cut)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--boot", type=int, default=100, help="bootstrap resamples per terrain")
     ap.add_argument("--write", type=Path, default=None, help="write the identified vehicle file")
     ap.add_argument("--explain", action="store_true", help="print what the data say, no fit")
+    ap.add_argument(
+        "--no-screen",
+        dest="screen",
+        action="store_false",
+        help="keep the samples where the robot is stuck (see ecoplan.models.identify_screen)",
+    )
     args = ap.parse_args()
     if args.explain:
         explain()
@@ -228,14 +255,27 @@ def main() -> int:
     base = vehicle_from_mapping(HUSKY_BASE, "husky_terrains.py")
     logs: list[CurrentLog] = []
     baselines = {}
+    stuck: dict[str, list[str]] = {}
     for terrain in list_terrains():
         runs = load_runs(terrain)
-        baselines[terrain.lower()] = leave_one_run_out(runs)
+        rests = [at_rest_mask(r) if args.screen else np.zeros(r.t.size, bool) for r in runs]
+        stuck[terrain.lower()] = [
+            f"{r.run_id} ({float(np.sum(np.gradient(r.t)[m])):.0f} s)"
+            for r, m in zip(runs, rests, strict=True)
+            if m.any()
+        ]
+        baselines[terrain.lower()] = leave_one_run_out(
+            [_kept(r, m) for r, m in zip(runs, rests, strict=True)]
+        )
         logs += [
             CurrentLog(r.t, r.v_left, r.v_right, r.current_left, r.current_right, terrain,
-                       r.run_id)
-            for r in runs
+                       r.run_id, excluded=m)
+            for r, m in zip(runs, rests, strict=True)
         ]  # fmt: skip
+    print("screen: samples where the wheels turn but the body rests (gyroscope rms < 0.01 rad/s")
+    print("over 5 s), left out of every fit and score (the baseline's too):")
+    for terrain, items in stuck.items():
+        print(f"  {terrain:<11} {', '.join(items) if items else '-'}")
     res = identify_from_currents(logs, base, motor_current_spec(base), rng=0, n_boot=args.boot)
     print(
         f"{'terrain':<11} {'runs':>4} {'mean P':>7} {'baseline MAE':>12} {'identified MAE':>14}"
