@@ -216,8 +216,8 @@ class CurrentFit:
         Relative error of each held-out log's integral of the logged signal (signed).
     mean_power_w : float
         Mean logged signal [W].
-
-    Samples a log marks :attr:`CurrentLog.excluded` count in none of these.
+    n_excluded : int
+        Samples the logs mark :attr:`CurrentLog.excluded`; they count in none of the above.
     """
 
     terrain: str
@@ -228,6 +228,7 @@ class CurrentFit:
     heldout_mae_w: float
     heldout_energy_error: tuple[float, ...]
     mean_power_w: float
+    n_excluded: int = 0
 
     @property
     def median_energy_error(self) -> float:
@@ -329,9 +330,10 @@ class CurrentIdentification:
         pct = f"{100 * self.level:g} %"
         out: dict[str, dict[str, object]] = {}
         for terrain, fit in sorted(self.fits.items()):
+            left_out = f" ({fit.n_excluded} left out: stuck)" if fit.n_excluded else ""
             note = (
                 f"side-force fit to the motor currents of {len(fit.run_ids)} log(s), "
-                f"{fit.n_samples} samples; {pct} joint bootstrap interval"
+                f"{fit.n_samples} samples{left_out}; {pct} joint bootstrap interval"
             )
             entry: dict[str, object] = {
                 name: {
@@ -458,6 +460,7 @@ def _terrain_fit(
         heldout_mae_w=mae,
         heldout_energy_error=energy,
         mean_power_w=float(signal.mean()),
+        n_excluded=int(sum(int(np.sum(~log.used)) for log in logs)),
     )
 
 
