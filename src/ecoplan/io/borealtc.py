@@ -425,8 +425,9 @@ def load_borealtc(
     Returns
     -------
     Log
-        Columns ``t, v_left, v_right, p_total`` (+ ``wz`` when the IMU file exists) and a
-        ``terrain`` label (lower case); ``run_id`` like ``"FLOORING_03"``.
+        Columns ``t, v_left, v_right, p_total, current_left, current_right`` (+ ``wz``
+        when the IMU file exists) and a ``terrain`` label (lower case); ``run_id`` like
+        ``"FLOORING_03"``.
     """
     run = load_run(terrain, run_id, root, bus_voltage_v)
     source = str(data_root(root) / run.terrain / f"pro_{run.run_id}.csv")
@@ -457,6 +458,8 @@ def load_borealtc(
         v_left=run.v_left[keep],
         v_right=run.v_right[keep],
         p_total=run.p_total[keep],
+        current_left=run.current_left[keep],
+        current_right=run.current_right[keep],
         wz=None if wz is None else wz[keep],
         terrain=np.full(int(keep.sum()), run.terrain.lower()),
         source=source,
