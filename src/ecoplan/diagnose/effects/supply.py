@@ -35,6 +35,7 @@ from ecoplan.diagnose.effects.base import (
 from ecoplan.diagnose.effects.data import EffectData, subsample
 from ecoplan.diagnose.effects.fitting import (
     NONREGEN_COLUMN,
+    Bounds,
     fit_linear,
     prior_nonregen,
 )
@@ -143,12 +144,16 @@ class Regeneration(ScalarSearch):
             return _share_of_loss(data.params, pb, float(theta or 0.0), loss)
         return regenerated_w(data.params, pb, float(theta or 0.0))
 
+    def coef_bounds(self, data: EffectData, n_cols: int) -> Bounds:
+        """The base model's bounds; tracked, ``k_nr`` held at the prior's (see the class)."""
+        lo, hi = super().coef_bounds(data, n_cols)
+        if isinstance(data.params, TrackedParams) and n_cols > NONREGEN_COLUMN:
+            lo[NONREGEN_COLUMN] = hi[NONREGEN_COLUMN] = prior_nonregen(data)
+        return lo, hi
+
     def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
         y = data.p + self._returned(data, theta)
-        lo, hi = self.coef_bounds(data, data.X.shape[1])
-        if isinstance(data.params, TrackedParams):
-            lo[NONREGEN_COLUMN] = hi[NONREGEN_COLUMN] = prior_nonregen(data)
-        return fit_linear(data, data.X, y=y, bounds=(lo, hi))
+        return fit_linear(data, data.X, y=y, bounds=self.coef_bounds(data, data.X.shape[1]))
 
     def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
         return np.asarray(data.X @ coef - self._returned(data, theta), dtype=np.float64)
