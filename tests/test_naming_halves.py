@@ -91,7 +91,7 @@ def test_the_interval_is_the_least_squares_one_on_white_noise() -> None:
 
 
 def test_a_resistance_that_differs_between_the_halves_is_not_named() -> None:
-    train, test = _data(150.0, 175.0)
+    train, test = _data(100.0, 250.0)
     eff = make_effect("speed_dependent_resistance").fit(train)
     verdict, conf, tied, reason, check = halves_rule(
         eff, train, test, ("speed_dependent_resistance", 1.0, ())
@@ -120,3 +120,13 @@ def test_overlap_and_p_value_of_two_halves() -> None:
     assert not row.agree
     assert row.p_value == pytest.approx(0.00468, abs=2e-4)
     assert ParameterHalves("x", 1.0, 4.0, 1.0, 1.0).agree
+
+
+def test_the_model_error_widens_each_interval_by_a_share_of_its_value() -> None:
+    # 10 ± 0.1 and 12 ± 0.1: apart statistically; with a 10 % model error the standard errors
+    # are sqrt(0.1² + 1²) = 1.005 and sqrt(0.1² + 1.2²) = 1.204, and the intervals overlap
+    assert not ParameterHalves("x", 10.0, 12.0, 0.1, 0.1).agree
+    row = ParameterHalves("x", 10.0, 12.0, 0.1, 0.1, model_error=0.10)
+    assert row.se("train") == pytest.approx(1.00499, rel=1e-4)
+    assert row.se("test") == pytest.approx(1.20416, rel=1e-4)
+    assert row.agree
