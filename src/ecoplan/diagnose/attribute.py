@@ -49,7 +49,13 @@ from ecoplan.diagnose.effects import (
 )
 from ecoplan.diagnose.effects.motion import lag_speed_channel, offset_pose_channel
 from ecoplan.diagnose.effects.supply import saturation_speed_channel
-from ecoplan.diagnose.naming import Alternative, fit_alternatives, naming_rule
+from ecoplan.diagnose.naming import (
+    Alternative,
+    HalvesCheck,
+    fit_alternatives,
+    halves_rule,
+    naming_rule,
+)
 from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
 from ecoplan.diagnose.stats import (
     block_bootstrap,
@@ -319,7 +325,11 @@ class Attribution:
         The explanations outside the library the verdict's effect had to beat
         (:mod:`ecoplan.diagnose.naming`), with their held-out MAE.
     reason : str
-        One line on why the verdict is what it is when an alternative decided it (else empty).
+        One line on why the verdict is what it is when an alternative or the halves decided
+        it (else empty).
+    halves : HalvesCheck or None
+        The named power-channel effect's parameters on the two halves of the split
+        (:func:`~ecoplan.diagnose.naming.halves_check`); None when no such effect was named.
     """
 
     scores: list[EffectScore]
@@ -338,6 +348,7 @@ class Attribution:
     fitted: dict[str, Effect] = field(repr=False, default_factory=dict)
     alternatives: list[Alternative] = field(repr=False, default_factory=list)
     reason: str = ""
+    halves: HalvesCheck | None = None
 
 
 KINEMATIC = ("actuator_lag", "icr_asymmetry")
@@ -548,6 +559,11 @@ def attribute(
         level=level,
         min_gain=min_gain,
     )
+    halves = None
+    if not reason and verdict in fitted and verdict != "none":
+        verdict, conf, tied, reason, halves = halves_rule(
+            fitted[verdict], train, test, (verdict, conf, tied)
+        )
     pair_names, pair_after = _best_pair(power_scores, train, test)
     kin_win = [s for s in kin_scores if s.significant and s.explained >= explain_min_kinematic]
     kin_win.sort(key=lambda s: -s.reduction_pct)
@@ -583,6 +599,7 @@ def attribute(
         fitted,
         alternatives,
         reason,
+        halves,
     )
 
 

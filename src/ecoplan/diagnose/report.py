@@ -28,8 +28,11 @@ keys), ``where_time_terrain`` (the most likely terrain of each of those segments
 vehicle preset's terrains, in the same order; empty when the vehicle has one terrain or was
 given as parameters), ``naming`` (the explanations outside the library the verdict's
 effect had to beat, :mod:`ecoplan.diagnose.naming`: ``{"reason", "alternatives": [{"name",
-"after", "p_value", "params"}]}``, ``reason`` the one line on why an effect was not named,
-empty when none was overruled), ``tied`` (names of an ambiguous verdict), ``log`` (runs,
+"after", "p_value", "params"}], "halves"}``, ``reason`` the one line on why an effect was not
+named, empty when none was overruled; ``halves`` the named power-channel effect's parameters
+fitted on each half of the split, ``{"effect", "agree", "p_value", "note", "params": [{"name",
+"train", "train_ci", "test", "test_ci", "agree"}]}`` with 95 % intervals, null when no such
+effect was named), ``tied`` (names of an ambiguous verdict), ``log`` (runs,
 duration, dropped rows, split, the readers' ``notes`` -- assumptions such as the bus voltage,
 ignored columns -- and the input check's ``input_notes``) and,
 with ``ecoplan diagnose --scenario``, ``ranking`` (route energies under the preset and the
@@ -51,6 +54,7 @@ from ecoplan.errors import InputError
 from ecoplan.io.yaml import LineMap, format_validation
 
 if TYPE_CHECKING:
+    from ecoplan.diagnose.naming import HalvesCheck
     from ecoplan.diagnose.result import Diagnosis
 
 __all__ = [
@@ -72,6 +76,28 @@ JSON_KEYS: tuple[str, ...] = ("gap", "where", "effects", "verdict")
 def _num(x: float) -> float | None:
     x = float(x)
     return x if math.isfinite(x) else None
+
+
+def _halves_json(h: HalvesCheck | None) -> dict[str, Any] | None:
+    if h is None:
+        return None
+    return {
+        "effect": h.effect,
+        "agree": h.agree,
+        "p_value": _num(h.p_value),
+        "note": h.note,
+        "params": [
+            {
+                "name": p.name,
+                "train": _num(p.train),
+                "train_ci": [_num(v) for v in p.interval("train")],
+                "test": _num(p.test),
+                "test_ci": [_num(v) for v in p.interval("test")],
+                "agree": p.agree,
+            }
+            for p in h.params
+        ],
+    }
 
 
 def to_json_dict(d: Diagnosis) -> dict[str, Any]:
@@ -148,6 +174,7 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
                 }
                 for a in att.alternatives
             ],
+            "halves": _halves_json(att.halves),
         },
         "tied": list(att.tied),
         "log": {

@@ -60,6 +60,25 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
         "effect, that its held-out reduction of the gap is not chance; for `unexplained`, that "
         "the residual is not white noise.",
         "",
+    ]
+    if att.reason:
+        out += [f"Not named: {att.reason}.", ""]
+    if att.halves is not None and att.halves.params:
+        out += [
+            f"`{att.halves.effect}` fitted on each half of the split (95 % intervals; the "
+            "name stands only if they overlap):",
+            "",
+            "| parameter | training half | held-out half | agree |",
+            "|---|---|---|---|",
+        ]
+        for p in att.halves.params:
+            (a0, a1), (b0, b1) = p.interval("train"), p.interval("test")
+            out.append(
+                f"| `{p.name}` | {p.train:.4g} [{a0:.4g}, {a1:.4g}] | "
+                f"{p.test:.4g} [{b0:.4g}, {b1:.4g}] | {'yes' if p.agree else 'no'} |"
+            )
+        out += [""]
+    out += [
         "## The numbers",
         "",
         "| quantity | value | meaning |",

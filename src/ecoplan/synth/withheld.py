@@ -46,7 +46,9 @@ about six times it: on seeds 0-11 of the default session (auriga-beta-narrow on 
 mean power about 600 W) the mean absolute change it causes (``effect_mae_w``, before any
 calibration) is 1.07-6 times the case's mean absolute sensor noise (10-14 W; sigma =
 2 % P + 3 W).  *Small* is mostly below the noise, *large* two or more times above it.
-Measured by :func:`ecoplan.synth.cases.magnitude_survey` (min / median / max over seeds 0-11, W)::
+Measured by :func:`ecoplan.synth.cases.magnitude_survey` (min / median / max over seeds 0-11, W;
+``regeneration`` re-measured with its bounded form, :func:`ecoplan.diagnose.effects.regenerated_w`,
+the share of the loss ``ρ min(η neg, loss)``)::
 
     effect                       small            moderate         large
     inertia                      2.6 / 3.2 / 4.6  12 / 15 / 21     21 / 27 / 37
@@ -55,7 +57,7 @@ Measured by :func:`ecoplan.synth.cases.magnitude_survey` (min / median / max ove
     terrain_patch                5.7 / 14 / 40    17 / 31 / 118    34 / 55 / 258
     slope                        18 / 27 / 34     40 / 55 / 69     79 / 103 / 127
     speed_dependent_resistance   19 / 25 / 36     37 / 45 / 68     110 / 136 / 204
-    regeneration (bounded)       15 / 19 / 33     21 / 32 / 45     21 / 33 / 46
+    regeneration (bounded)       6.1 / 9.5 / 16   16 / 24 / 39     22 / 35 / 53
     power_saturation             1.7 / 7.4 / 23   24 / 40 / 82     97 / 147 / 216
     sensor_delay                 6.1 / 9.3 / 11   18 / 28 / 34     43 / 66 / 79
     efficiency_drift             12 / 16 / 21     44 / 55 / 72     65 / 82 / 107
@@ -88,12 +90,12 @@ min / median / max of ``effect_mae_w`` [W], against a noise MAE of 0.53-0.55 W):
     actuator_lag (*) 0.19 / 0.22 / 0.33    icr_asymmetry (*) 0.13 / 0.17 / 0.18
     terrain_patch 0.12 / 0.36 / 0.61       sensor_delay 0.17 / 0.18 / 0.25
     efficiency_drift 0.62 / 0.72 / 0.96    power_saturation 0.036 / 0.071 / 0.16
-    regeneration 0.0008 / 0.017 / 0.026   (OOL) periodic 0.44 / 0.52 / 0.65,
+    regeneration 0.0028 / 0.056 / 0.087   (OOL) periodic 0.44 / 0.52 / 0.65,
     tension step 0.60 / 1.0 / 1.2, spikes 0.26 / 0.29 / 0.49
 
 So "moderate" does not mean "above the noise" for every effect on this robot:
 ``regeneration`` is physically negligible (executable motion brakes a side only in arcs
-tighter than 2.4 m, at low speed; even a fraction of 0.6 gives 0.07 W) and
+tighter than 2.4 m, at low speed; fractions of 0.55-0.75 give at most 0.09 W) and
 ``power_saturation`` at the 86-90 % quantile clips little of a power that is flat near its
 top.  The diagnosis calls them ``none``, which is what the data support.
 """

@@ -4,7 +4,10 @@ An effect is one class (:class:`Effect`) that says, once, everything the project
 
 * **its physical parameters** (:attr:`Effect.parameters`: a :class:`Parameter` each, with its
   unit and physical range) -- the one name per quantity that the blind-case generator, the
-  diagnosis's fitted values (``params_``), the diagnosis JSON and the corrected model use;
+  diagnosis's fitted values (``params_``), the diagnosis JSON and the corrected model use.
+  Every fit keeps them in range: a searched parameter is searched within it
+  (:class:`ScalarSearch`), a linear one (:attr:`Parameter.column`) is a bound of the bounded
+  least squares (:meth:`Effect.coef_bounds`), beside the base model's own bounds;
 * **generation** (:meth:`Effect.apply`): the true electrical power ``P_T`` [W] on a motion with
   the effect, and (:meth:`Effect.drive`) the vehicle and actuator lag that produce the motion
   (only ``icr_asymmetry`` and ``actuator_lag`` change the motion); :meth:`Effect.draw` turns a
@@ -32,7 +35,7 @@ from scipy.optimize import minimize_scalar
 from ecoplan._typing import ArrayLike, BoolArray, FloatArray
 from ecoplan.diagnose.calibrate import CHI_BOUNDS, grid_then_bounded, kinematic_chi
 from ecoplan.diagnose.effects.data import EffectData, subsample
-from ecoplan.diagnose.effects.fitting import fit_linear, huber_loss
+from ecoplan.diagnose.effects.fitting import Bounds, base_bounds, fit_linear, huber_loss
 from ecoplan.diagnose.replay import Frame, smooth_derivative
 from ecoplan.dynamics.integrate import integrate_twist
 from ecoplan.errors import InputError
@@ -87,6 +90,16 @@ class Parameter:
         What it is.
     default : float or None
         Value when absent (None: required).
+    column : int or None
+        When the parameter is a linear coefficient of the diagnosis's fit: the index of its
+        column among the effect's own (:meth:`Effect.columns`), whose fitted coefficient ``g``
+        gives the parameter as ``offset + scale g``; the range then bounds ``g`` in every fit
+        (:meth:`Effect.coef_bounds`).  None: found otherwise (a search, or derived).
+    offset : float
+        ``offset`` of that map (1 for a factor fitted as ``1 + η g``).
+    scale : float or None
+        ``scale`` of that map; None: the vehicle's η (a fitted electrical coefficient is a
+        mechanical quantity divided by η, tracked eq. 20).
     """
 
     name: str
@@ -95,6 +108,20 @@ class Parameter:
     high: float
     doc: str
     default: float | None = None
+    column: int | None = None
+    offset: float = 0.0
+    scale: float | None = None
+
+    def map_of(self, data: EffectData) -> tuple[float, float]:
+        """``(offset, scale)`` of the coefficient-to-parameter map on ``data`` (:attr:`column`)."""
+        scale = eta_of(data.params) if self.scale is None else self.scale
+        return self.offset, scale
+
+    def coef_range(self, data: EffectData) -> tuple[float, float]:
+        """The range of the fitted coefficient ``g`` that keeps the parameter in its range."""
+        off, scale = self.map_of(data)
+        a, b = (self.low - off) / scale, (self.high - off) / scale
+        return (a, b) if a <= b else (b, a)
 
 
 class MotionLike(Protocol):
@@ -426,14 +453,48 @@ class Effect:
     def _search(self, data: EffectData) -> Any:
         return None
 
+    def coef_bounds(self, data: EffectData, n_cols: int) -> Bounds:
+        """Physical bounds of the fit's coefficients: base columns, then the effect's.
+
+        The base model's from its design (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`,
+        with the floor under a tracked ``k_nr``); the effect's from the ranges of its
+        :attr:`parameters` that are linear coefficients (:attr:`Parameter.column`).
+
+        Parameters
+        ----------
+        data : EffectData
+            The samples.
+        n_cols : int
+            Columns of the design.
+
+        Returns
+        -------
+        (ndarray, ndarray)
+            Lower and upper bounds, one each per column.
+        """
+        lo, hi = base_bounds(data, n_cols)
+        k = data.X.shape[1]
+        for p in self.parameters:
+            if p.column is not None and k + p.column < n_cols:
+                lo[k + p.column], hi[k + p.column] = p.coef_range(data)
+        return lo, hi
+
     def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
-        return fit_linear(data, self.design(data, theta))
+        D = self.design(data, theta)
+        return fit_linear(data, D, bounds=self.coef_bounds(data, D.shape[1]))
 
     def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
         return np.asarray(self.design(data, theta) @ coef, dtype=np.float64)
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
-        return {}
+        """The parameters that are linear coefficients (:attr:`Parameter.column`)."""
+        k = data.X.shape[1]
+        out: dict[str, float] = {}
+        for p in self.parameters:
+            if p.column is not None and k + p.column < coef.size:
+                off, scale = p.map_of(data)
+                out[p.name] = off + scale * float(coef[k + p.column])
+        return out
 
     def _sse(self, data: EffectData, theta: Any) -> float:
         pred = self._predict(data, theta, self._fit_coef(data, theta))
@@ -493,7 +554,10 @@ class NoEffect(Effect):
 
 
 class ScalarSearch(Effect):
-    """An effect with one nonlinear parameter found by a grid then a bounded scalar search."""
+    """An effect with one nonlinear parameter found by a grid then a bounded scalar search.
+
+    The parameter is the first of :attr:`parameters`; the search stays within its range.
+    """
 
     n_grid: ClassVar[int] = 9
 
@@ -502,6 +566,11 @@ class ScalarSearch(Effect):
 
     def _search(self, data: EffectData) -> Any:
         lo, hi = self._bounds(data)
+        if self.parameters:  # the search stays within the parameter's physical range
+            p = self.parameters[0]
+            lo, hi = min(max(lo, p.low), p.high), max(min(hi, p.high), p.low)
+        if hi <= lo:
+            return float(lo)
         grid = np.linspace(lo, hi, self.n_grid)
         sse = [self._sse(data, float(g)) for g in grid]
         i = int(np.argmin(sse))

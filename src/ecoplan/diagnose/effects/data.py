@@ -53,8 +53,6 @@ class EffectData:
         Friction and resistance components of the calibrated model [W].
     side_neg_w : ndarray
         ``min(P_left, 0) + min(P_right, 0)``: negative side power of the calibrated model [W].
-    breakdown : PowerBreakdown
-        The calibrated model's power breakdown on the samples.
     yaw : ndarray
         Heading [rad]: logged, else integrated from the kinematic yaw rate per run.
     t_rel : ndarray
@@ -62,6 +60,11 @@ class EffectData:
     prior : TrackedParams or WheeledParams or None
         The parameters calibration started from (the preset), which the wheeled refits are
         pulled towards (:func:`~ecoplan.diagnose.calibrate.wheeled_prior`); None: ``params``.
+    breakdown : PowerBreakdown or None
+        The calibrated model's power breakdown on the samples.
+    lower, upper : ndarray or None
+        Physical bounds of the base design's coefficients
+        (:class:`~ecoplan.diagnose.calibrate.BaseDesign`), which every refit keeps.
     """
 
     frame: Frame
@@ -75,6 +78,8 @@ class EffectData:
     t_rel: FloatArray
     prior: VehicleParams | None = None
     breakdown: PowerBreakdown | None = None
+    lower: FloatArray | None = None
+    upper: FloatArray | None = None
 
     @property
     def p(self) -> FloatArray:
@@ -103,6 +108,8 @@ class EffectData:
             self.t_rel[mask],
             self.prior,
             None if self.breakdown is None else _subset_breakdown(self.breakdown, mask),
+            self.lower,
+            self.upper,
         )
 
 
@@ -186,6 +193,8 @@ def prepare(
         t_rel=frame.t if t_rel is None else t_rel,
         prior=prior,
         breakdown=pb,
+        lower=design.lower,
+        upper=design.upper,
     )
 
 

@@ -16,6 +16,7 @@ convergence at a fixed scale the IRLS reaches ``least_squares``' Huber minimiser
 from __future__ import annotations
 
 import numpy as np
+from scipy.optimize import lsq_linear
 from scipy.stats import median_abs_deviation
 
 from ecoplan._typing import BoolArray, FloatArray
@@ -29,7 +30,9 @@ __all__ = [
     "NONREGEN_COLUMN",
     "NONREGEN_FLOOR_SHARE",
     "WHEELED_ROBUST_ITERATIONS",
-    "fit_fixed_column",
+    "Bounds",
+    "base_bounds",
+    "bounded_lstsq",
     "fit_linear",
     "huber_loss",
     "huber_weights",
@@ -61,6 +64,10 @@ NONREGEN_COLUMN = 4
 NONREGEN_FLOOR_SHARE = 0.65
 
 
+#: Lower and upper bounds of a fit's coefficients, one each per design column (±inf: none).
+Bounds = tuple[FloatArray, FloatArray]
+
+
 def _lstsq(X: FloatArray, y: FloatArray) -> FloatArray:
     """Least squares by the normal equations of the RMS-scaled columns (k is small).
 
@@ -81,13 +88,20 @@ def _lstsq(X: FloatArray, y: FloatArray) -> FloatArray:
 
 
 def fit_linear(
-    data: EffectData, D: FloatArray, rows: BoolArray | None = None, y: FloatArray | None = None
+    data: EffectData,
+    D: FloatArray,
+    rows: BoolArray | None = None,
+    y: FloatArray | None = None,
+    bounds: Bounds | None = None,
 ) -> FloatArray:
-    """Least squares of ``data.p`` on the design ``D`` (base columns first) [coefficients].
+    """Bounded least squares of ``data.p`` on the design ``D`` (base columns first) [coefficients].
 
-    For a tracked vehicle the non-regenerated coefficient stays at or above
-    :func:`nonregen_floor` (:data:`NONREGEN_FLOOR_SHARE` of the prior's): less is the
-    ``regeneration`` effect, not a parameter.
+    Every coefficient stays within its physical bounds (:func:`bounded_lstsq`): the base
+    model's (:func:`base_bounds`: non-negative tracked µ, K and driver terms, the wheeled
+    coefficients' monotone shapes, and for a tracked vehicle the non-regenerated coefficient at
+    or above :func:`nonregen_floor`, :data:`NONREGEN_FLOOR_SHARE` of the prior's: less is the
+    ``regeneration`` effect, not a parameter) and the effect's, from its parameters' ranges
+    (:meth:`~ecoplan.diagnose.effects.base.Effect.coef_bounds`).
 
     For a wheeled vehicle the base coefficients are weakly pulled towards the prior
     calibration was pulled to, over the operating envelope
@@ -111,6 +125,9 @@ def fit_linear(
         Samples to fit on (default all).
     y : ndarray, optional
         Target instead of the measured power [W].
+    bounds : (ndarray, ndarray), optional
+        Lower and upper bound of every column's coefficient; default :func:`base_bounds` (the
+        effect's columns unbounded).
 
     Returns
     -------
@@ -120,10 +137,9 @@ def fit_linear(
     y_all = data.p if y is None else y
     y = y_all if rows is None else y_all[rows]
     X = D if rows is None else D[rows]
-    if isinstance(data.params, TrackedParams) and X.shape[0] and X.shape[1] > NONREGEN_COLUMN:
-        return _with_nonregen_floor(data, X, y)
+    lo, hi = base_bounds(data, X.shape[1]) if bounds is None else bounds
     if not isinstance(data.params, WheeledParams) or X.shape[0] == 0:
-        return _lstsq(X, y)
+        return bounded_lstsq(X, y, lo, hi)
     theta, env = wheeled_prior(data.params, data.prior)
     k = env.shape[1]
     w = np.sqrt(EFFECT_RIDGE * X.shape[0] / env.shape[0])
@@ -133,9 +149,83 @@ def fit_linear(
     sw = np.ones(X.shape[0])
     coef = np.zeros(X.shape[1])
     for _ in range(1 + WHEELED_ROBUST_ITERATIONS):
-        coef = _lstsq(np.vstack([X * sw[:, None], aug]), np.concatenate([y * sw, aug_y]))
+        coef = bounded_lstsq(
+            np.vstack([X * sw[:, None], aug]), np.concatenate([y * sw, aug_y]), lo, hi
+        )
         sw = np.sqrt(huber_weights(y - X @ coef))
     return coef
+
+
+def base_bounds(data: EffectData, n_cols: int) -> Bounds:
+    """Bounds of a design's coefficients: the base model's physical ones, the rest free.
+
+    The base columns take the bounds of their design
+    (:class:`~ecoplan.diagnose.calibrate.BaseDesign`: tracked µ, K and driver terms
+    non-negative; wheeled :func:`~ecoplan.diagnose.calibrate.wheeled_bounds`); a tracked
+    ``k_nr`` at least :func:`nonregen_floor`.  Columns past the base design's are unbounded.
+
+    Parameters
+    ----------
+    data : EffectData
+        The samples (their base design's bounds, the prior).
+    n_cols : int
+        Columns of the design (base columns first).
+
+    Returns
+    -------
+    (ndarray, ndarray)
+        Lower and upper bounds, one each per column.
+    """
+    k = data.X.shape[1]
+    lo = np.full(n_cols, -np.inf)
+    hi = np.full(n_cols, np.inf)
+    m = min(k, n_cols)
+    if data.lower is not None and data.upper is not None:
+        lo[:m], hi[:m] = data.lower[:m], data.upper[:m]
+    if isinstance(data.params, TrackedParams) and m > NONREGEN_COLUMN:
+        lo[NONREGEN_COLUMN] = max(lo[NONREGEN_COLUMN], nonregen_floor(data))
+        hi[NONREGEN_COLUMN] = max(hi[NONREGEN_COLUMN], lo[NONREGEN_COLUMN])
+    return lo, hi
+
+
+def bounded_lstsq(X: FloatArray, y: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
+    """Least squares of ``y`` on ``X`` with every coefficient in ``[lo, hi]`` [coefficients].
+
+    A column with ``lo == hi`` is held at that value; the others come from the plain solve
+    (:func:`_lstsq`) when it lies within the bounds, else from
+    :func:`scipy.optimize.lsq_linear` (bounded-variable least squares) on the RMS-scaled
+    columns.
+
+    Parameters
+    ----------
+    X : ndarray, shape (n, k)
+        Design.
+    y : ndarray, shape (n,)
+        Target.
+    lo, hi : ndarray, shape (k,)
+        Bounds (``-inf`` / ``inf`` for none; ``lo <= hi``).
+
+    Returns
+    -------
+    ndarray
+        Coefficients within the bounds.
+    """
+    fixed = lo >= hi
+    coef = np.where(fixed, lo, 0.0)
+    free = ~fixed
+    if not np.any(free) or X.shape[0] == 0:
+        return np.asarray(np.where(fixed, lo, 0.0), dtype=np.float64)
+    Xf = X[:, free]
+    yf = y - X[:, fixed] @ coef[fixed]
+    lf, hf = lo[free], hi[free]
+    c = _lstsq(Xf, yf)
+    if np.any(c < lf) or np.any(c > hf):
+        scale = np.sqrt(np.mean(Xf**2, axis=0))
+        scale[scale < 1e-12] = 1.0
+        res = lsq_linear(Xf / scale, yf, bounds=(lf * scale, hf * scale), method="bvls")
+        c = np.clip(res.x / scale, lf, hf)
+    coef[free] = c
+    return np.asarray(coef, dtype=np.float64)
 
 
 def nonregen_floor(data: EffectData) -> float:
@@ -150,21 +240,6 @@ def prior_nonregen(data: EffectData) -> float:
     """The prior's (the preset's) non-regenerated coefficient ``k_nr`` [N] (0 if not tracked)."""
     prior = data.prior if isinstance(data.prior, TrackedParams) else data.params
     return float(getattr(prior, "k_nonregen_n", 0.0))
-
-
-def fit_fixed_column(X: FloatArray, y: FloatArray, col: int, value: float) -> FloatArray:
-    """Least squares with the coefficient of column ``col`` fixed at ``value`` [coefficients]."""
-    rest = _lstsq(np.delete(X, col, axis=1), y - value * X[:, col])
-    return np.insert(rest, col, value)
-
-
-def _with_nonregen_floor(data: EffectData, X: FloatArray, y: FloatArray) -> FloatArray:
-    """Tracked least squares with ``k_nr >= nonregen_floor`` (one active bound at most)."""
-    coef = _lstsq(X, y)
-    floor = nonregen_floor(data)
-    if coef[NONREGEN_COLUMN] >= floor:
-        return coef
-    return fit_fixed_column(X, y, NONREGEN_COLUMN, floor)
 
 
 def robust_scale(residual: FloatArray) -> float:

@@ -45,13 +45,14 @@ class Inertia(Effect):
     """Kinetic-energy rate ``(m vx ax + I wz α) / η``: translating mass and yaw inertia.
 
     The diagnosis fits the electrical coefficients ``m / η`` and ``I / η`` of ``vx ax`` and
-    ``wz α``; :attr:`params_` holds ``m`` and ``I``.
+    ``wz α``; :attr:`params_` holds ``m`` and ``I``, both held non-negative in the fit (their
+    :class:`~ecoplan.diagnose.effects.base.Parameter` ranges).
     """
 
     name = "inertia"
     parameters = (
-        Parameter("mass_kg", "kg", 0.0, 1e6, "effective translating mass"),
-        Parameter("yaw_inertia_kgm2", "kg m^2", 0.0, 1e7, "effective yaw inertia"),
+        Parameter("mass_kg", "kg", 0.0, 1e6, "effective translating mass", column=0),
+        Parameter("yaw_inertia_kgm2", "kg m^2", 0.0, 1e7, "effective yaw inertia", column=1),
     )
 
     @classmethod
@@ -75,10 +76,6 @@ class Inertia(Effect):
     def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         f = data.frame
         return np.column_stack([f.vx * f.ax, f.wz * f.alpha])
-
-    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
-        k, eta = data.X.shape[1], eta_of(data.params)
-        return {"mass_kg": float(coef[k]) * eta, "yaw_inertia_kgm2": float(coef[k + 1]) * eta}
 
 
 class IcrAsymmetry(ScalarSearch):

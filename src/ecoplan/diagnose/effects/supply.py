@@ -35,7 +35,7 @@ from ecoplan.diagnose.effects.base import (
 from ecoplan.diagnose.effects.data import EffectData, subsample
 from ecoplan.diagnose.effects.fitting import (
     NONREGEN_COLUMN,
-    fit_fixed_column,
+    Bounds,
     fit_linear,
     prior_nonregen,
 )
@@ -144,11 +144,16 @@ class Regeneration(ScalarSearch):
             return _share_of_loss(data.params, pb, float(theta or 0.0), loss)
         return regenerated_w(data.params, pb, float(theta or 0.0))
 
+    def coef_bounds(self, data: EffectData, n_cols: int) -> Bounds:
+        """The base model's bounds; tracked, ``k_nr`` held at the prior's (see the class)."""
+        lo, hi = super().coef_bounds(data, n_cols)
+        if isinstance(data.params, TrackedParams) and n_cols > NONREGEN_COLUMN:
+            lo[NONREGEN_COLUMN] = hi[NONREGEN_COLUMN] = prior_nonregen(data)
+        return lo, hi
+
     def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
         y = data.p + self._returned(data, theta)
-        if isinstance(data.params, TrackedParams):
-            return fit_fixed_column(data.X, y, NONREGEN_COLUMN, prior_nonregen(data))
-        return fit_linear(data, data.X, y=y)
+        return fit_linear(data, data.X, y=y, bounds=self.coef_bounds(data, data.X.shape[1]))
 
     def _predict(self, data: EffectData, theta: Any, coef: FloatArray) -> FloatArray:
         return np.asarray(data.X @ coef - self._returned(data, theta), dtype=np.float64)
@@ -351,12 +356,21 @@ class EfficiencyDrift(Effect):
     """η drifting linearly with time: ``P0 / (1 + r (t - t0))`` [W].
 
     The diagnosis fits ``P_base (1 + β t)`` on the log's clock (the base refit absorbs the
-    level at ``t = 0``), the same law to first order: ``r = -β`` with ``t0 = 0``.
+    level at ``t = 0``), the same law to first order: ``r = -β`` with ``t0 = 0``, ``β``
+    relative to the calibrated model's power ``P_base`` and held to the rate's range.
     """
 
     name = "efficiency_drift"
     parameters = (
-        Parameter("eta_rate_per_s", "1/s", -1.0, 1.0, "relative change of η per second"),
+        Parameter(
+            "eta_rate_per_s",
+            "1/s",
+            -1.0,
+            1.0,
+            "relative change of η per second",
+            column=0,
+            scale=-1.0,
+        ),
         Parameter("t0_s", "s", -math.inf, math.inf, "time η has its nominal value", default=0.0),
     )
 
@@ -390,7 +404,4 @@ class EfficiencyDrift(Effect):
         return (data.base_w * data.t_rel)[:, None]
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
-        k = data.X.shape[1]
-        base = float(np.mean(data.X @ coef[:k])) or 1.0
-        beta = float(coef[k]) * float(np.mean(data.base_w)) / base
-        return {"eta_rate_per_s": -beta, "t0_s": 0.0}
+        return {**super()._name_params(data, theta, coef), "t0_s": 0.0}

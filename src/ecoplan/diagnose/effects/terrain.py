@@ -75,8 +75,19 @@ class TerrainPatch(Effect):
         Parameter("center_x_m", "m", -math.inf, math.inf, "disc centre, world x"),
         Parameter("center_y_m", "m", -math.inf, math.inf, "disc centre, world y"),
         Parameter("radius_m", "m", 0.0, math.inf, "disc radius"),
-        Parameter("friction_factor", "-", 0.0, math.inf, "friction scale inside the disc"),
-        Parameter("resistance_factor", "-", 0.0, math.inf, "resistance scale inside", default=1.0),
+        Parameter(
+            "friction_factor", "-", 0.0, math.inf, "friction scale inside", column=0, offset=1
+        ),
+        Parameter(
+            "resistance_factor",
+            "-",
+            0.0,
+            math.inf,
+            "resistance scale inside",
+            default=1.0,
+            column=1,
+            offset=1,
+        ),
     )
     needs = ("pose",)
 
@@ -344,7 +355,9 @@ class SpeedDependentResistance(Effect):
     """Resistance force growing linearly with speed: ``c (V_l² + V_r²) / η`` [W]."""
 
     name = "speed_dependent_resistance"
-    parameters = (Parameter("c_n_s_per_m", "N s/m", 0.0, math.inf, "viscous resistance per track"),)
+    parameters = (
+        Parameter("c_n_s_per_m", "N s/m", 0.0, math.inf, "viscous resistance per track", column=0),
+    )
     steady = True
 
     @classmethod
@@ -362,6 +375,3 @@ class SpeedDependentResistance(Effect):
     def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         f = data.frame
         return (f.vl**2 + f.vr**2)[:, None]
-
-    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
-        return {"c_n_s_per_m": float(coef[data.X.shape[1]]) * eta_of(data.params)}

@@ -1,0 +1,132 @@
+"""Every fitted candidate stays within its parameters' physical ranges (issue 12, item 2).
+
+The logs are random on purpose: power drawn from the preset model, then bent the way no robot
+bends it (a *negative* mass, a resistance that falls with speed, a drive that returns more
+than it loses, a gain and noise), so that an unconstrained least-squares fit would leave the
+ranges.  The ranges are the ones each effect declares (``Effect.parameters``); they are read
+here, not recomputed by the code under test.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from ecoplan.diagnose.effects import EFFECTS, make_effect, prepare
+from ecoplan.diagnose.effects.fitting import NONREGEN_COLUMN, NONREGEN_FLOOR_SHARE
+from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE
+from ecoplan.diagnose.replay import build_frame
+from ecoplan.dynamics.drive import follow_commands
+from ecoplan.models.tracked import TrackedParams
+from ecoplan.presets import vehicle
+
+TRACKED = vehicle("auriga-beta-wide", "marble")
+WHEELED = vehicle("pioneer-3at", "asphalt")
+
+
+def _random_log(params, seed: int, mass: float, drag: float, gain: float, pose: bool):  # type: ignore[no-untyped-def]
+    """A 40 s, 10 Hz log of piecewise-constant commands with an unphysical power."""
+    rng = np.random.default_rng(seed)
+    hz, n = 10.0, 400
+    t = np.arange(n) / hz
+    vmax = params.top_track_speed_mps
+    cl, cr = np.zeros(n), np.zeros(n)
+    i = 0
+    while i < n:
+        k = int(rng.uniform(2, 6) * hz)
+        cl[i : i + k], cr[i : i + k] = rng.uniform(-vmax, vmax, 2)
+        i += k
+    vl = follow_commands(t, cl, params.accel_max_mps2)
+    vr = follow_commands(t, cr, params.accel_max_mps2)
+    vx = 0.5 * (vl + vr)
+    wz = (vr - vl) / params.track_gauge_m
+    yaw = np.cumsum(wz) / hz
+    p = gain * np.asarray(params.power(vl, vr).total_w)
+    p += mass * vx * np.gradient(vx, t) + drag * (vl**2 + vr**2)
+    p += rng.normal(0.0, 0.05 * float(np.std(p)) + 1e-3, n)
+    return SimpleNamespace(
+        t=t,
+        v_left=vl,
+        v_right=vr,
+        p_total=p,
+        v_left_cmd=cl,
+        v_right_cmd=cr,
+        x=np.cumsum(vx * np.cos(yaw)) / hz if pose else None,
+        y=np.cumsum(vx * np.sin(yaw)) / hz if pose else None,
+        yaw=yaw if pose else None,
+        wz=None,
+    )
+
+
+def _check_fit(params, log) -> None:  # type: ignore[no-untyped-def]
+    frame = build_frame([log], params, snap_mps=2e-3)
+    data = prepare(frame, params, prior=params)
+    for name, cls in EFFECTS.items():
+        if not cls.available(frame):
+            continue
+        eff = make_effect(name).fit(data)
+        assert eff.coef_ is not None
+        for par in cls.parameters:
+            if par.name in eff.params_:
+                value = eff.params_[par.name]
+                assert par.low - 1e-9 <= value <= par.high + 1e-9, (name, par.name, value)
+        if name == "terrain_change":
+            lo, hi = TERRAIN_FACTOR_RANGE
+            for key, value in eff.params_.items():
+                if key.endswith("_factor"):
+                    assert lo - 1e-9 <= value <= hi + 1e-9, (key, value)
+        if isinstance(params, TrackedParams) and name != "regeneration":
+            # below the floor the recovered power is the regeneration effect, not k_nr
+            floor = NONREGEN_FLOOR_SHARE * params.k_nonregen_n
+            assert eff.coef_[NONREGEN_COLUMN] >= floor * (1 - 1e-9), name
+            # µ, K and the driver terms are non-negative (tracked §III)
+            assert np.all(eff.coef_[:NONREGEN_COLUMN] >= -1e-9), (name, eff.coef_)
+
+
+@settings(
+    max_examples=6,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+@given(
+    seed=st.integers(0, 2**16),
+    mass=st.floats(-2000.0, 500.0),
+    drag=st.floats(-300.0, 100.0),
+    gain=st.floats(0.3, 1.5),
+    pose=st.booleans(),
+)
+def test_no_fitted_tracked_candidate_leaves_its_bounds(
+    seed: int, mass: float, drag: float, gain: float, pose: bool
+) -> None:
+    _check_fit(TRACKED, _random_log(TRACKED, seed, mass, drag, gain, pose))
+
+
+@settings(
+    max_examples=4,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+@given(
+    seed=st.integers(0, 2**16),
+    mass=st.floats(-200.0, 50.0),
+    drag=st.floats(-20.0, 5.0),
+    gain=st.floats(0.3, 1.5),
+)
+def test_no_fitted_wheeled_candidate_leaves_its_bounds(
+    seed: int, mass: float, drag: float, gain: float
+) -> None:
+    _check_fit(WHEELED, _random_log(WHEELED, seed, mass, drag, gain, False))
+
+
+def test_a_negative_mass_in_the_log_is_fitted_as_no_mass() -> None:
+    # a power that falls by 1500 kg x v a: least squares alone would give a negative mass; the
+    # physical range [0, 1e6] kg (Inertia.parameters) holds it at its lower bound
+    log = _random_log(TRACKED, 3, -1500.0, 0.0, 1.0, False)
+    frame = build_frame([log], TRACKED, snap_mps=2e-3)
+    eff = make_effect("inertia").fit(prepare(frame, TRACKED, prior=TRACKED))
+    assert eff.params_["mass_kg"] == 0.0
