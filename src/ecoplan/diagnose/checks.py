@@ -61,6 +61,7 @@ __all__ = [
     "RESOLVE_MIN_GAIN",
     "RESOLVE_Z",
     "RESOLVING_MANOEUVRE",
+    "TURN_RADIUS_SPREADS",
     "InputSummary",
     "Resolution",
     "check_logs",
@@ -82,8 +83,12 @@ MAX_ENERGY_RATIO = 5.0
 #: Share of the samples in which the robot must move (side speed above 5 % of top speed).
 MIN_MOVING_SHARE = 0.05
 #: Share of the samples in which the robot must turn (side-speed difference above 10 % of the
-#: top speed); without turns, turning resistance, ICRs and every turning effect are not excited.
+#: top speed, or a turn radius under :data:`TURN_RADIUS_SPREADS` ICR spreads while moving);
+#: without turns, turning resistance, ICRs and every turning effect are not excited.
 MIN_TURNING_SHARE = 0.02
+#: A moving robot turns when its turn radius is under this many ICR spreads (6 m for the
+#: Pioneer 3-AT preset, whose Table I fits start at 5 m; about 10 m for the Auriga-beta) [-].
+TURN_RADIUS_SPREADS = 10.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -178,7 +183,13 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             "km/h (divide by 3.6), wheel speeds in rad/s, or a faster vehicle?"
         )
     moving = speed > 0.05 * vtop
-    turning = np.abs(vr - vl) > 0.1 * vtop
+    # turning: a side-speed difference of a tenth of the top speed, or, moving, a turn radius
+    # under TURN_RADIUS_SPREADS ICR spreads (r = spread |V_l + V_r| / (2 |V_r - V_l|), tracked
+    # eq. 3): a wheeled robot turns at a few metres at modest speeds (its arcs of r >= 1.2 m at
+    # 0.1-0.5 m/s never reach a 0.09 m/s difference), and its a(r), b(r) bend below 5 m
+    diff = np.abs(vr - vl)
+    tight = moving & (2.0 * TURN_RADIUS_SPREADS * diff > np.abs(vl + vr))
+    turning = (diff > 0.1 * vtop) | tight
     moving_share = float(np.mean(moving))
     turning_share = float(np.mean(turning))
     if moving_share < MIN_MOVING_SHARE:
