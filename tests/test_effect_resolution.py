@@ -23,6 +23,7 @@ from ecoplan.diagnose.checks import (
 from ecoplan.diagnose.effects import prepare
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
+from ecoplan.diagnose.report_md import report_markdown
 from ecoplan.dynamics.log import Log
 from ecoplan.presets import vehicle
 
@@ -154,5 +155,8 @@ def test_a_none_on_a_log_that_cannot_resolve_regeneration_says_so_and_is_not_sur
     d = diagnose([log], PIONEER)
     notes = " ".join(d.input_notes)
     assert "below noise to tell 'regeneration'" in notes
+    text = report_markdown(d)
+    assert "Below noise to tell 'regeneration'" in text  # under "What to do next"
     if d.verdict == "none":
         assert d.attribution.confidence <= 0.5
+        assert "`none` does not rule out what this log cannot tell" in text
