@@ -31,7 +31,7 @@ import numpy as np
 from ecoplan._typing import RngLike
 from ecoplan.diagnose.attribute import attribute, split_masks
 from ecoplan.diagnose.calibrate import calibrate
-from ecoplan.diagnose.checks import check_logs
+from ecoplan.diagnose.checks import check_logs, effect_resolution
 from ecoplan.diagnose.effects import prepare
 from ecoplan.diagnose.localise import (
     by_regime,
@@ -143,8 +143,11 @@ def diagnose(
     train = prepare(train_f, cal.params, prior=params)
     test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
-    if checked.excitation_notes and att.verdict == "none":
-        # a log that does not excite turning cannot rule out turning effects (issue 12 item 3)
+    # effects the log cannot resolve at a physical size: said, never ruled out (issue 12 item 3)
+    unresolved = tuple(r.note for r in effect_resolution(train) if not r.resolved)
+    input_notes = checked.excitation_notes + unresolved
+    if input_notes and att.verdict == "none":
+        # a log that does not excite an effect cannot rule it out (issue 12 item 3)
         att = dataclasses.replace(att, confidence=min(att.confidence, 0.5))
     r_cal = test.p - att.fitted["none"].predict(test)
     gap_cal = float(np.mean(np.abs(r_cal)))
@@ -182,7 +185,7 @@ def diagnose(
         n_runs=len(log_list),
         duration_s=frame.duration_s,
         split="time blocks",
-        input_notes=checked.excitation_notes,
+        input_notes=input_notes,
         log_notes=tuple(log_notes),
         where_time=segments,
         run_ids=tuple(run_ids),
