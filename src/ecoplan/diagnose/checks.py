@@ -40,6 +40,7 @@ import numpy as np
 
 from ecoplan.diagnose.replay import LogLike
 from ecoplan.errors import InputError
+from ecoplan.models.logged_power import logged_power_w
 from ecoplan.presets import VehicleParams
 
 __all__ = [
@@ -179,7 +180,7 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"than {0.1 * vtop:.2g} m/s in {100 * turning_share:.1f} % of the samples (need "
             f"{100 * MIN_TURNING_SHARE:.0f} %); log turns of both directions"
         )
-    p_model = np.asarray(params.power(vl, vr).total_w, dtype=np.float64)
+    p_model = logged_power_w(params, vl, vr)  # what the log shows (vehicle file: power_log)
     e_model = float(np.sum(np.abs(p_model) * dt))
     e_log = float(np.sum(np.abs(p) * dt))
     ratio = e_log / e_model if e_model > 0.0 else float("inf")
