@@ -17,6 +17,7 @@ from functools import cache
 import numpy as np
 import pytest
 
+from ecoplan.diagnose.checks import check_logs
 from ecoplan.diagnose.effects import make_effect, prepare
 from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE
 from ecoplan.diagnose.pipeline import diagnose
@@ -246,3 +247,17 @@ def test_a_motor_current_log_switching_terrain_is_split_named_and_labelled(seed:
 def test_a_single_terrain_motor_current_log_is_not_named_terrain_change(seed: int) -> None:
     d = diagnose(_husky_log(seed, False), HUSKY)
     assert d.verdict != "terrain_change", d.where_time
+
+
+def test_the_input_check_compares_a_motor_current_log_with_what_such_a_log_shows() -> None:
+    # the check's energy ratio is the logged energy over the vehicle file's model of the
+    # *logged* quantity (default terrain asphalt), not over its battery power: the generator
+    # above with the file's asphalt values gives the expected ratio (its turning force differs
+    # from the library's, hence 25 %); over the battery power the ratio would be about 2.1
+    log = _husky_log(0, False)
+    asphalt = {"k_n": 21.359, "mu": 1.0532, "slip0": 0.058147, "i0_a": 1.4494}
+    expected = np.sum(log.p_total) / np.sum(_husky_signal(log.v_left, log.v_right, asphalt))
+    ratio = check_logs([log], vehicle(HUSKY)).energy_ratio
+    assert ratio == pytest.approx(expected, rel=0.25)
+    battery = np.sum(log.p_total) / np.sum(vehicle(HUSKY).power(log.v_left, log.v_right).total_w)
+    assert abs(ratio - battery) > 0.25 * battery
