@@ -53,6 +53,7 @@ from ecoplan.diagnose.calibrate import calibrate
 from ecoplan.diagnose.effects import NoEffect, TerrainChange, prepare
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import Frame, build_frame
+from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.where_time import label_segments
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError
@@ -138,6 +139,23 @@ def ceiling(
     return _mae(r_tc) / _mae(r_cal), windowed_mae(test_f, r_tc) / windowed_mae(test_f, r_cal)
 
 
+def own_ratio(d: Diagnosis) -> tuple[float, float]:
+    """Held-out MAE ratios (raw, windowed) of the diagnosis's ``terrain_change`` fit.
+
+    Whatever the verdict: the correction as fitted on the training split, over the
+    calibrated model, on the held-out samples.
+    """
+    tc = d.attribution.fitted.get("terrain_change")
+    if tc is None:
+        return 1.0, 1.0
+    test = prepare(d.test_frame, d.calibration.params, prior=d.preset)
+    r_tc = test.p - tc.predict(test)
+    r_cal = d.residual_calibrated_w
+    return _mae(r_tc) / _mae(r_cal), windowed_mae(d.test_frame, r_tc) / windowed_mae(
+        d.test_frame, r_cal
+    )
+
+
 def _mae(r: np.ndarray) -> float:
     return float(np.mean(np.abs(r)))
 
@@ -215,8 +233,10 @@ def _summary(label: str, rows: list[dict[str, float]]) -> None:
         f"  {'':14s} naming bar passed by: the flexible ceiling on {reach:.0f}/{len(rows)} mixes, "
         f"terrain_change on the true segments on {reach_true:.0f}/{len(rows)}\n"
         f"  {'':14s} MAE after / calibrated, median: raw {med('ratio')} "
-        f"(true segments {med('ceiling')}, flexible per-terrain ceiling {med('flex')}); "
-        f"{WINDOW_S:g} s windows {med('ratio_w')} (true segments {med('ceiling_w')}, "
+        f"(terrain_change's own fit, whatever the verdict, {med('own')}; "
+        f"true segments {med('ceiling')}, flexible per-terrain ceiling {med('flex')}); "
+        f"{WINDOW_S:g} s windows {med('ratio_w')} (own fit {med('own_w')}, true segments "
+        f"{med('ceiling_w')}, "
         f"flexible ceiling {med('flex_w')})"
     )
 
@@ -227,18 +247,10 @@ def _share(rows: list[dict[str, float]], key: str) -> str:
 
 
 def _refused(switches: int) -> dict[str, float]:
-    keys = (
-        "tc",
-        "ceiling",
-        "flex",
-        "ratio_w",
-        "ceiling_w",
-        "flex_w",
-        "file_ok",
-        "label_n",
-        "reach",
-    )
-    return {"found": 0.0, "switches": float(switches), "ratio": 1.0, **dict.fromkeys(keys, 0.0)}
+    """A refused mix: nothing found, named or closed."""
+    ratios = ("ratio", "ratio_w", "own", "own_w", "ceiling", "ceiling_w", "flex", "flex_w")
+    zeros = ("found", "tc", "file_ok", "label_n", "reach", "reach_true")
+    return {"switches": float(switches), **dict.fromkeys(ratios, 1.0), **dict.fromkeys(zeros, 0.0)}
 
 
 def main() -> int:
@@ -276,6 +288,7 @@ def main() -> int:
         ratio_w = windowed_mae(d.test_frame, r_fin) / windowed_mae(
             d.test_frame, d.residual_calibrated_w
         )
+        own, own_w = own_ratio(d)
         tags = [mix.run_id] * len(mix)
         from_file = label_segments(
             d.where_time, mix.t, tags, mix.v_left, mix.v_right, mix.p_total, shipped
@@ -288,7 +301,8 @@ def main() -> int:
         ceil, ceil_w = ceiling(mix, switches, names, params)
         flex, flex_w = flexible_ceiling(mix, switches, params)
         rows.append(dict(found=hit, switches=len(switches), tc=float(d.verdict == "terrain_change"),
-                         ratio=ratio, ratio_w=ratio_w, ceiling=ceil, ceiling_w=ceil_w, flex=flex,
+                         ratio=ratio, ratio_w=ratio_w, own=own, own_w=own_w, ceiling=ceil,
+                         ceiling_w=ceil_w, flex=flex,
                          flex_w=flex_w, file_ok=ok_file, label_n=n,
                          reach=float(nameable(d.gap_calibrated_w, d.attribution.noise_floor_w,
                                               flex * d.gap_calibrated_w)),
