@@ -268,7 +268,7 @@ def main() -> int:
     t0 = time.perf_counter()
     rows: list[dict[str, float]] = []
     print(f"{'mix':6s} {'terrains':30s} {'switches':8s} {'verdict':14s} cal -> final W  "
-          f"ratio raw/{WINDOW_S:g}s  labels")  # fmt: skip
+          f"ratio raw/{WINDOW_S:g}s  own  true flex floor W  labels")  # fmt: skip
     for m in range(args.mixes):
         k = int(g.integers(2, 4))
         names = [str(x) for x in g.choice(TERRAINS, size=k, replace=False)]
@@ -312,6 +312,7 @@ def main() -> int:
         print(
             f"mix{m:02d}  {'+'.join(names):30s} {hit}/{len(switches):<6d} {d.verdict:14s} "
             f"{d.gap_calibrated_w:6.1f} -> {d.gap_final_w:6.1f}  {ratio:4.2f}/{ratio_w:4.2f}  "
+            f"{own:4.2f} {ceil:4.2f} {flex:4.2f} {d.attribution.noise_floor_w:5.1f}  "
             f"{short}"
         )
     tc_single = n_single = 0
