@@ -19,7 +19,7 @@ import pytest
 
 from ecoplan.diagnose.checks import check_logs
 from ecoplan.diagnose.effects import make_effect, prepare
-from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE
+from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE, known_terrains
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.report import to_json_dict
@@ -261,3 +261,22 @@ def test_the_input_check_compares_a_motor_current_log_with_what_such_a_log_shows
     assert ratio == pytest.approx(expected, rel=0.25)
     battery = np.sum(log.p_total) / np.sum(vehicle(HUSKY).power(log.v_left, log.v_right).total_w)
     assert abs(ratio - battery) > 0.25 * battery
+
+
+def test_noisy_speeds_widen_the_case_tolerance_without_losing_the_known_terrains() -> None:
+    # 2 cm/s of white encoder noise on the side speeds: the motion-case tolerance widens past
+    # the file's 1 mm/s (replay.case_tolerance), and the widened parameters must still carry
+    # the vehicle file, its five terrains and their labels (dataclasses.replace would drop it)
+    log = _husky_log(0, True)
+    rng = np.random.default_rng(11)
+    noisy = Log(
+        t=log.t,
+        v_left=log.v_left + rng.normal(0.0, 0.02, len(log)),
+        v_right=log.v_right + rng.normal(0.0, 0.02, len(log)),
+        p_total=log.p_total,
+        run_id=log.run_id,
+    )
+    d = diagnose(noisy, HUSKY)
+    assert d.preset.case_tol_mps > vehicle(HUSKY).case_tol_mps
+    assert sorted(known_terrains(d.preset)) == ["asphalt", "flooring", "ice", "sandy_loam", "snow"]
+    assert d.where_time_terrain and set(d.where_time_terrain) <= set(known_terrains(d.preset))

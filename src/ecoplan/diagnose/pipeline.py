@@ -17,6 +17,19 @@ Steps, each in its module:
 5. :mod:`~ecoplan.diagnose.report` — text, plots and JSON; :mod:`~ecoplan.diagnose.corrected` —
    the corrected model written to a file.
 
+**Known terrains and what the log measures.**  Parameters from a vehicle file that
+describes several terrains (:func:`~ecoplan.diagnose.effects.terrain.known_terrains`) label
+every ``where_time`` segment with its most likely terrain, and ``terrain_change`` can put the
+labelled terrain's model in place of the base model per segment.  Those models predict what
+the file's ``power_log`` says the log measures (:func:`ecoplan.models.logged_power.logged_power_w`):
+for ``motor_current`` (the BorealTC Husky, ``24 V (|I_l| + |I_r|)``) the input check, the
+terrain labels, ``where_time``'s known-terrain features and ``terrain_change``'s known
+terrains compare the logged currents with the file's side-force model of them.  Calibration
+and the other effects still refit the file's battery-power structure to the logged signal (a
+stand-in in the logged quantity): modelling the currents there needs the side-force columns
+(``K``, ``µ``, ``I0`` per side under the motoring mask) in
+:func:`~ecoplan.diagnose.calibrate.base_design` and in the effects' prepared data.
+
 The result is a :class:`~ecoplan.diagnose.result.Diagnosis`.  The command ``ecoplan diagnose``
 (log files in, report folder out) is :mod:`ecoplan.app.diagnose`.
 """
