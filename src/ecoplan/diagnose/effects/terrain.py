@@ -245,14 +245,14 @@ class TerrainChange(Effect):
       than the run the file was identified on).  A free offset per segment as well fitted
       short segments' training samples and missed their held-out ones by hundreds of watts
       (a 12 s segment of a synthetic Auriga-β session: 555 W against 221 W of the base
-      model).  Neighbours with the same label are one stretch of that terrain and merge;
-      segments that all take the same label are no change of terrain (the effect then has
-      no segments: snow of varying depth stays ``snow``).  When level factors (below)
-      predict better across the training split's own time blocks (fitted on the even
-      blocks, scored on the odd ones), the ground is none of the known terrains and the
-      segments keep level factors.  Every segment, the longest included, is modelled so,
-      and the segments tile their run (a held-out sample before the first or between two
-      belongs to the segment begun last); runs without segments keep the base model.
+      model).  Every segment, the longest included, is modelled so, and the segments tile
+      their run (a held-out sample before the first or between two belongs to the segment
+      begun last); runs without segments keep the base model.  Neighbours with the same
+      label are one stretch of that terrain and merge.  Level factors (below) are kept
+      instead when all segments take the same label (no move between known terrains: that
+      terrain's level changes, or the ground is unlike them all), or when they predict
+      better across the training split's own time blocks (fitted on the even blocks,
+      scored on the odd ones).
     * otherwise the longest segment is the reference, the base model's terrain; within each
       other segment the friction power and the resistance power get their own factors.
 
@@ -412,9 +412,9 @@ class TerrainChange(Effect):
             elif lab:
                 labelled.append((run, t0, t1, lab))
         if len({seg[3] for seg in labelled}) < 2:
-            # a change of terrain is a move between known terrains: segments that all look
-            # like one of them are that terrain's own variation (snow of changing depth)
-            return ()
+            # segments that all look like one known terrain are no move between known
+            # terrains: what changes is that terrain's level (or a ground unlike them all)
+            return levels
         # a ground that is none of the known terrains keeps level factors: the one that
         # predicts better across the training split's own time blocks decides
         return min((tuple(labelled), levels), key=lambda th: self._inner_mae(data, th))
