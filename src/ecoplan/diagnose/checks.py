@@ -46,6 +46,7 @@ from ecoplan.diagnose.effects import EffectData, eta_of, regenerated_w, robust_s
 from ecoplan.diagnose.effects.fitting import EFFECT_RIDGE, NONREGEN_COLUMN
 from ecoplan.diagnose.replay import LogLike
 from ecoplan.errors import InputError
+from ecoplan.models.logged_power import logged_power_w
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
@@ -205,7 +206,7 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"than {0.1 * vtop:.2g} m/s in {100 * turning_share:.1f} % of the samples (need "
             f"{100 * MIN_TURNING_SHARE:.0f} %); log turns of both directions"
         )
-    p_model = np.asarray(params.power(vl, vr).total_w, dtype=np.float64)
+    p_model = logged_power_w(params, vl, vr)  # what the log shows (vehicle file: power_log)
     e_model = float(np.sum(np.abs(p_model) * dt))
     e_log = float(np.sum(np.abs(p) * dt))
     ratio = e_log / e_model if e_model > 0.0 else float("inf")
