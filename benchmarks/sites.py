@@ -25,21 +25,27 @@ shared).
 
 Per site and vehicle, all on the same lattice (:mod:`ecoplan.planning.lattice`):
 
-* ``energy``: the energy-optimal route;
+* ``energy``: the energy-optimal route as the heading controller drives it
+  (``LatticePlannerOptions(controller=HeadingController(speed_mps=v))``: corners costed
+  from the controller's tables, the pick by roll-out; the tables are built per vehicle
+  and terrain before any plan is timed);
+* ``static``: the energy lattice without the controller (turns as steady primitives),
+  for comparison;
 * ``shortest``: the shortest route (:class:`~ecoplan.energy.objective.LengthCost`);
 * ``nav2``: length + unitless penalties (:class:`~ecoplan.planning.lattice.PenaltyWeights`:
   ``turn_per_rad`` and one off-road penalty per metre on every unpaved terrain), the
-  weights chosen from a grid for the best median energy over the sites (one setting
-  per vehicle, tuned on the very sites it is scored on: the best a user could do by hand);
-* every route's energy from :func:`ecoplan.energy.path.path_cost` on the grid, and the
-  energy route simulated (heading controller, default settings at the planned speed;
-  power recomputed per sample on the terrain under the robot, as ``ecoplan run`` does);
-* the **planned** energy of the energy route the way the simulator drives it:
-  ``path_cost(..., turn=HeadingController(...))`` (:mod:`ecoplan.energy.controlled`:
-  corners, start and stop of the heading controller from tables; the same controller
-  settings as the simulation), against which the simulated energy is compared.  The
-  static estimate (turns as steady primitives, what the planner optimises) is printed
-  beside it.
+  weights chosen from a grid (turn 0-4 m/rad, off-road 0.1-4; the table of medians is
+  printed: the best must not sit at the grid's edge) for the best median energy over the
+  sites (one setting per vehicle, tuned on the very sites it is scored on: the best a
+  user could do by hand);
+* every route's energy **as driven**: ``path_cost(..., turn=HeadingController(...))``
+  (:mod:`ecoplan.energy.controlled`: corners, start and stop of the heading controller
+  from tables; the same controller settings as the simulation) -- the energy the robot
+  will spend, which the savings compare;
+* the energy route simulated (heading controller, default settings at the planned
+  speed; power recomputed per sample on the terrain under the robot, as ``ecoplan run``
+  does) against its planned energy as driven.  The static estimate (turns as steady
+  primitives) is printed beside it.
 
 Prints per vehicle the median energy saved against ``shortest`` and ``nav2``, the
 planning time and planned-vs-simulated energy error; and the targets of issue #14 items
@@ -84,7 +90,7 @@ ROUGH_K = {"grass": 1.5, "gravel": 1.3, "sand": 2.2, "snow": 1.8}  # x the paved
 ROUGH_MU = {"grass": 0.6, "gravel": 0.7, "sand": 0.5, "snow": 0.3}
 NAMES = ("asphalt", "concrete", "grass", "gravel", "sand", "snow")  # label = index
 SPEEDS = {"auriga-beta-narrow": 0.5, "pioneer-3at": 0.4, "husky-a200": 0.5}
-TURN_W = (0.0, 0.1, 0.25, 0.5, 1.0)
+TURN_W = (0.0, 0.25, 0.5, 1.0, 2.0, 4.0)
 OFFROAD_W = (0.1, 0.25, 0.5, 1.0, 2.0, 4.0)
 
 

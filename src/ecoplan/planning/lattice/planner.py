@@ -356,11 +356,38 @@ class LatticePlanner:
         def as_driven(w: FloatArray) -> PathCost:
             return self._driven(w, heading)
 
-        return refine_waypoints(
-            wps, self.cost, self.grid, initial_heading_rad=heading,
+        merged = self._drop_short_legs(wps, min_leg)
+        res = refine_waypoints(
+            merged, self.cost, self.grid, initial_heading_rad=heading,
             options=self.options.refine, deadline=deadline, driven=as_driven,
             min_leg_m=min_leg, min_gain=_DRIVEN_GAIN,
         )  # fmt: skip
+        if res.improved or merged.shape == wps.shape:
+            return res
+        return RefineResult(merged, res.cost, res.evaluations, True)  # judged by _pick
+
+    def _drop_short_legs(self, wps: FloatArray, min_leg_m: float) -> FloatArray:
+        """Drop waypoints of legs (after the first) shorter than ``min_leg_m`` where free.
+
+        The controller switches to the next way point ``d_th`` early and cannot follow
+        such legs; the driven refinement tries no candidate with one
+        (:func:`~ecoplan.planning.refine.refine_waypoints` ``min_leg_m``), so a route
+        with two of them could not be refined.  Shortest leg first, its end (or else its
+        start) is dropped when the segment that replaces it is free on the grid.
+        """
+        w = wps
+        while len(w) > 2:
+            legs = np.hypot(*np.diff(w, axis=0).T)
+            short = [k for k in np.argsort(legs[1:]) + 1 if legs[k] < min_leg_m]
+            for k in short:
+                drops = [i for i in (k + 1, k) if 0 < i < len(w) - 1]
+                i = next((i for i in drops if self.grid.segment_free(w[i - 1], w[i + 1])), -1)
+                if i > 0:
+                    w = np.delete(w, i, axis=0)
+                    break
+            else:
+                return w
+        return w
 
     def _route(
         self,
