@@ -1,13 +1,13 @@
-"""Loader of the BorealTC hard-ground runs (Clearpath Husky A200, a 4-wheel skid-steer).
+"""Loader of the BorealTC runs (Clearpath Husky A200, a 4-wheel skid-steer).
 
 BorealTC (LaRocque et al. 2024, CC0 1.0) holds proprioceptive logs of a Husky A200
-(about 70 kg).  The subset used by ecoplan has the two rigid terrains, ``ASPHALT``
-(runs 00-06) and ``FLOORING`` (runs 00-09), one folder each, with per run:
+(about 70 kg) on five terrains (:func:`list_terrains`: ``ASPHALT``, ``FLOORING``, ``ICE``,
+``SANDY_LOAM``, ``SNOW``), one folder each, with per run:
 
 * ``pro_XX.csv`` -- ``time`` [s], ``curL``, ``curR`` [A, motor current per side, stored
   as magnitudes], ``velL``, ``velR`` [m/s, side speeds from wheel odometry]; ≈ 6.5 Hz;
 * ``imu_XX.csv`` -- ``time`` [s], ``wx``, ``wy``, ``wz`` [rad/s], ``ax``, ``ay``, ``az``
-  [m/s²]; 100 Hz.  FLOORING ``imu_04`` and ``imu_06`` are missing.
+  [m/s²]; 100 Hz.  FLOORING ``imu_04`` and ``imu_06`` and ICE ``imu_01`` are missing.
 
 Data root: the environment variable ``ECOPLAN_BOREALTC`` if set, else
 ``<repository root>/../shared/data/borealtc`` (the repository root is the first parent
@@ -18,7 +18,9 @@ Electrical power needs the bus voltage, which the logs do not record:
 default -- an assumption; the true voltage sags under load and with charge.
 
 :func:`load_run` gives the raw run (:class:`BorealRun`, with the motor currents);
-:func:`load_borealtc` gives it as a :class:`~ecoplan.dynamics.log.Log` for the diagnosis.
+:func:`load_borealtc` gives it as a :class:`~ecoplan.dynamics.log.Log` (with the
+per-side currents) for the diagnosis and ``ecoplan identify``; :func:`at_rest_mask` marks
+where a run's robot is stuck (wheels turning, body at rest by the IMU's gyroscope).
 """
 
 from __future__ import annotations
