@@ -13,6 +13,13 @@ inflation is part of the map preparation, timed apart), start (3, 3) and goal
 four labels carry two distinct terrains each; the Husky A200 (0.5 m/s) its identified
 asphalt, sandy loam, snow and flooring.
 
+Planner: the energy lattice with the heading controller's corners (default settings at
+the vehicle's speed: :class:`~ecoplan.planning.lattice.LatticePlannerOptions`
+``controller``; its corner tables built per vehicle and terrain before the clock
+starts), energies as the controller drives the route
+(:func:`~ecoplan.energy.path.path_cost` with ``turn=controller``); ``--static``: the
+static turn model, as before that option existed.
+
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
 of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and
 the process CPU time of build + query (``cpu_s``: what the planner itself costs, less
@@ -58,7 +65,9 @@ from typing import Any
 import numpy as np
 from scipy import ndimage
 
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.objective import EnergyCost
+from ecoplan.energy.path import path_cost
 from ecoplan.errors import EcoplanError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions
@@ -107,7 +116,23 @@ def make_site(size_m: float, n_obstacles: int, seed: int) -> tuple[np.ndarray, n
     return occ, labels
 
 
-def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) -> dict[str, Any]:
+def warm_tables(name: str) -> None:
+    """Build the controller's corner tables of the vehicle's terrains (cached, seconds each).
+
+    Per vehicle, terrain and controller, like a vehicle file: built before any plan is
+    timed, as ``ecoplan run`` does.
+    """
+    from ecoplan.energy.controlled import corner_pairs
+
+    speed, terrains = VEHICLES[name]
+    spec = _vehicle(name)
+    for terrain in dict.fromkeys(terrains):
+        corner_pairs(spec.on(terrain), HeadingController(speed_mps=speed))
+
+
+def run_one(
+    name: str, size_m: float, n_obs: int, seed: int, reference: bool, driven: bool = False
+) -> dict[str, Any]:
     speed, terrains = VEHICLES[name]
     occ, labels = make_site(size_m, n_obs, seed)
     t0 = time.perf_counter()
@@ -124,9 +149,17 @@ def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) ->
     if comp[si, sj] == 0 or comp[si, sj] != comp[gi, gj]:
         row.update(disconnected=True)  # no path exists on the inflated grid: not a failure
         return row
+    ctrl = HeadingController(speed_mps=speed) if driven else None
+
+    def energy(plan: Any) -> float:  # the objective the planner minimised
+        if ctrl is None:
+            return float(plan.energy_j)
+        return path_cost(plan.waypoints, cost.vehicle, speed, world=grid, turn=ctrl).energy_j
+
     try:
         cpu0 = time.process_time()
-        planner = LatticePlanner(grid, cost, LatticePlannerOptions(time_budget_s=30.0))
+        opts = LatticePlannerOptions(time_budget_s=30.0, controller=ctrl)
+        planner = LatticePlanner(grid, cost, opts)
         res = planner.plan(start, goal)
         cpu = time.process_time() - cpu0
     except EcoplanError as exc:
@@ -138,15 +171,17 @@ def run_one(name: str, size_m: float, n_obs: int, seed: int, reference: bool) ->
         query_s=res.planning_time_s,
         total_s=planner.build_time_s_ + res.planning_time_s,
         cpu_s=cpu,
-        energy_j=res.best.energy_j,
+        energy_j=energy(res.best),
         feasible=res.best.cost.feasible,
         length_m=res.best.cost.length_m,
     )
     if reference:
-        opts = LatticePlannerOptions(cell_m=planner.cell_m_ / 2.0, time_budget_s=60.0)
+        opts = LatticePlannerOptions(
+            cell_m=planner.cell_m_ / 2.0, time_budget_s=60.0, controller=ctrl
+        )
         try:
             ref = LatticePlanner(grid, cost, opts).plan(start, goal)
-            row.update(ref_energy_j=ref.best.energy_j, ratio=res.best.energy_j / ref.best.energy_j)
+            row.update(ref_energy_j=energy(ref.best), ratio=row["energy_j"] / energy(ref.best))
         except EcoplanError as exc:
             row.update(ref_error=str(exc))
     return row
@@ -284,6 +319,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--vehicles", nargs="+", default=list(VEHICLES), help="vehicles to run")
     ap.add_argument("--baseline", metavar="REV", help="also plan with git revision REV")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument(
+        "--static", action="store_true", help="plan without the heading controller's corners"
+    )
     args = ap.parse_args(argv)
     if args.worker:
         return _worker()
@@ -297,11 +335,13 @@ def main(argv: list[str] | None = None) -> int:
     big = (max(args.sizes), max(args.obstacles))
     rows: list[dict[str, Any]] = []
     for name in names:
+        if not args.static:
+            warm_tables(name)
         for size in args.sizes:
             for n_obs in args.obstacles:
                 for seed in range(args.seeds):
                     ref = (size, n_obs) == big
-                    rows.append(run_one(name, size, n_obs, seed, ref))
+                    rows.append(run_one(name, size, n_obs, seed, ref, not args.static))
     keys = sorted({k for r in rows for k in r})
     with open(args.out / "lattice_scale.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys)

@@ -92,6 +92,36 @@ def test_no_turning_is_said_and_none_is_not_fully_confident() -> None:
     assert not (d.verdict == "none" and d.attribution.confidence > 0.5)
 
 
+def _arcs(radii: tuple[float, ...], speed_mps: float) -> Log:
+    """Pioneer arcs of the given radii, both ways, from the ICR kinematics (tracked eq. 3)."""
+    params = vehicle("pioneer-3at", "asphalt")
+    half = 0.5 * params.icr.spread_m
+    vl, vr = [], []
+    for i, r in enumerate(radii * 4):
+        turn = 1.0 if i % 2 == 0 else -1.0
+        k = 0.0 if np.isinf(r) else half / r
+        vl.append(np.full(100, speed_mps * (1.0 - turn * k)))
+        vr.append(np.full(100, speed_mps * (1.0 + turn * k)))
+    v_l, v_r = np.concatenate(vl), np.concatenate(vr)
+    p = np.asarray(params.power(v_l, v_r).total_w)
+    return Log(t=np.arange(v_l.size) * 0.05, v_left=v_l, v_right=v_r, p_total=p)
+
+
+def test_wheeled_arcs_of_a_few_metres_are_turning() -> None:
+    # r = 2-5 m at 0.2 m/s: a side-speed difference of 2 v (spread / 2) / r = 0.02-0.06 m/s,
+    # under a tenth of the top speed (0.09 m/s), yet turns where a(r), b(r) bend (wheeled
+    # Table I fits start at 5 m)
+    params = vehicle("pioneer-3at", "asphalt")
+    arcs = check_logs([_arcs((2.0, 3.0, 5.0), 0.2)], params)
+    assert arcs.turning_share > 0.9
+    assert not arcs.excitation_notes
+    straight = check_logs([_arcs((np.inf,), 0.2)], params)
+    assert straight.turning_share == 0.0
+    assert straight.excitation_notes and "turning" in straight.excitation_notes[0]
+    # wide arcs (r = 30 m, over ten ICR spreads) are no turning either
+    assert check_logs([_arcs((30.0,), 0.2)], params).turning_share == 0.0
+
+
 def test_cli_exit_2_with_one_line_for_power_in_kw(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     paths = []
     for i, lg in enumerate(_session()):

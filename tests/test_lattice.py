@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from ecoplan.app.scenario.load import load_scenario
+from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.objective import EnergyCost, LengthCost
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap, rasterise_world
@@ -58,12 +59,22 @@ def _blocked_at(grid: GridMap, pts: np.ndarray) -> np.ndarray:
     return out
 
 
-@pytest.mark.parametrize("seed", [0, 1, 2])
-@pytest.mark.parametrize(("name", "speed"), VEHICLES)
-def test_routes_are_collision_free_and_feasible(seed: int, name: str, speed: float) -> None:
+@pytest.mark.parametrize(
+    ("seed", "name", "speed", "driven"),
+    [
+        *((seed, n, v, False) for seed in (0, 1, 2) for n, v in VEHICLES),
+        # corners costed as the heading controller drives them (ecoplan.energy.controlled)
+        (0, "husky-a200", 0.5, True),
+        (1, "husky-a200", 0.5, True),
+    ],
+)
+def test_routes_are_collision_free_and_feasible(
+    seed: int, name: str, speed: float, driven: bool
+) -> None:
     grid = _random_grid(seed)
     spec = vehicle(name)
-    opts = LatticePlannerOptions(time_budget_s=30.0)
+    ctrl = HeadingController(speed_mps=speed) if driven else None
+    opts = LatticePlannerOptions(time_budget_s=30.0, controller=ctrl)
     res = LatticePlanner(grid, EnergyCost(spec, speed), opts).plan((1.5, 1.5), (28.5, 28.5))
     plan = res.best
     wps = plan.waypoints

@@ -544,7 +544,9 @@ def build_parser() -> argparse.ArgumentParser:
         "--clamp --out husky.yaml\n"
         "  ecoplan identify run*.csv --base robot.yaml --terrain gravel --out robot.yaml\n\n"
         "LOG is a CSV in the ecoplan log format (with a terrain column, or one terrain\n"
-        "given by --terrain), borealtc:TERRAIN[/RUN], or a ROS 2 bag.",
+        "given by --terrain), borealtc:TERRAIN[/RUN], or a ROS 2 bag. With a base whose\n"
+        "logs are motor currents (power_log: motor_current), optional columns current_left,\n"
+        "current_right [A] give each side's current; without them p_total is their sum.",
     )
     ident.add_argument("logs", nargs="+", type=Path, metavar="LOG")
     ident.add_argument(

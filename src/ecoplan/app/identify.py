@@ -7,7 +7,9 @@ terrain with ``--terrain``) and passed to
 base vehicle file says its logs measure motor currents (``power_log: motor_current``, e.g.
 ``husky-a200`` and the BorealTC runs), to
 :func:`ecoplan.models.identify_current.identify_from_currents` (the side-force model fitted
-to the logged ``V_bus (I_l + I_r)``).
+to the logged ``V_bus (I_l + I_r)``: per side where the log has the optional columns
+``current_left`` and ``current_right`` [A] (aliases ``current_left_a``, ``current_right_a``;
+the BorealTC runs have them), else their sum).
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from ecoplan.models.identify_current import (
 )
 from ecoplan.models.identify_logs import DriveLog, VehicleIdentification, identify_vehicle
 
-__all__ = ["drive_logs", "identify_from_logs"]
+__all__ = ["current_logs", "drive_logs", "identify_from_logs"]
 
 #: Shortest piece of one terrain kept [samples].
 MIN_PIECE_SAMPLES = 20
@@ -56,6 +58,64 @@ def drive_logs(log: Log, terrain: str | None = None) -> list[DriveLog]:
     InputError
         No terrain column and no ``terrain`` given.
     """
+    return [
+        DriveLog(log.t[idx], log.v_left[idx], log.v_right[idx], log.p_total[idx], label, name)
+        for label, name, idx in _pieces(log, terrain)
+    ]
+
+
+def current_logs(log: Log, bus_voltage_v: float, terrain: str | None = None) -> list[CurrentLog]:
+    """Pieces of one terrain of a log as motor-current logs (:func:`drive_logs`' pieces).
+
+    Per side where the log has both ``current_left`` and ``current_right`` [A], else the
+    sum ``p_total / bus_voltage_v`` split evenly (the fit then uses the sum only).
+
+    Raises
+    ------
+    InputError
+        Only one of the two current columns, a negative current, or no terrain.
+    """
+    sides = (log.current_left, log.current_right)
+    if (sides[0] is None) != (sides[1] is None):
+        missing = "current_right" if sides[1] is None else "current_left"
+        raise InputError(f"{log.source}: column {missing!r} is missing (per-side currents "
+                         "need both current_left and current_right)")  # fmt: skip
+    for col, arr in zip(("current_left", "current_right"), sides, strict=True):
+        if arr is not None and np.any(arr < 0.0):
+            i = int(np.flatnonzero(arr < 0.0)[0])
+            raise InputError(f"{log.source}, sample {i}: column {col!r} is {float(arr[i])!r}; "
+                             "motor currents are magnitudes, >= 0 A")  # fmt: skip
+    out = []
+    for label, name, idx in _pieces(log, terrain):
+        if sides[0] is None or sides[1] is None:
+            out.append(
+                CurrentLog.from_signal(
+                    log.t[idx],
+                    log.v_left[idx],
+                    log.v_right[idx],
+                    log.p_total[idx],
+                    bus_voltage_v,
+                    label,
+                    name,
+                )
+            )
+        else:
+            out.append(
+                CurrentLog(
+                    log.t[idx],
+                    log.v_left[idx],
+                    log.v_right[idx],
+                    sides[0][idx],
+                    sides[1][idx],
+                    label,
+                    name,
+                )
+            )
+    return out  # fmt: skip
+
+
+def _pieces(log: Log, terrain: str | None) -> list[tuple[str, str, np.ndarray]]:
+    """(terrain, name, sample indices) of each piece of one terrain (see :func:`drive_logs`)."""
     name = log.run_id or Path(log.source).stem
     if terrain is not None:
         labels = np.full(log.t.size, terrain.lower())
@@ -66,22 +126,11 @@ def drive_logs(log: Log, terrain: str | None = None) -> list[DriveLog]:
             f"{log.source}: the log has no terrain column; give its terrain with --terrain"
         )
     cuts = np.flatnonzero(labels[1:] != labels[:-1]) + 1
-    out = []
-    for k, idx in enumerate(np.split(np.arange(log.t.size), cuts)):
-        if idx.size < MIN_PIECE_SAMPLES:
-            continue
-        label = str(labels[idx[0]])
-        out.append(
-            DriveLog(
-                log.t[idx],
-                log.v_left[idx],
-                log.v_right[idx],
-                log.p_total[idx],
-                label,
-                f"{name}" if cuts.size == 0 else f"{name}#{k}",
-            )
-        )
-    return out
+    return [
+        (str(labels[idx[0]]), name if cuts.size == 0 else f"{name}#{k}", idx)
+        for k, idx in enumerate(np.split(np.arange(log.t.size), cuts))
+        if idx.size >= MIN_PIECE_SAMPLES
+    ]
 
 
 def identify_from_logs(
@@ -128,16 +177,10 @@ def identify_from_logs(
     """
     vehicle = load_vehicle(base)
     logs = read_logs(paths, bus_voltage_v=bus_voltage_v)
-    pieces = [p for log in logs for p in drive_logs(log, terrain)]
-    if not pieces:
-        raise InputError(f"no piece of at least {MIN_PIECE_SAMPLES} samples on one terrain")
     if vehicle.spec.power_log.signal == "motor_current":
-        currents = [
-            CurrentLog.from_signal(
-                p.t_s, p.v_left, p.v_right, p.p_total_w, bus_voltage_v, p.terrain, p.run_id
-            )
-            for p in pieces
-        ]
+        currents = [p for log in logs for p in current_logs(log, bus_voltage_v, terrain)]
+        if not currents:
+            raise InputError(f"no piece of at least {MIN_PIECE_SAMPLES} samples on one terrain")
         return identify_from_currents(
             currents,
             vehicle,
@@ -147,6 +190,9 @@ def identify_from_logs(
             speed_noise_mps=speed_noise_mps,
             rng=rng,
         )
+    pieces = [p for log in logs for p in drive_logs(log, terrain)]
+    if not pieces:
+        raise InputError(f"no piece of at least {MIN_PIECE_SAMPLES} samples on one terrain")
     return identify_vehicle(
         pieces,
         vehicle,

@@ -372,7 +372,11 @@ def _plan_with(
                 f"{sc.source}: planner type {planner.type} needs a polygon map; "
                 "use planner: {type: lattice} with map: {ros: ...}"
             )
-        lopts = LatticePlannerOptions(time_budget_s=budget)
+        c = sc.spec.controller  # corners costed as this controller drives them
+        ctrl = HeadingController(
+            c.gain, speed_mps, c.d_th_m, slowdown_heading_rad=c.slowdown_heading_rad
+        )
+        lopts = LatticePlannerOptions(time_budget_s=budget, controller=ctrl)
         res = LatticePlanner(sc.world, cost, lopts).plan(start, goal, initial_heading_rad=heading)
     elif planner.type == "graph":
         from ecoplan.planning.graph import GraphPlanner, GraphPlannerOptions

@@ -33,24 +33,41 @@ ecoplan.errors.InputError: <memory>: column 't' steps by 50 (median) between sam
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.special import ndtr
 
+from ecoplan._typing import FloatArray
+from ecoplan.diagnose.calibrate import wheeled_prior
+from ecoplan.diagnose.effects import EffectData, eta_of, regenerated_w, robust_scale
+from ecoplan.diagnose.effects.fitting import EFFECT_RIDGE, NONREGEN_COLUMN
 from ecoplan.diagnose.replay import LogLike
 from ecoplan.errors import InputError
+from ecoplan.models.logged_power import logged_power_w
+from ecoplan.models.tracked import TrackedParams
+from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 
 __all__ = [
+    "ICR_OFFSET_SHARE",
     "MAX_ENERGY_RATIO",
     "MAX_SPEED_RATIO",
     "MAX_STEP_S",
     "MIN_MOVING_SHARE",
     "MIN_SAMPLES",
     "MIN_TURNING_SHARE",
+    "RESOLVE_MIN_GAIN",
+    "RESOLVE_Z",
+    "RESOLVING_MANOEUVRE",
+    "TURN_RADIUS_SPREADS",
     "InputSummary",
+    "Resolution",
     "check_logs",
+    "effect_resolution",
+    "gaussian_mae_rise",
 ]
 
 #: Fewest samples (over all logs) the split into training and held-out data needs.
@@ -67,8 +84,12 @@ MAX_ENERGY_RATIO = 5.0
 #: Share of the samples in which the robot must move (side speed above 5 % of top speed).
 MIN_MOVING_SHARE = 0.05
 #: Share of the samples in which the robot must turn (side-speed difference above 10 % of the
-#: top speed); without turns, turning resistance, ICRs and every turning effect are not excited.
+#: top speed, or a turn radius under :data:`TURN_RADIUS_SPREADS` ICR spreads while moving);
+#: without turns, turning resistance, ICRs and every turning effect are not excited.
 MIN_TURNING_SHARE = 0.02
+#: A moving robot turns when its turn radius is under this many ICR spreads (6 m for the
+#: Pioneer 3-AT preset, whose Table I fits start at 5 m; about 10 m for the Auriga-beta) [-].
+TURN_RADIUS_SPREADS = 10.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -163,7 +184,13 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             "km/h (divide by 3.6), wheel speeds in rad/s, or a faster vehicle?"
         )
     moving = speed > 0.05 * vtop
-    turning = np.abs(vr - vl) > 0.1 * vtop
+    # turning: a side-speed difference of a tenth of the top speed, or, moving, a turn radius
+    # under TURN_RADIUS_SPREADS ICR spreads (r = spread |V_l + V_r| / (2 |V_r - V_l|), tracked
+    # eq. 3): a wheeled robot turns at a few metres at modest speeds (its arcs of r >= 1.2 m at
+    # 0.1-0.5 m/s never reach a 0.09 m/s difference), and its a(r), b(r) bend below 5 m
+    diff = np.abs(vr - vl)
+    tight = moving & (2.0 * TURN_RADIUS_SPREADS * diff > np.abs(vl + vr))
+    turning = (diff > 0.1 * vtop) | tight
     moving_share = float(np.mean(moving))
     turning_share = float(np.mean(turning))
     if moving_share < MIN_MOVING_SHARE:
@@ -179,7 +206,7 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"than {0.1 * vtop:.2g} m/s in {100 * turning_share:.1f} % of the samples (need "
             f"{100 * MIN_TURNING_SHARE:.0f} %); log turns of both directions"
         )
-    p_model = np.asarray(params.power(vl, vr).total_w, dtype=np.float64)
+    p_model = logged_power_w(params, vl, vr)  # what the log shows (vehicle file: power_log)
     e_model = float(np.sum(np.abs(p_model) * dt))
     e_log = float(np.sum(np.abs(p) * dt))
     ratio = e_log / e_model if e_model > 0.0 else float("inf")
@@ -212,3 +239,204 @@ def _sample_dt(t: np.ndarray) -> np.ndarray:
     out[:-1] += 0.5 * d
     out[1:] += 0.5 * d
     return out
+
+
+#: Detection threshold of :func:`effect_resolution`: the effect's signature beyond what
+#: calibration absorbs must stand this many noise standard deviations above zero (a one-sided
+#: test at the diagnosis's Bonferroni level, 0.05 / 11 ~ z 2.6, with 80 % power, z 0.84) [-].
+RESOLVE_Z = 3.5
+#: ... and raise the held-out MAE by at least this share, the diagnosis's minimum gain [-].
+RESOLVE_MIN_GAIN = 0.03
+#: Lateral ICR shift :func:`effect_resolution` asks the log to resolve, as a share of the half
+#: ICR spread (the blind check's small offsets are 0.08-0.12, the plant zoo's 0.11-0.22) [-].
+ICR_OFFSET_SHARE = 0.15
+#: What to drive so that an effect below the noise shows.
+RESOLVING_MANOEUVRE: dict[str, str] = {
+    "regeneration": "turns tight and fast enough that the inner side brakes",
+    "inertia": "hard starts, stops and speed steps",
+    "icr_asymmetry": "tight turns of both directions at speed",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Resolution:
+    """Whether a log can resolve one effect at a physical size (:func:`effect_resolution`).
+
+    Attributes
+    ----------
+    effect : str
+        Effect name.
+    size : str
+        The physical size asked about (e.g. ``"fraction = 1"``).
+    channel : str
+        Where it is judged: ``"power_w"`` (the power residual) or ``"pose_speed_mps"`` (the
+        forward speed from the pose against the side speeds', ``icr_asymmetry`` with a pose).
+    signature_rms_w : float
+        RMS of the effect at that size in the channel, beyond what calibration's linear
+        parameters absorb (the part orthogonal to the base design) [W, or m/s on the pose].
+    noise_w : float
+        Robust standard deviation of the channel's residual [W, or m/s on the pose].
+    snr : float
+        ``|s_perp| / (noise sqrt((1 + phi) / (1 - phi)))`` over the samples [-].
+    mae_gain : float
+        Expected rise of the mean absolute residual the signature causes, relative to the
+        residual's MAE, for Gaussian noise [-].
+    resolved : bool
+        ``snr >= RESOLVE_Z`` and ``mae_gain >= RESOLVE_MIN_GAIN``.
+    """
+
+    effect: str
+    size: str
+    channel: str
+    signature_rms_w: float
+    noise_w: float
+    snr: float
+    mae_gain: float
+    resolved: bool
+
+    @property
+    def note(self) -> str:
+        """One line for the report: what the log cannot tell and what to drive."""
+        unit = "W" if self.channel == "power_w" else "m/s"
+        what = "the power" if self.channel == "power_w" else "the speed from the pose"
+        return (
+            f"below noise to tell {self.effect!r}: at {self.size} it would move {what} by "
+            f"{self.signature_rms_w:.3g} {unit} RMS beyond what calibration absorbs, against "
+            f"{self.noise_w:.3g} {unit} of noise (SNR {self.snr:.2g}, needs {RESOLVE_Z:g}); "
+            f"drive {RESOLVING_MANOEUVRE.get(self.effect, 'a richer log')}"
+        )
+
+
+def gaussian_mae_rise(signal: FloatArray, sigma: float) -> FloatArray:
+    """``E|n + s| - E|n|`` for ``n ~ N(0, sigma^2)``: the MAE a signal adds to Gaussian noise [W].
+
+    ``E|n + s| = sigma sqrt(2/pi) exp(-s^2 / 2 sigma^2) + s (1 - 2 Phi(-s / sigma))`` (the mean
+    of a folded normal distribution), minus ``E|n| = sigma sqrt(2/pi)``.
+
+    Parameters
+    ----------
+    signal : ndarray
+        The signal ``s`` per sample [W].
+    sigma : float
+        Noise standard deviation [W], > 0.
+
+    Returns
+    -------
+    ndarray
+        The rise per sample [W], >= 0.
+    """
+    s = np.abs(np.asarray(signal, dtype=np.float64))
+    if sigma <= 0.0:
+        return s
+    z = s / sigma
+    folded = sigma * np.sqrt(2.0 / np.pi) * np.exp(-0.5 * z**2) + s * (1.0 - 2.0 * ndtr(-z))
+    return np.asarray(folded - sigma * np.sqrt(2.0 / np.pi), dtype=np.float64)
+
+
+def _signatures(data: EffectData) -> dict[str, tuple[str, FloatArray, FloatArray]]:
+    """Each effect's power at its physical size, and the base columns that may absorb it."""
+    f, params = data.frame, data.params
+    pb = data.breakdown if data.breakdown is not None else params.power(f.vl, f.vr)
+    base = data.X
+    out: dict[str, tuple[str, FloatArray, FloatArray]] = {}
+    regen_base = base
+    if isinstance(params, TrackedParams) and base.shape[1] > NONREGEN_COLUMN:
+        # the refits keep k_nr at or above a floor: its column cannot absorb a recovered loss
+        regen_base = np.delete(base, NONREGEN_COLUMN, axis=1)
+    out["regeneration"] = ("fraction = 1", regenerated_w(params, pb, 1.0), regen_base)
+    mass = float(params.mass_kg)
+    gauge = float(params.track_gauge_m)
+    yaw_inertia = mass * (gauge**2 + (1.7 * gauge) ** 2) / 12.0  # as Inertia.draw's box
+    inertia = (mass * f.vx * f.ax + yaw_inertia * f.wz * f.alpha) / eta_of(params)
+    out["inertia"] = (f"the vehicle's mass ({mass:g} kg)", inertia, base)
+    half = 0.5 * float(params.icr.spread_m)
+    off = ICR_OFFSET_SHARE * half
+    shifted = [
+        dataclasses.replace(params, icr_offset_m=float(params.icr_offset_m) + s * off)
+        for s in (1.0, -1.0)
+    ]
+    icr = 0.5 * (shifted[0].power(f.vl, f.vr).total_w - shifted[1].power(f.vl, f.vr).total_w)
+    out["icr_asymmetry"] = (f"an ICR offset of {off:.3g} m", np.asarray(icr), base)
+    return out
+
+
+def _orthogonal(s: FloatArray, base: FloatArray, params: VehicleParams) -> FloatArray:
+    """``s`` minus the part of it the base model's refit absorbs.
+
+    Tracked: the least-squares projection on the columns of ``base``.  Wheeled: the refits
+    pull the coefficients towards the prior over the operating envelope
+    (:func:`~ecoplan.diagnose.effects.fitting.fit_linear`, weight
+    :data:`~ecoplan.diagnose.effects.fitting.EFFECT_RIDGE`), and so does this projection; a
+    free projection would let the inner and outer sides' straight-line terms, whose signs
+    differ on a braking side, build a "braking" indicator that no pulled fit reaches.
+    """
+    if base.size == 0:
+        return s
+    a, b = base, s
+    env = wheeled_prior(params)[1] if isinstance(params, WheeledParams) else None
+    if env is not None and env.shape[1] == base.shape[1]:
+        w = np.sqrt(EFFECT_RIDGE * base.shape[0] / env.shape[0])
+        a = np.vstack([base, w * env])
+        b = np.concatenate([s, np.zeros(env.shape[0])])
+    scale = np.sqrt(np.mean(a**2, axis=0))
+    keep = scale > 1e-12
+    if not np.any(keep):
+        return s
+    coef = np.linalg.lstsq(a[:, keep] / scale[keep], b, rcond=1e-10)[0]
+    return np.asarray(s - (base[:, keep] / scale[keep]) @ coef, dtype=np.float64)
+
+
+def effect_resolution(data: EffectData) -> list[Resolution]:
+    """Whether this log resolves regeneration, inertia and an ICR offset at a physical size.
+
+    A manoeuvre-content question, asked of the calibrated model on the training split before
+    any effect is fitted (issue 12, item 3: "too little excitation to tell" is an answer,
+    ``none`` with high confidence is not).  Each effect's power at a physical size -- full
+    regeneration (``fraction = 1``, bounded by the loss, :func:`regenerated_w`), the kinetic
+    energy rate at the vehicle's own mass (the base models carry none), an ICR offset of
+    :data:`ICR_OFFSET_SHARE` of the half spread -- is projected off the base model's linear
+    design (what calibration would absorb); with a pose, the ICR offset is also judged on the
+    body speed (``w_z d``, tracked eq. 2), as the diagnosis does.  What is left must stand
+    :data:`RESOLVE_Z` noise standard deviations above zero, the noise's AR(1) colour counted
+    (``sigma^2 (1 + phi) / (1 - phi)`` per sample), and raise the residual's MAE by
+    :data:`RESOLVE_MIN_GAIN` (:func:`gaussian_mae_rise`), else the effect is below what the
+    log can tell.
+
+    Parameters
+    ----------
+    data : EffectData
+        Training split prepared with the calibrated parameters.
+
+    Returns
+    -------
+    list of Resolution
+        One per effect, in the order regeneration, inertia, icr_asymmetry.
+    """
+    out = []
+    f = data.frame
+    for name, (size, sig, base) in _signatures(data).items():
+        perp = _orthogonal(np.asarray(sig, dtype=np.float64), base, data.params)
+        res = _resolve(name, size, "power_w", perp, data.p - data.base_w)
+        if name == "icr_asymmetry" and f.v_pose_err is not None and not res.resolved:
+            # with a pose, the offset shows as w_z d in the body speed (tracked eq. 2)
+            off = ICR_OFFSET_SHARE * 0.5 * float(data.params.icr.spread_m)
+            e = f.v_pose_err - float(data.params.icr_offset_m) * f.wz
+            pose = _resolve(name, size, "pose_speed_mps", off * f.wz, e)
+            res = pose if pose.snr > res.snr else res
+        out.append(res)
+    return out
+
+
+def _resolve(name: str, size: str, channel: str, perp: FloatArray, resid: FloatArray) -> Resolution:
+    """Score a signature ``perp`` against a channel's residual ``resid``."""
+    sigma = robust_scale(resid)
+    mae = float(np.mean(np.abs(resid))) if resid.size else 0.0
+    phi = 0.0
+    if resid.size > 3 and float(np.std(resid)) > 0.0:
+        phi = float(np.clip(np.corrcoef(resid[:-1], resid[1:])[0, 1], 0.0, 0.99))
+    inflate = np.sqrt((1.0 + phi) / (1.0 - phi))
+    rms = float(np.sqrt(np.mean(perp**2))) if perp.size else 0.0
+    snr = float(np.sqrt(np.sum(perp**2))) / max(sigma * inflate, 1e-12)
+    gain = float(np.mean(gaussian_mae_rise(perp, sigma))) / max(mae, 1e-12)
+    ok = snr >= RESOLVE_Z and gain >= RESOLVE_MIN_GAIN
+    return Resolution(name, size, channel, rms, sigma, snr, gain, ok)

@@ -17,6 +17,19 @@ Steps, each in its module:
 5. :mod:`~ecoplan.diagnose.report` — text, plots and JSON; :mod:`~ecoplan.diagnose.corrected` —
    the corrected model written to a file.
 
+**Known terrains and what the log measures.**  Parameters from a vehicle file that
+describes several terrains (:func:`~ecoplan.diagnose.effects.terrain.known_terrains`) label
+every ``where_time`` segment with its most likely terrain, and ``terrain_change`` can put the
+labelled terrain's model in place of the base model per segment.  Those models predict what
+the file's ``power_log`` says the log measures (:func:`ecoplan.models.logged_power.logged_power_w`):
+for ``motor_current`` (the BorealTC Husky, ``24 V (|I_l| + |I_r|)``) the input check, the
+terrain labels, ``where_time``'s known-terrain features and ``terrain_change``'s known
+terrains compare the logged currents with the file's side-force model of them.  Calibration
+and the other effects still refit the file's battery-power structure to the logged signal (a
+stand-in in the logged quantity): modelling the currents there needs the side-force columns
+(``K``, ``µ``, ``I0`` per side under the motoring mask) in
+:func:`~ecoplan.diagnose.calibrate.base_design` and in the effects' prepared data.
+
 The result is a :class:`~ecoplan.diagnose.result.Diagnosis`.  The command ``ecoplan diagnose``
 (log files in, report folder out) is :mod:`ecoplan.app.diagnose`.
 """
@@ -31,8 +44,9 @@ import numpy as np
 from ecoplan._typing import RngLike
 from ecoplan.diagnose.attribute import attribute, split_masks
 from ecoplan.diagnose.calibrate import calibrate
-from ecoplan.diagnose.checks import check_logs
+from ecoplan.diagnose.checks import check_logs, effect_resolution
 from ecoplan.diagnose.effects import prepare
+from ecoplan.diagnose.effects.terrain import known_terrains, segmentation_models
 from ecoplan.diagnose.localise import (
     by_regime,
     over_space,
@@ -49,7 +63,8 @@ from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.where_time import TimeSegment, label_segments, where_time
 from ecoplan.errors import InputError
-from ecoplan.presets import VehicleParams, terrain_names, vehicle
+from ecoplan.models.logged_power import logged_power_w
+from ecoplan.presets import VehicleParams, vehicle
 
 __all__ = ["diagnose"]
 
@@ -59,25 +74,35 @@ def _rng(rng: RngLike) -> np.random.Generator:
 
 
 def _terrain_labels(
-    vehicle_name: str | VehicleParams,
+    known: dict[str, VehicleParams],
     segments: Sequence[TimeSegment],
     frame: Frame,
     run_ids: Sequence[str],
 ) -> tuple[str, ...]:
-    """Most likely terrain of each segment among the preset's terrains (issue 12, item 5).
+    """Most likely terrain of each segment among the vehicle file's terrains (item 5).
 
-    Only for a vehicle named by its preset whose file describes several terrains; parameters
-    given directly carry one terrain, and get no labels.
+    Only for parameters from a vehicle file that describes several terrains
+    (:func:`~ecoplan.diagnose.effects.terrain.known_terrains`); parameters built by hand carry
+    one terrain, and get no labels.
     """
-    if not isinstance(vehicle_name, str) or not segments:
+    if not known or not segments:
         return ()
-    names = terrain_names(vehicle_name)
-    if len(names) < 2:
-        return ()
-    models = {t: vehicle(vehicle_name, t) for t in names}
     run = [run_ids[int(i)] for i in frame.run]
-    labels = label_segments(segments, frame.t, run, frame.vl, frame.vr, frame.p, models)
+    labels = label_segments(segments, frame.t, run, frame.vl, frame.vr, frame.p, known)
     return tuple(lab for lab, _ in labels)
+
+
+def _with_case_tol(params: VehicleParams, tol_mps: float) -> VehicleParams:
+    """``params`` with the motion-case tolerance ``tol_mps``, still tied to its vehicle file.
+
+    ``dataclasses.replace`` drops the file (and with it the known terrains); a file's
+    parameters are rebuilt through it with the tolerance as one more override.
+    """
+    source = params.source
+    if source is not None:
+        overrides = {**dict(params.overrides), "case_tol_mps": tol_mps}
+        return source.params(params.terrain, overrides)  # type: ignore[no-any-return]
+    return dataclasses.replace(params, case_tol_mps=tol_mps)
 
 
 def diagnose(
@@ -125,7 +150,7 @@ def diagnose(
     checked = check_logs(log_list, params)
     tol = case_tolerance(log_list)
     if tol > params.case_tol_mps:
-        params = dataclasses.replace(params, case_tol_mps=tol)
+        params = _with_case_tol(params, tol)
     frame = build_frame(log_list, params, block_s, snap_mps=params.case_tol_mps)
     train_m, test_m = split_masks(frame)
     if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
@@ -138,13 +163,19 @@ def diagnose(
     run_ids = [str(getattr(lg, "run_id", "") or f"run{i}") for i, lg in enumerate(log_list)]
     p_cal = np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
     r_all = frame.p - p_cal
-    segments = where_time(frame.t, r_all, frame.run, run_ids, model_w=p_cal)
-    labels = _terrain_labels(vehicle_name, segments, frame, run_ids)
+    # the vehicle file's terrains, as the log shows them (power_log: battery or motor current)
+    known = known_terrains(params)
+    known_w = [logged_power_w(m, frame.vl, frame.vr) for m in segmentation_models(params)]
+    segments = where_time(frame.t, r_all, frame.run, run_ids, model_w=p_cal, known_w=known_w)
+    labels = _terrain_labels(known, segments, frame, run_ids)
     train = prepare(train_f, cal.params, prior=params)
     test = prepare(test_f, cal.params, prior=params)
     att = attribute(train, test, gen, effects)
-    if checked.excitation_notes and att.verdict == "none":
-        # a log that does not excite turning cannot rule out turning effects (issue 12 item 3)
+    # effects the log cannot resolve at a physical size: said, never ruled out (issue 12 item 3)
+    unresolved = tuple(r.note for r in effect_resolution(train) if not r.resolved)
+    input_notes = checked.excitation_notes + unresolved
+    if input_notes and att.verdict == "none":
+        # a log that does not excite an effect cannot rule it out (issue 12 item 3)
         att = dataclasses.replace(att, confidence=min(att.confidence, 0.5))
     r_cal = test.p - att.fitted["none"].predict(test)
     gap_cal = float(np.mean(np.abs(r_cal)))
@@ -182,7 +213,7 @@ def diagnose(
         n_runs=len(log_list),
         duration_s=frame.duration_s,
         split="time blocks",
-        input_notes=checked.excitation_notes,
+        input_notes=input_notes,
         log_notes=tuple(log_notes),
         where_time=segments,
         run_ids=tuple(run_ids),

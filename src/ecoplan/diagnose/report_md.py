@@ -37,6 +37,20 @@ def _f(x: float, unit: str = "", nd: int = 1) -> str:
     return f"{x:.{nd}f}{(' ' + unit) if unit else ''}"
 
 
+def _untold(d: Diagnosis) -> list[str]:
+    """For a ``none``: the effects this log cannot rule out (too little excitation, below noise)."""
+    if d.attribution.verdict != "none":
+        return []
+    untold = [n for n in d.input_notes if n.startswith(("too little excitation", "below noise"))]
+    if not untold:
+        return []
+    return [
+        "`none` does not rule out what this log cannot tell (too little excitation or below "
+        "noise to tell, listed under *What to do next*); the confidence is at most 0.5.",
+        "",
+    ]
+
+
 def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
     """The Markdown text of ``report.md`` for a diagnosis."""
     att = d.attribution
@@ -79,6 +93,7 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
             )
         out += [""]
     out += [
+        *_untold(d),
         "## The numbers",
         "",
         "| quantity | value | meaning |",

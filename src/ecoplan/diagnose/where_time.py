@@ -9,7 +9,9 @@ per bin:
   power);
 * its ripple, ``ln`` of the mean absolute first difference within the bin (relative to the
   model's power likewise): rough ground shakes the wheels, and on BorealTC's 6.5 Hz currents
-  a switch from flooring to snow shows in the ripple when the level hides it.
+  a switch from flooring to snow shows in the ripple when the level hides it;
+* when the vehicle's per-terrain models are known (``known_w``), the logged power's level
+  relative to each of them.
 
 Each feature is divided by its noise scale, the robust scale of neighbouring-bin differences
 (``scipy.stats.median_abs_deviation`` / √2, so that the level changes themselves do not
@@ -139,6 +141,31 @@ def _standardise(features: FloatArray, number: IntArray) -> tuple[FloatArray, in
     return np.column_stack(cols), len(cols)
 
 
+def _known_levels(
+    t: FloatArray,
+    r: FloatArray,
+    idx: IntArray,
+    model_w: FloatArray | None,
+    known_w: Sequence[FloatArray],
+    bin_s: float,
+) -> list[FloatArray]:
+    """Per bin, the logged power's departure from each known terrain's model, relative to it.
+
+    ``(Σ p - Σ P_k) / Σ |P_k|`` per bin for every known terrain ``k`` (``p = r + model``): on
+    ground a known model describes, its feature stays level whatever the manoeuvre, and a
+    switch between two known terrains moves all of them.  Empty without ``model_w``.
+    """
+    if model_w is None:
+        return []
+    p = r + np.asarray(model_w, dtype=np.float64)[idx]
+    out = []
+    for pk_all in known_w:
+        pk = np.asarray(pk_all, dtype=np.float64)[idx]
+        scale = np.maximum(_bins(t, np.abs(pk), bin_s)[1], 1e-9)
+        out.append(_bins(t, p - pk, bin_s)[1] / scale)
+    return out
+
+
 def where_time(
     t: FloatArray,
     residual_w: FloatArray,
@@ -146,6 +173,7 @@ def where_time(
     run_ids: Sequence[str],
     *,
     model_w: FloatArray | None = None,
+    known_w: Sequence[FloatArray] = (),
     bin_s: float = 1.0,
     min_segment_s: float = 12.0,
     penalty: float = 3.0,
@@ -166,6 +194,15 @@ def where_time(
         The model's power [W].  With it the change points are searched on the *relative*
         residual of every bin (``Σ residual / Σ |model|``): a terrain scales the power, so its
         residual in watts follows the manoeuvre while its relative residual stays level.
+    known_w : sequence of ndarray
+        What the log would show on each known terrain of the vehicle (its vehicle file's
+        per-terrain models, :func:`ecoplan.models.logged_power.logged_power_w`) [W].  With
+        ``model_w``, each adds a feature: the logged power's relative departure from that
+        terrain's model (:func:`_known_levels`).  On BorealTC mixes the five Husky terrains
+        took the switches found within ±5 s from 16/18 to 15/18 on the tuning mixes 0-9 and
+        from 7/12 to 12/12 on the measured mixes 10-19 (penalty 3 kept); the diagnosis gives
+        them for motor-current logs only
+        (:func:`~ecoplan.diagnose.effects.terrain.segmentation_models`).
     bin_s : float
         Width of the averaging bins [s].
     min_segment_s : float
@@ -200,11 +237,17 @@ def where_time(
             rel, ripple = means / m_abs, ripple - np.log(m_abs)
         n = means.size
         features = np.column_stack([rel, ripple])
+        known = _known_levels(tr, rr, idx, model_w, known_w, bin_s)
         bkps: list[int] = [n]
         shortest = min(min_segment_s, 0.25 * float(tr[-1] - tr[0]))  # room for four in a run
         min_bins = max(round(shortest / bin_s), 2)
         if n >= 2 * min_bins:
             scaled, m = _standardise(features, number)
+            if known:
+                # the known terrains' levels weigh together as one feature
+                extra, m_known = _standardise(np.column_stack(known), number)
+                scaled = np.column_stack([scaled, extra / math.sqrt(max(m_known, 1))])
+                m += min(m_known, 1)
             if m:
                 algo = ruptures.Pelt(model="l2", min_size=min_bins, jump=1).fit(scaled)
                 bkps = list(algo.predict(pen=penalty * m * math.log(n)))

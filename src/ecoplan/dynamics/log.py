@@ -7,25 +7,28 @@ nothing else.  SI units, REP-103 frames (x forward, y left, yaw counter-clockwis
 
 Columns (:data:`COLUMNS`, in file order; a CSV header may also use an alias)
 ----------------------------------------------------------------------------
-==============  =========  ==================================================  ========
-column          unit       meaning                                             required
-==============  =========  ==================================================  ========
-``t``           s          time, strictly increasing                           yes
-``v_left``      m/s        measured left side (track/wheel) speed              yes
-``v_right``     m/s        measured right side speed                           yes
-``p_total``     W          electrical power of locomotion                      yes
-``v_left_cmd``  m/s        commanded left side speed                           no
-``v_right_cmd`` m/s        commanded right side speed                          no
-``x``, ``y``    m          position in the world frame                         no
-``yaw``         rad        heading, counter-clockwise from world x             no
-``wz``          rad/s      measured yaw rate                                   no
-``p_left``      W          mechanical power of the left motor                  no
-``p_right``     W          mechanical power of the right motor                 no
-``terrain``     label      terrain name under the robot (text)                 no
-==============  =========  ==================================================  ========
+=================  =========  ==================================================  ========
+column             unit       meaning                                             required
+=================  =========  ==================================================  ========
+``t``              s          time, strictly increasing                           yes
+``v_left``         m/s        measured left side (track/wheel) speed              yes
+``v_right``        m/s        measured right side speed                           yes
+``p_total``        W          electrical power of locomotion                      yes
+``v_left_cmd``     m/s        commanded left side speed                           no
+``v_right_cmd``    m/s        commanded right side speed                          no
+``x``, ``y``       m          position in the world frame                         no
+``yaw``            rad        heading, counter-clockwise from world x             no
+``wz``             rad/s      measured yaw rate                                   no
+``p_left``         W          mechanical power of the left motor                  no
+``p_right``        W          mechanical power of the right motor                 no
+``current_left``   A          motor current of the left side (magnitude, >= 0)    no
+``current_right``  A          motor current of the right side (magnitude, >= 0)   no
+``terrain``        label      terrain name under the robot (text)                 no
+=================  =========  ==================================================  ========
 
 Aliases: every numeric column also answers to its name with the unit appended
-(``t_s``, ``v_left_mps``, ``p_total_w``, ``x_m``, ``yaw_rad``, ``wz_radps``, ...).
+(``t_s``, ``v_left_mps``, ``p_total_w``, ``x_m``, ``yaw_rad``, ``wz_radps``, the
+currents ``current_left_a`` and ``current_right_a``, ...).
 Further numeric columns a producer wants to keep (the simulator's motion ``case`` and
 power breakdown) ride along in :attr:`Log.extra`; the diagnosis ignores them.
 
@@ -75,7 +78,15 @@ __all__ = [
 StrArray = npt.NDArray[np.str_]
 
 #: Unit suffix of a column's alias, by unit.
-_UNIT_SUFFIX = {"s": "_s", "m/s": "_mps", "W": "_w", "m": "_m", "rad": "_rad", "rad/s": "_radps"}
+_UNIT_SUFFIX = {
+    "s": "_s",
+    "m/s": "_mps",
+    "W": "_w",
+    "m": "_m",
+    "rad": "_rad",
+    "rad/s": "_radps",
+    "A": "_a",
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -130,6 +141,8 @@ COLUMNS: tuple[Column, ...] = (
     Column("wz", "rad/s", "measured yaw rate"),
     Column("p_left", "W", "mechanical power of the left motor"),
     Column("p_right", "W", "mechanical power of the right motor"),
+    Column("current_left", "A", "motor current of the left side (magnitude)"),
+    Column("current_right", "A", "motor current of the right side (magnitude)"),
     Column("terrain", "label", "terrain name under the robot", kind="text"),
 )
 
@@ -180,6 +193,9 @@ class Log:
         Measured yaw rate [rad/s].
     p_left, p_right : ndarray or None
         Mechanical power of each side's motor [W].
+    current_left, current_right : ndarray or None
+        Motor current of each side [A], magnitudes (``ecoplan identify`` fits them per side
+        when the base vehicle's logs are motor currents).
     terrain : ndarray of str or None
         Terrain label of every sample.
     source : str
@@ -208,6 +224,8 @@ class Log:
     wz: FloatArray | None = None
     p_left: FloatArray | None = None
     p_right: FloatArray | None = None
+    current_left: FloatArray | None = None
+    current_right: FloatArray | None = None
     terrain: StrArray | None = None
     source: str = "<memory>"
     run_id: str = ""

@@ -53,7 +53,9 @@ Decisions where the issue is silent
 * ``turn=HeadingController(...)``: the path as the tracked paper's heading controller
   (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`:
   tabulated corner, corner-pair, start and stop excesses on top of steady driving):
-  the estimate a battery budget should use.
+  the estimate a battery budget should use.  A corner's excess is that of the terrains
+  the controller turns on (:func:`~ecoplan.energy.controlled.corner_samples`), weighted
+  by how much of the turn falls on each.
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
 * Terrain of a turn is the terrain at its waypoint; straight parts are split by
@@ -70,7 +72,15 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.dynamics.controller import HeadingController
-from ecoplan.energy.controlled import ORBIT, Excess, controlled_turns, corner_pairs, drive_path
+from ecoplan.energy.controlled import (
+    ORBIT,
+    Excess,
+    blend_excess,
+    controlled_turns,
+    corner_pairs,
+    corner_samples,
+    drive_path,
+)
 from ecoplan.energy.primitives import (
     TurnMode,
     Vehicle,
@@ -382,9 +392,23 @@ def _controlled_path_cost(
     if abs(d0) > 1e-12:
         ex0 = table0.initial_excess(d0, float(seg_len[0]), last=n_seg == 1)
         excesses.append((0, d0, ex0))
+    corner_terr: list[str | None] = []  # where each corner turns (corner_samples)
+    if world is not None and n_seg > 1:
+        corner_terr = world.terrain_at(corner_samples(pts, ctrl, ctrl.speed_mps).reshape(-1, 2))
+    k_s = len(corner_terr) // max(n_seg - 1, 1)
     for i in range(1, n_seg):
         table = controlled_turns(params_on(vehicle, terrains[i]), ctrl)
         ex = table.corner_excess(float(dpsi[i - 1]), float(seg_len[i]), last=i == n_seg - 1)
+        names = corner_terr[(i - 1) * k_s : i * k_s]
+        kinds = list(dict.fromkeys(names))
+        if names and kinds != [terrains[i]]:  # it turns on other terrains: their excesses
+            each = [
+                controlled_turns(params_on(vehicle, t), ctrl).corner_excess(
+                    float(dpsi[i - 1]), float(seg_len[i]), last=i == n_seg - 1
+                )
+                for t in kinds
+            ]
+            ex = blend_excess(each, [names.count(t) / len(names) for t in kinds])
         excesses.append((i, float(dpsi[i - 1]), ex))
         if i < n_seg - 1 and float(seg_len[i]) < float(table.legs_m[-1]):
             # the next corner comes before this one has settled: the pair's interaction

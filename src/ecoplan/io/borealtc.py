@@ -33,11 +33,13 @@ import numpy as np
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError, LogFormatError
+from ecoplan.models.identify_screen import AT_REST_MAX_RATE_RADPS, body_at_rest
 
 __all__ = [
     "ENV_VAR",
     "HUSKY_BUS_VOLTAGE_V",
     "BorealRun",
+    "at_rest_mask",
     "data_root",
     "list_runs",
     "list_terrains",
@@ -54,6 +56,7 @@ HUSKY_BUS_VOLTAGE_V = 24.0
 
 _PRO_COLUMNS = ("time", "curL", "curR", "velL", "velR")
 _IMU_COLUMNS = ("time", "wz")
+_GYRO_COLUMNS = ("time", "wx", "wy", "wz")
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -349,6 +352,41 @@ def load_run(
     )
 
 
+def at_rest_mask(
+    run: BorealRun,
+    root: str | os.PathLike[str] | None = None,
+    max_rate_radps: float = AT_REST_MAX_RATE_RADPS,
+) -> BoolArray:
+    """Samples of a run where the wheels turn but the body rests (the robot is stuck).
+
+    The rule of :func:`ecoplan.models.identify_screen.body_at_rest` (5 s windows, the
+    gyroscope's three axes from ``imu_XX.csv``); all False when the run has no IMU file.
+
+    Parameters
+    ----------
+    run : BorealRun
+        A run of :func:`load_run`.
+    root : path-like, optional
+        Data root (see :func:`data_root`).
+    max_rate_radps : float
+        Gyroscope rms below which the body rests [rad/s].
+
+    Returns
+    -------
+    ndarray of bool
+        Per sample of ``run.t``.
+    """
+    _, folder = _terrain_dir(run.terrain, root)
+    path = folder / f"imu_{run.run_id}.csv"
+    if not path.is_file():
+        return np.zeros(run.t.size, dtype=np.bool_)
+    imu = _read_csv(path, _GYRO_COLUMNS)
+    gyro = np.column_stack([imu["wx"], imu["wy"], imu["wz"]])
+    return body_at_rest(
+        run.t, run.v_left, run.v_right, imu["time"], gyro, max_rate_radps=max_rate_radps
+    )
+
+
 def load_runs(
     terrain: str,
     root: str | os.PathLike[str] | None = None,
@@ -387,8 +425,9 @@ def load_borealtc(
     Returns
     -------
     Log
-        Columns ``t, v_left, v_right, p_total`` (+ ``wz`` when the IMU file exists) and a
-        ``terrain`` label (lower case); ``run_id`` like ``"FLOORING_03"``.
+        Columns ``t, v_left, v_right, p_total, current_left, current_right`` (+ ``wz``
+        when the IMU file exists) and a ``terrain`` label (lower case); ``run_id`` like
+        ``"FLOORING_03"``.
     """
     run = load_run(terrain, run_id, root, bus_voltage_v)
     source = str(data_root(root) / run.terrain / f"pro_{run.run_id}.csv")
@@ -419,6 +458,8 @@ def load_borealtc(
         v_left=run.v_left[keep],
         v_right=run.v_right[keep],
         p_total=run.p_total[keep],
+        current_left=run.current_left[keep],
+        current_right=run.current_right[keep],
         wz=None if wz is None else wz[keep],
         terrain=np.full(int(keep.sum()), run.terrain.lower()),
         source=source,

@@ -19,6 +19,9 @@ geometry, mass and χ and the file's ``c`` held fixed (the logs scale the forces
 * **Held-out error**: leave-one-log-out (several logs; a single log: its last
   ``holdout_fraction``), MAE of the logged signal ``V_bus (I_l + I_r)`` [W] and the
   relative error of each held-out log's integral of it.
+* **Excluded samples** (:attr:`CurrentLog.excluded`, e.g. a stuck robot found by
+  :func:`~ecoplan.models.identify_screen.body_at_rest`) count neither in the fit nor in
+  the held-out errors.
 * **Unphysical** fits cannot occur: every coefficient is bounded at 0 and the forces
   follow the sides' motion, so the signal cannot fall with a growing resistance.
 """
@@ -35,7 +38,7 @@ import numpy as np
 import yaml
 from scipy.optimize import least_squares, lsq_linear
 
-from ecoplan._typing import FloatArray, RngLike
+from ecoplan._typing import BoolArray, FloatArray, RngLike
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_log_fields, check_range, finite_array
 from ecoplan.models.identify_logs import (
@@ -104,6 +107,10 @@ class CurrentLog:
     sides_logged : bool
         False when only the sum ``I_l + I_r`` is known (:meth:`from_signal`): the fit then
         uses the sum only.
+    excluded : ndarray of bool or None
+        Samples left out of the fit and of the held-out scores (None: none), e.g. where the
+        robot is stuck (:func:`~ecoplan.models.identify_screen.body_at_rest`); the
+        derivatives still use the whole series.
     """
 
     t_s: FloatArray
@@ -115,6 +122,7 @@ class CurrentLog:
     run_id: str = "log"
     grade_rad: FloatArray | None = None
     sides_logged: bool = True
+    excluded: BoolArray | None = None
 
     @classmethod
     def from_signal(
@@ -137,6 +145,15 @@ class CurrentLog:
         check_log_fields(self, names)
         if np.any(self.current_left_a < 0.0) or np.any(self.current_right_a < 0.0):
             raise InputError(f"{self.run_id}: motor currents are magnitudes, >= 0 A")
+        if self.excluded is not None and np.shape(self.excluded) != self.t_s.shape:
+            raise InputError(f"{self.run_id}: excluded must have one flag per sample")
+
+    @property
+    def used(self) -> BoolArray:
+        """Samples the fit and the scores use (not :attr:`excluded`)."""
+        if self.excluded is None:
+            return np.ones(self.t_s.size, dtype=np.bool_)
+        return ~np.asarray(self.excluded, dtype=np.bool_)
 
     def logged_power_w(self, bus_voltage_v: float) -> FloatArray:
         """The logged signal ``V_bus (I_l + I_r)`` [W]."""
@@ -199,6 +216,8 @@ class CurrentFit:
         Relative error of each held-out log's integral of the logged signal (signed).
     mean_power_w : float
         Mean logged signal [W].
+    n_excluded : int
+        Samples the logs mark :attr:`CurrentLog.excluded`; they count in none of the above.
     """
 
     terrain: str
@@ -209,6 +228,7 @@ class CurrentFit:
     heldout_mae_w: float
     heldout_energy_error: tuple[float, ...]
     mean_power_w: float
+    n_excluded: int = 0
 
     @property
     def median_energy_error(self) -> float:
@@ -310,9 +330,10 @@ class CurrentIdentification:
         pct = f"{100 * self.level:g} %"
         out: dict[str, dict[str, object]] = {}
         for terrain, fit in sorted(self.fits.items()):
+            left_out = f" ({fit.n_excluded} left out: stuck)" if fit.n_excluded else ""
             note = (
                 f"side-force fit to the motor currents of {len(fit.run_ids)} log(s), "
-                f"{fit.n_samples} samples; {pct} joint bootstrap interval"
+                f"{fit.n_samples} samples{left_out}; {pct} joint bootstrap interval"
             )
             entry: dict[str, object] = {
                 name: {
@@ -335,7 +356,7 @@ class _Design:
         zero = SideForceTerrain(0.0, 0.0, 1.0)
         unit_k = SideForceTerrain(1.0, 0.0, 1.0)
         cols: dict[str, list[FloatArray]] = {k: [] for k in ("m0l", "m0r", "kl", "kr", "lam")}
-        cols.update(turn=[], sl=[], sr=[], il=[], ir=[], known=[])
+        cols.update(turn=[], sl=[], sr=[], il=[], ir=[], known=[], used=[])
         for log in logs:
             grade = 0.0 if log.grade_rad is None else log.grade_rad
             m0 = side_forces(log.t_s, log.v_left, log.v_right, zero, grade_rad=grade, **geometry)
@@ -356,6 +377,7 @@ class _Design:
             cols["il"].append(log.current_left_a)
             cols["ir"].append(log.current_right_a)
             cols["known"].append(np.full(log.t_s.size, log.sides_logged))
+            cols["used"].append(log.used.astype(np.float64))
         self.x = {k: np.concatenate(v) for k, v in cols.items()}
         self.cs = float(geometry["friction_n_per_mu"])
 
@@ -374,12 +396,13 @@ class _Design:
     def fit(self, c: float, idx: FloatArray | slice, start: FloatArray) -> FloatArray:
         meas_l, meas_r = self.x["il"][idx], self.x["ir"][idx]
         known = self.x["known"][idx].astype(bool)
+        used = self.x["used"][idx].astype(np.float64)
 
         def residual(theta: FloatArray) -> FloatArray:
             # each side where the sides are logged, else the sum (and a zero)
             il, ir = self.currents(theta, c, idx)
             first = np.where(known, il - meas_l, il + ir - meas_l - meas_r)
-            return np.concatenate([first, (ir - meas_r) * known])
+            return np.concatenate([first * used, (ir - meas_r) * known * used])
 
         x0 = np.clip(start, _LOWER + 1e-9, _UPPER - 1e-9)
         res = least_squares(residual, x0, bounds=(_LOWER, _UPPER), x_scale=_START)
@@ -427,7 +450,7 @@ def _terrain_fit(
         theta = np.clip(theta + shift, _LOWER, _UPPER)
         lo, hi = simex_widen(lo, hi, shift, 0.0)
     mae, energy = _holdout(logs, geometry, spec, holdout_fraction, theta)
-    signal = np.concatenate([log.logged_power_w(spec.bus_voltage_v) for log in logs])
+    signal = np.concatenate([log.logged_power_w(spec.bus_voltage_v)[log.used] for log in logs])
     return CurrentFit(
         terrain=logs[0].terrain,
         values=dict(zip(CURRENT_PARAMETERS, (float(v) for v in theta), strict=True)),
@@ -437,6 +460,7 @@ def _terrain_fit(
         heldout_mae_w=mae,
         heldout_energy_error=energy,
         mean_power_w=float(signal.mean()),
+        n_excluded=int(sum(int(np.sum(~log.used)) for log in logs)),
     )
 
 
@@ -459,7 +483,8 @@ def _holdout(
             grade = None if log.grade_rad is None else log.grade_rad[sl]
             return CurrentLog(
                 log.t_s[sl], log.v_left[sl], log.v_right[sl], log.current_left_a[sl],
-                log.current_right_a[sl], log.terrain, log.run_id, grade,
+                log.current_right_a[sl], log.terrain, log.run_id, grade, log.sides_logged,
+                ~log.used[sl],
             )  # fmt: skip
 
         splits = [([piece(slice(None, cut))], piece(slice(cut, None)))]
@@ -472,8 +497,9 @@ def _holdout(
             **{n: float(x) for n, x in zip(CURRENT_PARAMETERS, theta, strict=True)}
         )
         il, ir = predict_currents(held, ground, spec, geometry)
-        pred, meas = v_bus * (il + ir), held.logged_power_w(v_bus)
-        errs.append(np.abs(pred - meas))
+        use = held.used
+        pred, meas = v_bus * (il + ir) * use, held.logged_power_w(v_bus) * use
+        errs.append(np.abs(pred - meas)[use])
         e_meas = float(np.trapezoid(meas, held.t_s))
         ratio = float(np.trapezoid(pred, held.t_s)) / e_meas - 1.0 if e_meas > 0 else math.nan
         energy.append(ratio)
@@ -649,7 +675,7 @@ def planner_driver_terms(
             dataclasses.replace(flat, p_powerup_w=1.0),
         ):
             cols.append(unit.power(log.v_left, log.v_right).total_w)
-        rows.append(np.column_stack(cols))
-        target.append(p_batt - base)
+        rows.append(np.column_stack(cols)[log.used])
+        target.append((p_batt - base)[log.used])
     res = lsq_linear(np.vstack(rows), np.concatenate(target), bounds=(0.0, np.inf))
     return {n: float(v) for n, v in zip(PLANNER_TERMS, res.x, strict=True)}

@@ -33,9 +33,11 @@ from ecoplan.diagnose.effects.base import (
 from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.diagnose.effects.fitting import fit_linear
 from ecoplan.diagnose.replay import Frame
-from ecoplan.diagnose.where_time import TimeSegment
+from ecoplan.diagnose.where_time import TimeSegment, label_segments
 from ecoplan.errors import InputError
+from ecoplan.models.logged_power import logged_power_w
 from ecoplan.models.tracked import GRAVITY_MPS2
+from ecoplan.models.vehicles import Vehicle
 from ecoplan.presets import VehicleParams
 
 __all__ = [
@@ -46,6 +48,8 @@ __all__ = [
     "SpeedDependentResistance",
     "TerrainChange",
     "TerrainPatch",
+    "known_terrains",
+    "segmentation_models",
 ]
 
 #: Grid discs of the terrain-patch search that are refined locally (best first).
@@ -192,30 +196,109 @@ class TerrainPatch(Effect):
         }
 
 
+def known_terrains(params: VehicleParams | None) -> dict[str, VehicleParams]:
+    """The vehicle file's model on each of its terrains, when it describes several.
+
+    ``params`` built from a vehicle file (:func:`ecoplan.presets.vehicle`, or a calibration of
+    such parameters) carry the file as ``source``; a file with two terrains or more gives the
+    per-terrain models :class:`TerrainChange` can use (issue 12, item 5).  Parameters built
+    by hand, or a file of one terrain, give ``{}``.
+
+    >>> import dataclasses
+    >>> from ecoplan.presets import vehicle
+    >>> husky = vehicle("husky-a200", "ice")
+    >>> sorted(known_terrains(husky))
+    ['asphalt', 'flooring', 'ice', 'sandy_loam', 'snow']
+    >>> known_terrains(dataclasses.replace(husky))  # a copy without its file
+    {}
+    """
+    source = getattr(params, "source", None)
+    if not isinstance(source, Vehicle) or len(source.terrains) < 2:
+        return {}
+    return {t: source.params(t) for t in source.terrains}
+
+
+def segmentation_models(params: VehicleParams | None) -> list[VehicleParams]:
+    """Known terrains whose models :func:`~ecoplan.diagnose.where_time.where_time` segments on.
+
+    Only for a vehicle file whose log measures another quantity than the battery power the
+    base model computes (``power_log: motor_current``): there the calibrated model's relative
+    residual follows the manoeuvres (a current does not grow with speed), and the known
+    terrains' models of the logged quantity are the level a switch moves.  For a battery-power
+    log the base model already has the known terrains' structure, and their extra features
+    only add the manoeuvres' variation (a synthetic Auriga-β log split 7 s off its switch).
+    The diagnosis's reported segments use them; ``terrain_change``'s own search on the
+    training split does not (on the split's gappy clock they cut a synthetic motor-current
+    log's switch into a third, wrongly labelled stretch: 25 W left against 16 W without).
+    """
+    source = getattr(params, "source", None)
+    if not isinstance(source, Vehicle) or source.spec.power_log.signal != "motor_current":
+        return []
+    return list(known_terrains(params).values())
+
+
 class TerrainChange(Effect):
-    """Piecewise-constant terrain over time: friction and resistance rescaled per segment.
+    """Piecewise-constant terrain over time: per segment, level factors or a known terrain.
 
     Needs no pose (issue 12, item 5).  The segments are the change points of the calibrated
     residual on the training split (:func:`ecoplan.diagnose.where_time.where_time`, on each
     log's own clock, relative to the model's power), neighbours of alike level merged down to
-    one more than :data:`TERRAIN_CHANGE_MAX_SEGMENTS` per run.  The longest is the reference, the
-    base model's terrain; within each other segment the friction power and the resistance
-    power get their own factors, fitted jointly with the base model like every effect and
-    scored held-out on the interleaved time blocks of the same runs.
-    With a pose a terrain is a place, and ``terrain_patch`` (a disc of the map) is the
-    candidate: this effect is offered only for logs without pose.
+    one more than :data:`TERRAIN_CHANGE_MAX_SEGMENTS` per run.  Within each segment:
+
+    * **known terrains** (the vehicle file behind the prior describes several,
+      :func:`known_terrains`): the segment is labelled with the most likely known terrain
+      (:func:`~ecoplan.diagnose.where_time.label_segments`: the least MAE of that terrain's
+      model of the *logged* quantity, :func:`ecoplan.models.logged_power.logged_power_w`, on
+      the segment's training samples), and within it that terrain's model *replaces* the base
+      model: ``P = a_i P_k``, the known terrain's model structure (its rolling and turning
+      forces over the manoeuvres, not only a level) with a gain ``a_i`` held in
+      :data:`TERRAIN_FACTOR_RANGE` (a bus voltage, or a ground a little harder or softer
+      than the run the file was identified on).  A free offset per segment as well fitted
+      short segments' training samples and missed their held-out ones by hundreds of watts
+      (a 12 s segment of a synthetic Auriga-β session: 555 W against 221 W of the base
+      model).  Every segment, the longest included, is modelled so, and the segments tile
+      their run (a held-out sample before the first or between two belongs to the segment
+      begun last); runs without segments keep the base model.  Neighbours with the same
+      label are one stretch of that terrain and merge.  Level factors (below) are kept
+      instead when all segments take the same label (no move between known terrains: that
+      terrain's level changes, or the ground is unlike them all), or when they predict
+      better across the training split's own time blocks (fitted on the even blocks,
+      scored on the odd ones).
+    * otherwise the longest segment is the reference, the base model's terrain; within each
+      other segment the friction power and the resistance power get their own factors.
+
+    Either way the columns are fitted jointly with the base model like every effect and
+    scored held-out on the interleaved time blocks of the same runs.  With a pose a terrain
+    is a place, and ``terrain_patch`` (a disc of the map) is the candidate: this effect is
+    offered only for logs without pose.
 
     Its segments belong to the log's clock, so it is neither generated (:meth:`apply`) nor
     carried over to new routes by the corrected model (:attr:`on_routes`).  Parameters per
-    segment ``i``: ``seg{i}_run``, ``seg{i}_t_start_s``, ``seg{i}_t_end_s``,
+    segment ``i``: ``seg{i}_run``, ``seg{i}_t_start_s``, ``seg{i}_t_end_s``, and either
     ``seg{i}_friction_factor`` and ``seg{i}_resistance_factor`` (``1 + g η`` as for
     ``terrain_patch``, ``g`` the fitted gain of the segment's mechanical friction or
-    resistance power: ``μ`` and ``K`` scaled), and ``segments``, their number.
+    resistance power: ``μ`` and ``K`` scaled) or ``seg{i}_known_gain`` (``a_i``, with the
+    terrain's name in :attr:`terrains_`); and ``segments``, their number.
+
+    Attributes
+    ----------
+    terrains_ : tuple of str
+        The known terrain of each fitted segment (empty without known terrains).
     """
 
     name = "terrain_change"
     segments_in_time = True
     on_routes = False
+
+    def __init__(self, theta: Any = None) -> None:
+        super().__init__(theta)
+        self.terrains_: tuple[str, ...] = ()
+        self._models: dict[str, VehicleParams] = {}
+
+    def fit(self, data: EffectData) -> Effect:  # noqa: D102
+        # the known terrains of the data's vehicle file, before any refit of χ drops the file
+        self._models = self._known(data)
+        return super().fit(data)
 
     @classmethod
     def apply(  # noqa: D102
@@ -231,37 +314,90 @@ class TerrainChange(Effect):
         return frame.x is None or frame.y is None
 
     @staticmethod
-    def _indicator(data: EffectData, seg: tuple[int, float, float]) -> FloatArray:
+    def _indicator(data: EffectData, seg: tuple[Any, ...]) -> FloatArray:
         f = data.frame
-        run, t0, t1 = seg
+        run, t0, t1 = seg[:3]
         return np.asarray((f.run == run) & (f.t >= t0) & (f.t <= t1), dtype=np.float64)
+
+    @staticmethod
+    def _tiles(data: EffectData, theta: Any) -> FloatArray:
+        """Indicators of the known-terrain segments, tiling each run that has any.
+
+        A sample of such a run belongs to the last segment that starts at or before it (the
+        first segment for earlier samples): held-out samples before the first training sample
+        or between two segments still get a terrain.  Shape ``(n, len(theta))``.
+        """
+        f = data.frame
+        out = np.zeros((f.n, len(theta)))
+        for run in {seg[0] for seg in theta}:
+            idx = [i for i, seg in enumerate(theta) if seg[0] == run]
+            idx.sort(key=lambda i: theta[i][1])
+            rows = np.flatnonzero(f.run == run)
+            starts = np.array([theta[i][1] for i in idx])
+            which = np.clip(np.searchsorted(starts, f.t[rows], side="right") - 1, 0, len(idx) - 1)
+            out[rows, np.asarray(idx)[which]] = 1.0
+        return out
+
+    @staticmethod
+    def _known(data: EffectData) -> dict[str, VehicleParams]:
+        return known_terrains(data.prior if data.prior is not None else data.params)
 
     def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         if not theta:
             return np.zeros((data.frame.n, 0))
         cols = []
-        for seg in theta:
-            ins = self._indicator(data, seg)
-            cols += [ins * data.friction_w, ins * data.resistance_w]
+        known = (self._models or self._known(data)) if len(theta[0]) == 4 else {}
+        tiles = self._tiles(data, theta) if known else None
+        logged: dict[str, FloatArray] = {}
+        for i, seg in enumerate(theta):
+            ins = self._indicator(data, seg) if tiles is None else tiles[:, i]
+            if len(seg) == 4:
+                name = str(seg[3])
+                if name not in logged:  # steady: a 6.5 Hz log's accelerations are noise
+                    logged[name] = logged_power_w(known[name], data.frame.vl, data.frame.vr)
+                cols.append(ins * logged[name])
+            else:
+                cols += [ins * data.friction_w, ins * data.resistance_w]
         return np.column_stack(cols)
 
-    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
-        """Joint fit, then the factors held in :data:`TERRAIN_FACTOR_RANGE` (item 2).
+    def design(self, data: EffectData, theta: Any) -> FloatArray:
+        """Base columns, then the segments' columns.
 
-        A factor fitted outside the range (a friction column the segment barely excites took
-        610 or -0.7 on BorealTC mixes) is set to the bound, and the base model is refitted on
-        what the bounded segments leave.
+        With known terrains the base columns are zero inside the segments: their terrain's
+        model replaces the base model there.
         """
-        coef = fit_linear(data, self.design(data, theta))
+        cols = self.columns(data, theta)
+        if not theta or len(theta[0]) != 4:
+            return np.column_stack([data.X, cols])
+        outside = 1.0 - self._tiles(data, theta).sum(axis=1)
+        return np.column_stack([data.X * outside[:, None], cols])
+
+    def base_part(self, data: EffectData) -> FloatArray:  # noqa: D102
+        d, coef = self._ready(data)
+        k = d.X.shape[1]
+        return np.asarray(self.design(d, self.theta_)[:, :k] @ coef[:k], dtype=np.float64)
+
+    def _fit_coef(self, data: EffectData, theta: Any) -> FloatArray:
+        """Joint fit, then the factors or gains held in :data:`TERRAIN_FACTOR_RANGE` (item 2).
+
+        A level factor fitted outside the range (a friction column the segment barely
+        excites took 610 or -0.7 on BorealTC mixes), or a known terrain's gain outside it, is
+        set to the bound, and the base model is refitted on what the bounded columns leave.
+        """
+        design = self.design(data, theta)
+        coef = fit_linear(data, design)
         k = data.X.shape[1]
         if coef.size == k:
             return coef
-        eta = eta_of(data.params)
-        lo, hi = ((f - 1.0) / eta for f in TERRAIN_FACTOR_RANGE)
+        if len(theta[0]) == 4:
+            lo, hi = TERRAIN_FACTOR_RANGE
+        else:
+            eta = eta_of(data.params)
+            lo, hi = ((f - 1.0) / eta for f in TERRAIN_FACTOR_RANGE)
         gains = np.clip(coef[k:], lo, hi)
         if np.array_equal(gains, coef[k:]):
             return coef
-        base = fit_linear(data, data.X, y=data.p - self.columns(data, theta) @ gains)
+        base = fit_linear(data, design[:, :k], y=data.p - design[:, k:] @ gains)
         return np.concatenate([base, gains])
 
     def _search(self, data: EffectData) -> Any:
@@ -269,22 +405,55 @@ class TerrainChange(Effect):
 
         f = data.frame
         runs = [str(int(r)) for r in range(int(f.run.max()) + 1)] if f.n else []
+        known = self._models or self._known(data)
         segs = where_time(f.t, data.p - data.base_w, f.run, runs, model_w=data.base_w)
         if len(segs) < 2:
             return ()
         spans = _merge(segs, TERRAIN_CHANGE_MAX_SEGMENTS + 1)
         reference = max(spans, key=lambda sp: sp[2] - sp[1])  # the base model's own terrain
-        return tuple(sp for sp in spans if sp != reference)
+        levels = tuple(sp for sp in spans if sp != reference)
+        if not known:
+            return levels
+        pieces = [TimeSegment(str(run), t0, t1, 0.0) for run, t0, t1 in spans]
+        labels = label_segments(pieces, f.t, f.run.astype(str), f.vl, f.vr, f.p, known)
+        labelled: list[tuple[int, float, float, str]] = []
+        for (run, t0, t1), (lab, _) in zip(spans, labels, strict=True):
+            if labelled and labelled[-1][0] == run and labelled[-1][3] == lab:
+                labelled[-1] = (run, labelled[-1][1], t1, lab)  # one stretch of that terrain
+            elif lab:
+                labelled.append((run, t0, t1, lab))
+        if len({seg[3] for seg in labelled}) < 2:
+            # segments that all look like one known terrain are no move between known
+            # terrains: what changes is that terrain's level (or a ground unlike them all)
+            return levels
+        # a ground that is none of the known terrains keeps level factors: the one that
+        # predicts better across the training split's own time blocks decides
+        return min((tuple(labelled), levels), key=lambda th: self._inner_mae(data, th))
+
+    def _inner_mae(self, data: EffectData, theta: Any) -> float:
+        """MAE on the odd time blocks of ``data`` of the fit on the even ones [W]."""
+        _, rank = np.unique(data.frame.block, return_inverse=True)
+        even = rank % 2 == 0
+        if np.all(even) or not np.any(even):
+            return self._sse(data, theta)
+        fit_on, score_on = data.subset(even), data.subset(~even)
+        coef = self._fit_coef(fit_on, theta)
+        return float(np.mean(np.abs(score_on.p - self._predict(score_on, theta, coef))))
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         k, eta = data.X.shape[1], eta_of(data.params)
         out: dict[str, float] = {"segments": float(len(theta or ()))}
-        for i, (run, t0, t1) in enumerate(theta or ()):
+        self.terrains_ = tuple(str(seg[3]) for seg in theta or () if len(seg) == 4)
+        for i, seg in enumerate(theta or ()):
+            run, t0, t1 = seg[:3]
             out[f"seg{i}_run"] = float(run)
             out[f"seg{i}_t_start_s"] = float(t0)
             out[f"seg{i}_t_end_s"] = float(t1)
-            out[f"seg{i}_friction_factor"] = 1.0 + float(coef[k + 2 * i]) * eta
-            out[f"seg{i}_resistance_factor"] = 1.0 + float(coef[k + 2 * i + 1]) * eta
+            if len(seg) == 4:
+                out[f"seg{i}_known_gain"] = float(coef[k + i])
+            else:
+                out[f"seg{i}_friction_factor"] = 1.0 + float(coef[k + 2 * i]) * eta
+                out[f"seg{i}_resistance_factor"] = 1.0 + float(coef[k + 2 * i + 1]) * eta
         return out
 
 

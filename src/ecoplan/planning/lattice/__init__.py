@@ -37,6 +37,20 @@ after the budget returns its path unsmoothed. The returned
 lattice path) and their full evaluation by :func:`ecoplan.energy.path.path_cost` on the
 grid, like every planner.
 
+**As driven.**  With ``LatticePlannerOptions(controller=HeadingController(...))`` the
+corners are costed the way the tracked paper's heading controller (§IV, eq. 23) drives
+them, not as steady primitives: a corner's first heading step costs the controller's
+corner excess of that angle and each further step at the same node a slope through the
+tables at a right angle
+(:func:`~ecoplan.planning.lattice.primitives.driven_turn_costs`, from the tables of
+:mod:`ecoplan.energy.controlled`).  A turn on the spot then leads into a second layer of
+states (a corner under way at the node) whose further turns cost that slope, and
+straight steps lead back; the heuristic is unchanged and stays a lower bound, every
+turn costing >= 0.  Smoothing stages and the refinement are ranked by the energy as
+driven; the static lattice's route (and it refined as driven) are candidates too, and
+the pick is the candidate whose controller roll-out (the simulator's physics, power on
+the terrain under the robot) is cheapest.
+
 The search costs come from the cost objective's ``per_metre`` and ``turn_value``
 (:class:`~ecoplan.energy.objective.EnergyCost`: joules;
 :class:`~ecoplan.energy.objective.LengthCost`: metres, turns free but only feasible

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -10,27 +11,40 @@ from scipy import sparse
 from scipy.sparse import csgraph
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.controlled import controlled_turns, corner_pairs, drive_path
 from ecoplan.energy.objective import CostObjective
 from ecoplan.energy.path import path_cost
 from ecoplan.energy.result import PathCost
+from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import turn_costs
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget
 from ecoplan.planning.lattice.primitives import (
     EPS,
+    LatticeGraph,
     PenaltyWeights,
     build_lattice,
+    driven_turn_costs,
     lattice_directions,
     terrain_costs,
 )
 from ecoplan.planning.lattice.smooth import Smoother, simplify
-from ecoplan.planning.refine import RefineOptions, refine_waypoints
+from ecoplan.planning.refine import RefineOptions, RefineResult, refine_waypoints
 
 __all__ = ["LatticePlanner", "LatticePlannerOptions", "plan_lattice"]
 
 _FAR = 1e300  # reweighted cost of a transition that cannot lead to the goal
 _TINY = 1e-9  # smallest reweighted cost (rounding; adds < 1e-9 per transition)
+# a route refined for a controller must be estimated cheaper by more than the controlled
+# model's error (as the graph planner's refinement)
+_DRIVEN_GAIN = 0.01
+# step of the controller roll-outs that pick among routes [s]: on the Husky's 60 m sites of
+# benchmarks/sites.py within 0.01 % of the simulator at 0.01 s
+_ROLLOUT_DT_S = 0.1
+_Starts = tuple[IntArray, FloatArray]  # start states and their join costs
+_Goals = tuple[IntArray, FloatArray, IntArray]  # goal states, join costs, their nodes
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,6 +78,17 @@ class LatticePlannerOptions:
         sites of ``benchmarks/lattice_scale.py`` it adds about 0.1-0.15 s per plan, and on
         ``benchmarks/sites.py`` it is worth about 2 % of the Husky's energy. Not used with
         penalty weights.
+    controller : HeadingController or None
+        The heading controller that will drive the route (tracked paper §IV, eq. 23).
+        When given, the search values corners as the controller drives them
+        (:func:`~ecoplan.planning.lattice.primitives.driven_turn_costs`: the corner
+        tables of :mod:`ecoplan.energy.controlled`, built once per vehicle, terrain and
+        controller, a few seconds each, cached; the planner builds them with the lattice,
+        outside a query's budget), and the smoothing stages and the refinement are ranked by
+        the energy as driven (:func:`~ecoplan.energy.path.path_cost` with
+        ``turn=controller``; a refined route is kept when that falls by more than 1 %,
+        the model's error).  ``None``: the static turn model.  Not used with penalty
+        weights.
     """
 
     cell_m: float | None = None
@@ -72,6 +97,7 @@ class LatticePlannerOptions:
     time_budget_s: float = 1.0
     smoothing_passes: int = 1
     refine: RefineOptions | None = field(default_factory=RefineOptions)
+    controller: HeadingController | None = None
 
     def __post_init__(self) -> None:
         if self.cell_m is not None and not (math.isfinite(self.cell_m) and self.cell_m > 0.0):
@@ -86,6 +112,10 @@ class LatticePlannerOptions:
             raise InputError(f"smoothing_passes must be an integer >= 0, got {passes!r}")
         if self.refine is not None and not isinstance(self.refine, RefineOptions):
             raise InputError(f"refine must be RefineOptions or None, got {self.refine!r}")
+        if self.controller is not None and not isinstance(self.controller, HeadingController):
+            raise InputError(
+                f"controller must be a HeadingController or None, got {self.controller!r}"
+            )
 
 
 def _auto_cell(grid: GridMap) -> float:
@@ -171,17 +201,32 @@ class LatticePlanner:
         costs = terrain_costs(
             cost, grid.terrain_names, self.dirs_, self.cell_m_, self.options.turn_room_m, weights
         )
+        self._ctrl: HeadingController | None = None
+        self._static: tuple[sparse.csr_matrix, tuple[IntArray, IntArray]] | None = None
+        if self.options.controller is not None and weights is None:
+            self._ctrl = dataclasses.replace(self.options.controller, speed_mps=cost.speed_mps)
+            static = build_lattice(grid, costs, self.dirs_, self.k_)
+            self._static = (static.graph, self._edge_nodes(static))
+            costs = driven_turn_costs(costs, cost, grid.terrain_names, self.dirs_, self._ctrl)
+            for t, name in enumerate(grid.terrain_names):  # for the evaluations as driven
+                if np.isfinite(costs.per_m[t]):
+                    corner_pairs(cost.params(name), self._ctrl)
         self.lattice_ = build_lattice(grid, costs, self.dirs_, self.k_)
         self.shape_ = self.lattice_.shape
         self.node_free_ = self.lattice_.node_free
         self.n_states_ = self.lattice_.n_states
         self.n_edges_ = self.lattice_.n_edges
         self._per_m = costs.per_m
-        g = self.lattice_.graph  # the end nodes of every transition, for the reweighting
-        self._edge_u = np.repeat(np.arange(g.shape[0]) // len(self.dirs_), np.diff(g.indptr))
-        self._edge_v = g.indices // len(self.dirs_)
+        self._edges = self._edge_nodes(self.lattice_)
         self._smoother = Smoother(grid, cost, costs.per_m, self.cell_m_, weights)
         self.build_time_s_ = deadline.elapsed_s
+
+    def _edge_nodes(self, lattice: LatticeGraph) -> tuple[IntArray, IntArray]:
+        """The nodes each transition leaves and reaches (for the A* reweighting)."""
+        g, n_h = lattice.graph, len(self.dirs_)
+        layer = lattice.shape[0] * lattice.shape[1] * n_h  # states per layer
+        rows = np.repeat(np.arange(g.shape[0]), np.diff(g.indptr))
+        return (rows % layer) // n_h, (g.indices % layer) // n_h
 
     # ------------------------------------------------------------------ query
     def _joins(self, p: tuple[float, float], name: str, *, into: bool) -> FloatArray:
@@ -262,13 +307,28 @@ class LatticePlanner:
             out_nodes[:, h] = np.clip(r, 0, ny - 1) * nx + np.clip(c, 0, nx - 1)
         return out_nodes, out_cost
 
-    def _rank(self, pc: PathCost) -> tuple[bool, float]:
-        """Sort key of an evaluated path: feasible first, then the search objective."""
+    def _rank(
+        self, wps: FloatArray, pc: PathCost, heading: float | None, *, driven: bool
+    ) -> tuple[bool, float]:
+        """Sort key of an evaluated path: feasible first, then the search objective.
+
+        ``driven``: the objective of the path as the controller drives it (:meth:`_driven`).
+        """
         if self.weights is not None:  # the penalty baseline ranks by its own costs
             value = pc.length_m + self.weights.turn_per_rad * pc.psi_rad
+        elif driven:
+            value = self.cost.value(self._driven(wps, heading))
         else:
             value = self.cost.value(pc)
         return (not pc.feasible, value)
+
+    def _driven(self, wps: FloatArray, heading: float | None) -> PathCost:
+        """The path as the controller drives it (:mod:`ecoplan.energy.controlled`)."""
+        assert self._ctrl is not None
+        return path_cost(
+            wps, self.cost.vehicle, self.cost.speed_mps, world=self.grid,
+            initial_heading_rad=heading, turn=self._ctrl, elevation=self.cost.elevation,
+        )  # fmt: skip
 
     def _evaluate(self, wps: FloatArray, heading: float | None) -> PathCost:
         return path_cost(
@@ -279,6 +339,168 @@ class LatticePlanner:
             initial_heading_rad=heading,
             turn=self.cost.turn,
             ramps=self.cost.ramps,
+        )
+
+    def _refine(
+        self, wps: FloatArray, heading: float | None, deadline: Deadline, *, driven: bool
+    ) -> RefineResult:
+        """:func:`refine_waypoints` of the route, as the controller drives it if ``driven``."""
+        if not driven or self._ctrl is None:
+            return refine_waypoints(
+                wps, self.cost, self.grid, initial_heading_rad=heading,
+                options=self.options.refine, deadline=deadline,
+            )  # fmt: skip
+        start = self.grid.terrain_names[int(self.grid.terrain_id_at(wps[:1])[0])]
+        min_leg = float(controlled_turns(self.cost.params(start), self._ctrl).legs_m[0])
+
+        def as_driven(w: FloatArray) -> PathCost:
+            return self._driven(w, heading)
+
+        merged = self._drop_short_legs(wps, min_leg)
+        res = refine_waypoints(
+            merged, self.cost, self.grid, initial_heading_rad=heading,
+            options=self.options.refine, deadline=deadline, driven=as_driven,
+            min_leg_m=min_leg, min_gain=_DRIVEN_GAIN,
+        )  # fmt: skip
+        if res.improved or merged.shape == wps.shape:
+            return res
+        return RefineResult(merged, res.cost, res.evaluations, True)  # judged by _pick
+
+    def _drop_short_legs(self, wps: FloatArray, min_leg_m: float) -> FloatArray:
+        """Drop waypoints of legs (after the first) shorter than ``min_leg_m`` where free.
+
+        The controller switches to the next way point ``d_th`` early and cannot follow
+        such legs; the driven refinement tries no candidate with one
+        (:func:`~ecoplan.planning.refine.refine_waypoints` ``min_leg_m``), so a route
+        with two of them could not be refined.  Shortest leg first, its end (or else its
+        start) is dropped when the segment that replaces it is free on the grid.
+        """
+        w = wps
+        while len(w) > 2:
+            legs = np.hypot(*np.diff(w, axis=0).T)
+            short = [k for k in np.argsort(legs[1:]) + 1 if legs[k] < min_leg_m]
+            for k in short:
+                drops = [i for i in (k + 1, k) if 0 < i < len(w) - 1]
+                i = next((i for i in drops if self.grid.segment_free(w[i - 1], w[i + 1])), -1)
+                if i > 0:
+                    w = np.delete(w, i, axis=0)
+                    break
+            else:
+                return w
+        return w
+
+    def _route(
+        self,
+        pred: IntArray,
+        s_join_of: dict[int, int],
+        s: tuple[float, float],
+        g: tuple[float, float],
+    ) -> FloatArray:
+        """Waypoints of the lattice path ending at the sink (the last state) of ``pred``."""
+        n_h, nx = len(self.dirs_), self.shape_[1]
+        layer = self.shape_[0] * nx * n_h
+        src = len(pred) - 2
+        chain = [int(pred[-1])]
+        while chain[-1] != src:
+            chain.append(int(pred[chain[-1]]))
+        states = np.array(chain[-2::-1], dtype=np.int64) % layer
+        join_node = s_join_of[int(states[0])]  # the run ahead of the start began there
+        nodes = np.concatenate([[join_node], states // n_h])
+        pts = self._node_xy(nodes // nx, nodes % nx)
+        return simplify(np.vstack([[s], pts, [g]]))
+
+    def _polish(
+        self, raw: FloatArray, heading: float | None, deadline: Deadline, *, driven: bool
+    ) -> tuple[list[tuple[FloatArray, PathCost]], float, float]:
+        """Smoothing passes and refinement while time remains.
+
+        Every smoothing stage is evaluated in full and the best (feasible first, then the
+        objective, as driven when ``driven``) is kept, so smoothing never loses.  Returns
+        that stage, then the refined route if the refinement improved it (each with its
+        evaluation), and the smoothing and evaluation times [s].
+        """
+        t0 = deadline.elapsed_s
+        wps, pc = raw, self._evaluate(raw, heading)
+        t_eval, t_smooth = deadline.elapsed_s - t0, 0.0
+        best_key = self._rank(raw, pc, heading, driven=driven)
+        stage = raw
+        for _ in range(self.options.smoothing_passes):
+            if deadline.expired:
+                break
+            t0 = deadline.elapsed_s
+            stage = self._smoother.shortcut(stage)
+            t1 = deadline.elapsed_s
+            pc_stage = self._evaluate(stage, heading)
+            t_smooth, t_eval = t_smooth + t1 - t0, t_eval + deadline.elapsed_s - t1
+            key = self._rank(stage, pc_stage, heading, driven=driven)
+            if key < best_key:
+                wps, pc, best_key = stage, pc_stage, key
+        out = [(wps, pc)]
+        if self.options.refine is not None and self.weights is None and not deadline.expired:
+            t0 = deadline.elapsed_s
+            ref = self._refine(wps, heading, deadline, driven=driven)
+            t_smooth += deadline.elapsed_s - t0
+            if ref.improved:
+                out.append((ref.waypoints, ref.cost))
+        return out, t_smooth, t_eval
+
+    def _static_candidates(
+        self,
+        static: tuple[sparse.csr_matrix, tuple[IntArray, IntArray]],
+        query: tuple[FloatArray, _Starts, _Goals],
+        ends: tuple[dict[int, int], tuple[float, float], tuple[float, float]],
+        heading: float | None,
+        deadline: Deadline,
+    ) -> list[tuple[FloatArray, PathCost]]:
+        """With a controller: the static lattice's routes as candidates too.
+
+        Its route smoothed and refined as without a controller, and that route refined
+        as driven; while the budget lasts (see :meth:`_pick`).
+        """
+        h, starts, goals = query
+        dist, pred = self._astar(static[0], static[1], h, starts, goals)
+        if not math.isfinite(float(dist[-1])) or deadline.expired:
+            return []
+        out, _, _ = self._polish(self._route(pred, *ends), heading, deadline, driven=False)
+        if self.options.refine is not None and not deadline.expired:
+            ref = self._refine(out[-1][0], heading, deadline, driven=True)
+            if ref.improved:
+                out.append((ref.waypoints, ref.cost))
+        return out
+
+    def _pick(
+        self, cands: list[tuple[FloatArray, PathCost]], heading: float | None, deadline: Deadline
+    ) -> tuple[FloatArray, PathCost]:
+        """The candidate route the controller drives cheapest, by roll-out.
+
+        Feasible first, then the objective of the controller's roll-out
+        (:meth:`_rollout_value`: the simulator's physics, power on the terrain under the
+        robot).  The corner tables cannot see where the controller's cut and overshot
+        corners leave the polyline's terrain, and a refinement under them alone can trade
+        real energy for model error; the roll-out settles it.  Candidates are rolled out
+        in order while the budget lasts (at least the first).
+        """
+        keys: list[tuple[bool, float]] = []
+        for k, (w, pc) in enumerate(cands):
+            if k > 0 and deadline.expired:
+                break
+            keys.append((not pc.feasible, self._rollout_value(w, heading)))
+        return cands[min(range(len(keys)), key=keys.__getitem__)]
+
+    def _rollout_value(self, wps: FloatArray, heading: float | None) -> float:
+        """Objective of the route as the controller drives it, rolled out (inf: never ends)."""
+        assert self._ctrl is not None
+        yaw0 = heading
+        if yaw0 is None:
+            yaw0 = math.atan2(float(wps[1, 1] - wps[0, 1]), float(wps[1, 0] - wps[0, 0]))
+        params = self.cost.params(self.grid.terrain_at(wps[:1])[0])
+        t, vl, vr, done = drive_path(params, wps, self._ctrl, yaw0, _ROLLOUT_DT_S)
+        if not done or t.size < 2:
+            return math.inf
+        pose = (float(wps[0, 0]), float(wps[0, 1]), yaw0)
+        traj = TrackTrajectory(t, vl, vr)
+        return self.cost.value(
+            trajectory_cost(traj, self.cost.vehicle, world=self.grid, start_pose=pose)
         )
 
     def _heuristic(self, goal_nodes: IntArray, goal_cost: FloatArray) -> FloatArray:
@@ -299,9 +521,11 @@ class LatticePlanner:
 
     def _astar(
         self,
+        g: sparse.csr_matrix,
+        edges: tuple[IntArray, IntArray],
         h: FloatArray,
-        starts: tuple[IntArray, FloatArray],
-        goals: tuple[IntArray, FloatArray, IntArray],
+        starts: _Starts,
+        goals: _Goals,
     ) -> tuple[FloatArray, IntArray]:
         """A* from the source to the sink: Dijkstra on the reweighted graph, limited.
 
@@ -313,11 +537,10 @@ class LatticePlanner:
         state on it has ``f`` at most the cost).  Returns distances and predecessors as
         :func:`scipy.sparse.csgraph.dijkstra`.
         """
-        g = self.lattice_.graph
         n = g.shape[0]
         src, snk = n - 2, n - 1
         with np.errstate(invalid="ignore"):
-            w = g.data - h[self._edge_u] + h[self._edge_v]
+            w = g.data - h[edges[0]] + h[edges[1]]
         # > 0: scipy drops explicit zeros when adding sparse matrices (lost transitions)
         w = np.where(np.isfinite(w), np.maximum(w, _TINY), _FAR)
         s_states, s_w = starts
@@ -391,10 +614,8 @@ class LatticePlanner:
         if math.hypot(g[0] - s[0], g[1] - s[1]) < 1e-9:
             raise InputError(f"start and goal coincide at ({s[0]:g}, {s[1]:g}): nothing to plan")
         n_h = len(self.dirs_)
-        nx = self.shape_[1]
         s_join = self._joins(s, "start", into=False)
         g_join = self._joins(g, "goal", into=True)
-        src, snk = self.n_states_, self.n_states_ + 1
         hs = np.arange(n_h)
         s_nodes, s_cost = self._run_from_start(s_join[:, 0].astype(np.int64), s_join[:, 1:])
         s_states = (s_nodes * n_h + hs).ravel()
@@ -412,50 +633,26 @@ class LatticePlanner:
         t_join = deadline.elapsed_s
         g_nodes = g_join[:, 0].astype(np.int64)
         h = self._heuristic(g_nodes, np.min(g_join[:, 1:], axis=1))
-        dist, pred = self._astar(
-            h, (s_states[s_ok], s_w[s_ok]), (g_states[g_ok], g_w[g_ok], g_nodes.repeat(n_h)[g_ok])
-        )
+        starts = (s_states[s_ok], s_w[s_ok])
+        goals = (g_states[g_ok], g_w[g_ok], g_nodes.repeat(n_h)[g_ok])
+        dist, pred = self._astar(self.lattice_.graph, self._edges, h, starts, goals)
         t_search = deadline.elapsed_s - t_join
-        total = float(dist[snk])
+        total = float(dist[-1])
         if not math.isfinite(total):
             raise PlanningError(
                 f"no lattice path from start ({s[0]:g}, {s[1]:g}) to goal ({g[0]:g}, {g[1]:g}) "
                 f"at {self.cost.speed_mps:g} m/s on {self.cell_m_:g} m cells"
             )
-        chain = [int(pred[snk])]
-        while chain[-1] != src:
-            chain.append(int(pred[chain[-1]]))
-        states = np.array(chain[-2::-1], dtype=np.int64)
-        join_node = s_join_of[int(states[0])]  # the run ahead of the start began there
-        nodes = np.concatenate([[join_node], states // n_h])
-        pts = self._node_xy(nodes // nx, nodes % nx)
-        raw = simplify(np.vstack([[s], pts, [g]]))
-        # smoothing passes while time remains; every stage is evaluated in full and the
-        # best (feasible first, then the objective) is kept, so smoothing never loses
-        t0 = deadline.elapsed_s
-        wps, pc = raw, self._evaluate(raw, initial_heading_rad)
-        t_eval, t_smooth = deadline.elapsed_s - t0, 0.0
-        best_key = self._rank(pc)
-        stage = raw
-        for _ in range(self.options.smoothing_passes):
-            if deadline.expired:
-                break
-            t0 = deadline.elapsed_s
-            stage = self._smoother.shortcut(stage)
-            t1 = deadline.elapsed_s
-            pc_stage = self._evaluate(stage, initial_heading_rad)
-            t_smooth, t_eval = t_smooth + t1 - t0, t_eval + deadline.elapsed_s - t1
-            if self._rank(pc_stage) < best_key:
-                wps, pc, best_key = stage, pc_stage, self._rank(pc_stage)
-        if self.options.refine is not None and self.weights is None and not deadline.expired:
-            t0 = deadline.elapsed_s
-            ref = refine_waypoints(
-                wps, self.cost, self.grid, initial_heading_rad=initial_heading_rad,
-                options=self.options.refine, deadline=deadline,
-            )  # fmt: skip
-            t_smooth += deadline.elapsed_s - t0
-            if ref.improved:
-                wps, pc = ref.waypoints, ref.cost
+        raw = self._route(pred, s_join_of, s, g)
+        driven = self._ctrl is not None
+        cands, t_smooth, t_eval = self._polish(raw, initial_heading_rad, deadline, driven=driven)
+        if driven and self._static is not None and not deadline.expired:
+            cands += self._static_candidates(
+                self._static, (h, starts, goals), (s_join_of, s, g), initial_heading_rad, deadline
+            )
+        wps, pc = cands[-1]  # the refined route, if the refinement improved it
+        if driven and len(cands) > 1:
+            wps, pc = self._pick(cands, initial_heading_rad, deadline)
         name = "penalty" if self.weights is not None else self.cost.name
         plan = Plan(
             waypoints=wps,

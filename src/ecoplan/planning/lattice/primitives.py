@@ -9,6 +9,7 @@ and the sparse graph of transitions between lattice states ``node * headings + h
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -19,6 +20,8 @@ import numpy.typing as npt
 from scipy import sparse
 
 from ecoplan._typing import FloatArray, IntArray
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.controlled import controlled_turns
 from ecoplan.energy.objective import CostObjective
 from ecoplan.energy.primitives import _min_radius
 from ecoplan.energy.turns import fillet_points, turn_costs
@@ -31,6 +34,7 @@ __all__ = [
     "PenaltyWeights",
     "TerrainCosts",
     "build_lattice",
+    "driven_turn_costs",
     "lattice_directions",
     "terrain_costs",
 ]
@@ -106,6 +110,10 @@ class TerrainCosts:
         Radius whose fillet must be free [m] (the smallest feasible arc; 0: on the spot).
     t_max_m : float
         Largest fillet tangent of any terrain [m] (sizes the run ahead of the start).
+    turn_more : ndarray or None
+        With a controller (:func:`driven_turn_costs`): cost of the same turn when it
+        continues a corner begun at the same node, shape as ``turn``; ``turn`` is then
+        the cost of a corner's first heading step.  ``None``: every turn costs ``turn``.
     """
 
     per_m: FloatArray
@@ -113,6 +121,7 @@ class TerrainCosts:
     m_steps: IntArray
     r_check_m: FloatArray
     t_max_m: float
+    turn_more: FloatArray | None = None
 
 
 def _auto_room(
@@ -199,6 +208,66 @@ def terrain_costs(
     return TerrainCosts(per_m, turn, m_steps, r_check, t_max_all)
 
 
+def driven_turn_costs(
+    costs: TerrainCosts,
+    cost: CostObjective,
+    names: tuple[str | None, ...],
+    dirs: IntArray,
+    controller: HeadingController,
+) -> TerrainCosts:
+    """The turns of ``costs`` valued as the heading controller drives corners.
+
+    A corner of heading change ``Δψ`` on a terrain costs its excess ``E(Δψ)`` beyond
+    straight driving as the controller drives it (tracked paper §IV, eq. 23: the corner
+    tables of :func:`ecoplan.energy.controlled.controlled_turns`, with the settled leg
+    after the corner, the isolated corner).  The lattice turns one heading step at a time,
+    so a corner's first step costs ``E(|δ|)`` of its own angle ``δ`` and every further
+    step at the same node ``s |δ|`` with the slope ``s = (E(π/2) - E(π/8)) / (3π/8)``:
+    piecewise linear through the table at one step and at a right angle (the excess is
+    concave in ``Δψ``: a second corner costs more than widening the first).  Values go
+    through the objective's ``turn_value`` (joules for energy, 0 for length), floored at
+    :data:`EPS`; turns the static model finds infeasible (the (v, r) limits) stay ``inf``.
+
+    Parameters
+    ----------
+    costs : TerrainCosts
+        :func:`terrain_costs` of the same terrains (feasibility, steps, fillet checks).
+    cost : CostObjective
+        Vehicle, cruise speed and objective.
+    names : tuple of str or None
+        Terrain names of the grid's labels.
+    dirs : ndarray of int, shape (headings, 2)
+        :func:`lattice_directions`.
+    controller : HeadingController
+        Gain and switching radius; its set point is replaced by the cost's speed.
+
+    Returns
+    -------
+    TerrainCosts
+        ``costs`` with ``turn`` the first step of a corner and ``turn_more`` the rest.
+    """
+    hdg = np.arctan2(dirs[:, 1], dirs[:, 0])
+    n_h = len(hdg)
+    new_h = (np.arange(n_h)[:, None] + np.array([1, -1])[None, :]) % n_h
+    step = np.abs(np.remainder(hdg[new_h] - hdg[:, None] + math.pi, 2.0 * math.pi) - math.pi)
+    ctrl = dataclasses.replace(controller, speed_mps=cost.speed_mps)  # as path_cost does
+    first = np.full_like(costs.turn, np.inf)
+    more = np.full_like(costs.turn, np.inf)
+    for t, name in enumerate(names):
+        ok = np.isfinite(costs.turn[t])
+        if not ok.any():
+            continue
+        tab = controlled_turns(cost.params(name), ctrl)
+        leg = float(tab.legs_m[-1])
+        e_first = np.array([tab.corner_excess(a, leg).energy_j for a in step.ravel()])
+        e_right = tab.corner_excess(math.pi / 2.0, leg).energy_j
+        slope = (e_right - tab.corner_excess(math.pi / 8.0, leg).energy_j) / (3.0 * math.pi / 8.0)
+        for out, e in ((first, e_first.reshape(step.shape)), (more, slope * step)):
+            val = np.asarray(cost.turn_value(e), dtype=np.float64)
+            out[t] = np.where(ok, np.maximum(val, 0.0) + EPS, np.inf)
+    return dataclasses.replace(costs, turn=first, turn_more=more)
+
+
 def _step_offsets(direction: IntArray, k: int) -> tuple[IntArray, IntArray]:
     """Fine-cell offsets (row, col) swept by one straight step, from the node's fine cell."""
     dx, dy = float(direction[0] * k), float(direction[1] * k)
@@ -275,7 +344,10 @@ class LatticeGraph:
         Search cost of the straight step of each heading from each node (inf: blocked).
     graph : scipy.sparse.csr_matrix
         Transition costs between states ``node * headings + heading``, with two spare
-        states at the end (the query's source and sink).
+        states at the end (the query's source and sink).  With
+        :attr:`TerrainCosts.turn_more` a second layer of as many states follows the
+        first: the states a turn on the spot ends in (a corner under way at the node),
+        whose further turns cost ``turn_more``; straight steps lead back to the first.
     reverse_steps : scipy.sparse.csr_matrix
         The straight steps between nodes, reversed (``[to, from]`` holds the step's
         cost), with a spare node at the end (the query's goal): the 2-D graph of
@@ -296,7 +368,7 @@ class LatticeGraph:
 
     @property
     def n_states(self) -> int:
-        """Lattice states (nodes times headings), without the source and sink."""
+        """Lattice states (nodes times headings, times the layers), without source and sink."""
         return int(self.graph.shape[0]) - 2
 
     @property
@@ -360,36 +432,44 @@ def build_lattice(grid: GridMap, costs: TerrainCosts, dirs: IntArray, k: int) ->
             runs[h, mm] = run(h, mm - 1) + _shifted(step[h], (mm - 1) * dirs[h], np.inf)
         return runs[h, mm]
 
-    def add(h_from: int, side: int, h_to: int, m: IntArray, w_turn: FloatArray) -> None:
-        # turn at the node (h_from -> h_to), then m straight steps on h_to
+    n_s = ny * nx * n_h  # states of the first layer; with turn_more a second one follows
+    layers = [(0, turn)] if costs.turn_more is None else [(0, turn), (n_s, costs.turn_more)]
+
+    def add(h_from: int, side: int, h_to: int, m: IntArray, w_turn: FloatArray, at: int) -> None:
+        # turn at the node (h_from -> h_to), then m straight steps on h_to; with two
+        # layers a turn on the spot (m = 0) ends in the second (a corner under way)
         w = np.where(node_free, w_turn, np.inf)
         dx, dy = (int(v) for v in dirs[h_to])
         for mm in np.unique(m_steps[:, h_from, side]).tolist():  # the few per terrain
             acc = w + run(h_to, mm)
             r0, c0 = np.nonzero((m == mm) & np.isfinite(acc))
-            src.append((r0 * nx + c0) * n_h + h_from)
-            dst.append(((r0 + mm * dy) * nx + c0 + mm * dx) * n_h + h_to)
+            src.append(at + (r0 * nx + c0) * n_h + h_from)
+            to = n_s if mm == 0 and len(layers) == 2 else 0
+            dst.append(to + ((r0 + mm * dy) * nx + c0 + mm * dx) * n_h + h_to)
             wts.append(acc[r0, c0])
 
     for h in range(n_h):
         d = dirs[h]
         sr, sc = np.nonzero(np.isfinite(step[h]))
-        src.append((sr * nx + sc) * n_h + h)
-        dst.append(((sr + d[1]) * nx + sc + d[0]) * n_h + h)
-        wts.append(step[h][sr, sc])
+        for at, _ in layers:  # straight steps lead to the first layer
+            src.append(at + (sr * nx + sc) * n_h + h)
+            dst.append(((sr + d[1]) * nx + sc + d[0]) * n_h + h)
+            wts.append(step[h][sr, sc])
         for side, dh in enumerate((1, -1)):
             h2 = (h + dh) % n_h
-            w_turn = turn[node_terr, h, side]
             r_node = r_check[node_terr, h, side]
+            hit = np.zeros((ny, nx), dtype=bool)
             for radius in np.unique(r_check[:, h, side]):
                 if radius <= 0.0:
                     continue
-                hit = view.any_blocked(
+                swept = view.any_blocked(
                     *_fillet_offsets(dirs[h], dirs[h2], float(radius), grid.resolution_m)
                 )
-                w_turn = np.where(hit & (r_node == radius), np.inf, w_turn)
-            add(h, side, h2, m_steps[node_terr, h, side], w_turn)
-    n = ny * nx * n_h + 2
+                hit |= swept & (r_node == radius)
+            for at, cost_of in layers:
+                w_turn = np.where(hit, np.inf, cost_of[node_terr, h, side])
+                add(h, side, h2, m_steps[node_terr, h, side], w_turn, at)
+    n = len(layers) * n_s + 2
     graph = sparse.csr_matrix(
         (np.concatenate(wts), (np.concatenate(src), np.concatenate(dst))), shape=(n, n)
     )
