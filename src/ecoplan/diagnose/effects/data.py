@@ -64,7 +64,8 @@ class EffectData:
         The calibrated model's power breakdown on the samples.
     lower, upper : ndarray or None
         Physical bounds of the base design's coefficients
-        (:class:`~ecoplan.diagnose.calibrate.BaseDesign`), which every refit keeps.
+        (:class:`~ecoplan.diagnose.calibrate.BaseDesign`), which the tracked refits keep
+        (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`).
     """
 
     frame: Frame
