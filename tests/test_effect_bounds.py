@@ -62,7 +62,7 @@ def _random_log(params, seed: int, mass: float, drag: float, gain: float, pose: 
     )
 
 
-def _check_fit(params, log) -> None:  # type: ignore[no-untyped-def]
+def assert_fit_within_bounds(params, log) -> None:  # type: ignore[no-untyped-def]
     frame = build_frame([log], params, snap_mps=2e-3)
     data = prepare(frame, params, prior=params)
     for name, cls in EFFECTS.items():
@@ -106,7 +106,9 @@ def test_no_fitted_candidate_leaves_its_bounds(
 ) -> None:  # type: ignore[no-untyped-def]
     # a mass and a drag [N s/m] as multiples of the vehicle's mass [kg]: down to -7 x its mass
     m = params.mass_kg
-    _check_fit(params, _random_log(params, seed, mass_share * m, drag_share * m, gain, pose))
+    assert_fit_within_bounds(
+        params, _random_log(params, seed, mass_share * m, drag_share * m, gain, pose)
+    )
 
 
 def test_a_negative_mass_in_the_log_is_fitted_as_no_mass() -> None:
