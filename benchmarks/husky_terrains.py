@@ -48,10 +48,9 @@ from ecoplan.io.borealtc import (
     load_runs,
 )
 from ecoplan.models.identify import leave_one_run_out
-from ecoplan.models.identify_current import (
-    CurrentLog,
+from ecoplan.models.identify_current import CurrentLog, identify_from_currents
+from ecoplan.models.identify_current_vehicle import (
     geometry_of,
-    identify_from_currents,
     motor_current_spec,
     side_force_terrain,
 )

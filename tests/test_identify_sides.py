@@ -67,7 +67,7 @@ def test_the_csv_columns_carry_each_side_into_the_fit(tmp_path) -> None:  # type
 def test_cli_identify_recovers_the_simulated_sides(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
     from ecoplan.cli import main
     from ecoplan.io.vehicles import load_vehicle
-    from ecoplan.models.identify_current import side_force_terrain
+    from ecoplan.models.identify_current_vehicle import side_force_terrain
 
     base = tmp_path / "robot.yaml"
     base.write_text(yaml.safe_dump(MOTOR_DOC, sort_keys=False))

@@ -20,11 +20,13 @@ from ecoplan.errors import InputError
 from ecoplan.io.borealtc import data_root
 from ecoplan.models.identify_current import (
     CurrentLog,
-    friction_n_per_mu,
     identify_from_currents,
-    motor_current_spec,
     planner_driver_terms,
     predict_currents,
+)
+from ecoplan.models.identify_current_vehicle import (
+    friction_n_per_mu,
+    motor_current_spec,
     side_force_terrain,
 )
 from ecoplan.models.identify_logs import free_driving_log

@@ -11,8 +11,8 @@ from pydantic import ValidationError
 
 from ecoplan.errors import InputError
 from ecoplan.models.tracked import TrackedParams
+from ecoplan.models.vehicle_schema import SOURCES
 from ecoplan.models.vehicles import (
-    SOURCES,
     shipped_names,
     shipped_vehicle,
     vehicle_from_mapping,

@@ -28,8 +28,8 @@ from ecoplan.models.identify_current import (
     CurrentIdentification,
     CurrentLog,
     identify_from_currents,
-    motor_current_spec,
 )
+from ecoplan.models.identify_current_vehicle import motor_current_spec
 from ecoplan.models.identify_logs import DriveLog, VehicleIdentification, identify_vehicle
 
 __all__ = ["current_logs", "drive_logs", "identify_from_logs"]

@@ -1,6 +1,6 @@
 """Reading a user's vehicle file, with one-line errors that name the file, line and field.
 
-The schema is :class:`ecoplan.models.vehicles.VehicleFile`; the YAML reader and the
+The schema is :class:`ecoplan.models.vehicle_schema.VehicleFile`; the YAML reader and the
 error format are those of every ecoplan YAML file (:mod:`ecoplan.io.yaml`)::
 
     husky.yaml:7: inertia.mass_kg: expected a number > 0; got -5
@@ -19,13 +19,8 @@ from pydantic import ValidationError
 
 from ecoplan.errors import InputError
 from ecoplan.io.yaml import error_at, format_validation, read_text, read_yaml
-from ecoplan.models.vehicles import (
-    Vehicle,
-    VehicleFile,
-    limit_problem,
-    shipped_names,
-    shipped_vehicle,
-)
+from ecoplan.models.vehicle_schema import VehicleFile, limit_problem
+from ecoplan.models.vehicles import Vehicle, shipped_names, shipped_vehicle
 
 __all__ = ["MAX_VEHICLE_FILE_BYTES", "load_vehicle", "parse_vehicle"]
 
@@ -39,7 +34,7 @@ def parse_vehicle(text: str, source: str = "<string>") -> Vehicle:
     Parameters
     ----------
     text : str
-        YAML document (see :mod:`ecoplan.models.vehicles` for the schema).
+        YAML document (see :mod:`ecoplan.models.vehicle_schema` for the schema).
     source : str
         Name used in error messages.
 

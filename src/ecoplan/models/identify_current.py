@@ -3,9 +3,12 @@
 A robot that logs the motor current of each side (``power_log: motor_current`` in its
 vehicle file; :mod:`ecoplan.models.motor_current`) measures forces, not power: the
 current of a side is its no-load current plus its driving force times ``c = r / (G k_t)``.
-This module fits, per terrain, the four coefficients of :class:`SideForceTerrain`
+This module fits, per terrain, the six coefficients of :class:`SideForceTerrain`
 
-    θ = (I0 [A], K [N], µ [-], λ0 [-])
+    θ = (I0 [A], K [N], µ [-], λ0 [-], K_s [N], s0 [m])
+
+(``K_s``, ``s0``: the start-up resistance ``K_s exp(-s / s0)`` after each stop, 0 on
+ground where the robot does not settle in; ``s0`` is then not identified)
 
 to the logged side currents by bounded nonlinear least squares
 (:func:`scipy.optimize.least_squares`, both sides' residuals), with the base vehicle's
@@ -13,7 +16,7 @@ geometry, mass and χ and the file's ``c`` held fixed (the logs scale the forces
 ``c`` only: ``c`` and the winding resistance are stated assumptions, not identified).
 
 * **Intervals**: moving-block bootstrap over samples (blocks of ``block_s`` seconds),
-  percentile intervals at a joint level (Bonferroni over the four coefficients); the bias
+  percentile intervals at a joint level (Bonferroni over the six coefficients); the bias
   of encoder noise (errors in the regressors) is removed by SIMEX and the interval widened
   by its size, as in :mod:`ecoplan.models.identify_logs`.
 * **Held-out error**: leave-one-log-out (several logs; a single log: its last
@@ -41,6 +44,11 @@ from scipy.optimize import least_squares, lsq_linear
 from ecoplan._typing import BoolArray, FloatArray, RngLike
 from ecoplan.errors import InputError
 from ecoplan.models._validate import check_log_fields, check_range, finite_array
+from ecoplan.models.identify_current_vehicle import (
+    geometry_of,
+    motor_current_spec,
+    side_force_terrain,
+)
 from ecoplan.models.identify_logs import (
     DriveLog,
     check_fit_options,
@@ -54,9 +62,10 @@ from ecoplan.models.motor_current import (
     battery_power_w,
     side_currents_a,
     side_forces,
+    travel_since_stop_m,
     turn_slip,
 )
-from ecoplan.models.tracked import GRAVITY_MPS2, TrackedParams, tracked_power
+from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.vehicles import Vehicle, vehicle_from_mapping
 
 __all__ = [
@@ -65,13 +74,9 @@ __all__ = [
     "CurrentFit",
     "CurrentIdentification",
     "CurrentLog",
-    "friction_n_per_mu",
-    "geometry_of",
     "identify_from_currents",
-    "motor_current_spec",
     "planner_driver_terms",
     "predict_currents",
-    "side_force_terrain",
 ]
 
 #: Coefficients identified per terrain, in fit order.
@@ -80,10 +85,19 @@ CURRENT_PARAMETERS: tuple[str, ...] = (
     "k_resistance_n",
     "mu",
     "turn_slip_scale",
+    "startup_force_n",
+    "startup_distance_m",
 )
-_LOWER = np.array([0.0, 0.0, 0.0, 1e-3])
-_UPPER = np.array([50.0, 1e4, 5.0, 10.0])
-_START = np.array([0.5, 30.0, 0.3, 0.1])
+_LOWER = np.array([0.0, 0.0, 0.0, 1e-3, 0.0, 0.05])
+_UPPER = np.array([50.0, 1e4, 5.0, 10.0, 1e4, 20.0])
+_START = np.array([0.5, 30.0, 0.3, 0.1, 10.0, 1.0])
+#: Values of the start-up coefficients when they are not fitted (no start-up resistance).
+_NO_STARTUP = np.array([0.0, 1.0])
+
+
+def _free(startup: bool) -> BoolArray:
+    """Which of :data:`CURRENT_PARAMETERS` a fit adjusts (the start-up pair on request)."""
+    return np.array([True] * 4 + [startup] * 2)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -160,35 +174,10 @@ class CurrentLog:
         return bus_voltage_v * (self.current_left_a + self.current_right_a)
 
 
-def friction_n_per_mu(params: TrackedParams) -> float:
-    """The turning force pair per unit µ, ``c_S = P_S / |V_r - V_l|`` (tracked eq. 10) [N]."""
-    unit = dataclasses.replace(params, mu=1.0, p_total_max_w=None, p_motor_max_w=None)
-    return float(tracked_power(np.array([0.0]), np.array([1.0]), unit).friction_w[0])
-
-
-def _geometry(base: Vehicle, terrain: str) -> dict[str, float]:
-    key = terrain if terrain in base.spec.terrains else base.default_terrain
-    params = base.params(key)
-    if not isinstance(params, TrackedParams):
-        raise InputError(
-            f"identify: base vehicle {base.name} uses the radius-fit model; the side-force "
-            "model needs a contact-friction vehicle (its contact layout and χ)"
-        )
-    g = base.spec.geometry
-    return {
-        "friction_n_per_mu": friction_n_per_mu(params),
-        "mass_kg": base.mass_kg,
-        "yaw_inertia_kgm2": base.yaw_inertia_kgm2,
-        "half_wheelbase_m": 0.5 * g.wheelbase_m,
-        "track_gauge_m": g.track_gauge_m,
-        "spread_m": params.icr.spread_m,
-    }
-
-
 def predict_currents(
     log: CurrentLog, ground: SideForceTerrain, spec: MotorCurrentLog, geometry: Mapping[str, float]
 ) -> tuple[FloatArray, FloatArray]:
-    """Side currents [A] the side-force model predicts for a log (geometry of :func:`_geometry`)."""
+    """Side currents [A] the side-force model predicts for a log (:func:`.geometry_of`)."""
     grade = 0.0 if log.grade_rad is None else log.grade_rad
     fl, fr = side_forces(log.t_s, log.v_left, log.v_right, ground, grade_rad=grade, **geometry)
     return side_currents_a(spec, ground, log.v_left, log.v_right, fl, fr)
@@ -218,6 +207,8 @@ class CurrentFit:
         Mean logged signal [W].
     n_excluded : int
         Samples the logs mark :attr:`CurrentLog.excluded`; they count in none of the above.
+    fitted : tuple of str
+        Coefficients the fit adjusted (the others hold the values of "no start-up term").
     """
 
     terrain: str
@@ -229,6 +220,7 @@ class CurrentFit:
     heldout_energy_error: tuple[float, ...]
     mean_power_w: float
     n_excluded: int = 0
+    fitted: tuple[str, ...] = CURRENT_PARAMETERS
 
     @property
     def median_energy_error(self) -> float:
@@ -237,13 +229,13 @@ class CurrentFit:
 
     @property
     def identified(self) -> tuple[str, ...]:
-        """Coefficients identified (all of :data:`CURRENT_PARAMETERS`)."""
-        return CURRENT_PARAMETERS
+        """Coefficients identified (:attr:`fitted`)."""
+        return self.fitted
 
     @property
     def unidentified(self) -> tuple[str, ...]:
-        """Coefficients left at the base's values (none: every one is fitted)."""
-        return ()
+        """Coefficients not fitted (the start-up pair unless asked for: no start-up term)."""
+        return tuple(n for n in CURRENT_PARAMETERS if n not in self.fitted)
 
     @property
     def clamped(self) -> dict[str, float]:
@@ -342,7 +334,7 @@ class CurrentIdentification:
                     "ref": note,
                     "interval": [float(f"{x:.5g}") for x in fit.intervals[name]],
                 }
-                for name in ("mu", "k_resistance_n", "turn_slip_scale", "no_load_current_a")
+                for name in fit.fitted
             }
             entry["heldout_mae_w"] = float(f"{fit.heldout_mae_w:.5g}")
             out[terrain] = entry
@@ -355,7 +347,7 @@ class _Design:
     def __init__(self, logs: Sequence[CurrentLog], geometry: Mapping[str, float]) -> None:
         zero = SideForceTerrain(0.0, 0.0, 1.0)
         unit_k = SideForceTerrain(1.0, 0.0, 1.0)
-        cols: dict[str, list[FloatArray]] = {k: [] for k in ("m0l", "m0r", "kl", "kr", "lam")}
+        cols: dict[str, list[FloatArray]] = {k: [] for k in ("m0l", "m0r", "kl", "kr", "lam", "s")}
         cols.update(turn=[], sl=[], sr=[], il=[], ir=[], known=[], used=[])
         for log in logs:
             grade = 0.0 if log.grade_rad is None else log.grade_rad
@@ -365,6 +357,7 @@ class _Design:
             cols["m0r"].append(m0[1])
             cols["kl"].append(k1[0] - m0[0])
             cols["kr"].append(k1[1] - m0[1])
+            cols["s"].append(travel_since_stop_m(log.t_s, log.v_left, log.v_right))
             dv = log.v_right - log.v_left
             cols["turn"].append(np.sign(dv) * (np.abs(dv) > 0.01))
             cols["lam"].append(
@@ -385,7 +378,8 @@ class _Design:
         self, theta: FloatArray, c: float, idx: FloatArray | slice
     ) -> tuple[FloatArray, FloatArray]:
         x = {k: v[idx] for k, v in self.x.items()}
-        i0, k, mu, lam0 = theta
+        i0, k0, mu, lam0, k_s, s0 = theta
+        k = k0 + k_s * np.exp(-x["s"] / s0)
         f_turn = mu * self.cs * np.tanh(x["lam"] / lam0) * x["turn"]
         fl = x["m0l"] + k * x["kl"] - f_turn
         fr = x["m0r"] + k * x["kr"] + f_turn
@@ -393,20 +387,27 @@ class _Design:
         ir = i0 + c * np.maximum(fr * x["sr"], 0.0)
         return il, ir
 
-    def fit(self, c: float, idx: FloatArray | slice, start: FloatArray) -> FloatArray:
+    def fit(
+        self, c: float, idx: FloatArray | slice, start: FloatArray, free: BoolArray
+    ) -> FloatArray:
         meas_l, meas_r = self.x["il"][idx], self.x["ir"][idx]
         known = self.x["known"][idx].astype(bool)
         used = self.x["used"][idx].astype(np.float64)
 
+        full = np.where(free, start, np.concatenate([start[:4], _NO_STARTUP]))
+
         def residual(theta: FloatArray) -> FloatArray:
             # each side where the sides are logged, else the sum (and a zero)
-            il, ir = self.currents(theta, c, idx)
+            full[free] = theta
+            il, ir = self.currents(full, c, idx)
             first = np.where(known, il - meas_l, il + ir - meas_l - meas_r)
             return np.concatenate([first * used, (ir - meas_r) * known * used])
 
-        x0 = np.clip(start, _LOWER + 1e-9, _UPPER - 1e-9)
-        res = least_squares(residual, x0, bounds=(_LOWER, _UPPER), x_scale=_START)
-        return np.asarray(res.x, dtype=np.float64)
+        x0 = np.clip(start, _LOWER + 1e-9, _UPPER - 1e-9)[free]
+        bounds = (_LOWER[free], _UPPER[free])
+        res = least_squares(residual, x0, bounds=bounds, x_scale=_START[free])
+        full[free] = res.x
+        return full.copy()
 
 
 def _noisier(log: CurrentLog, sigma: float, rng: np.random.Generator) -> CurrentLog:
@@ -427,29 +428,31 @@ def _terrain_fit(
     speed_noise_mps: float,
     n_simex: int,
     rng: np.random.Generator,
+    startup: bool,
 ) -> CurrentFit:
     design = _Design(logs, geometry)
     c = spec.amps_per_newton
-    theta = design.fit(c, slice(None), _START)
+    free = _free(startup)
+    theta = design.fit(c, slice(None), _START, free)
     t_all = np.concatenate([log.t_s - log.t_s[0] + 1e6 * i for i, log in enumerate(logs)])
     blocks = _blocks(t_all, block_s)
     boots = []
     for _ in range(n_boot):
         pick = rng.integers(0, len(blocks), len(blocks))
-        boots.append(design.fit(c, np.concatenate([blocks[k] for k in pick]), theta))
-    alpha = (1.0 - level) / len(CURRENT_PARAMETERS)  # Bonferroni: joint coverage >= level
+        boots.append(design.fit(c, np.concatenate([blocks[k] for k in pick]), theta, free))
+    alpha = (1.0 - level) / int(free.sum())  # Bonferroni: joint coverage >= level
     lo, hi = np.percentile(np.array(boots), (100 * alpha / 2, 100 * (1 - alpha / 2)), axis=0)
     if speed_noise_mps > 0.0:  # SIMEX: bias of the encoder noise, extrapolated to no noise
         sims = [
             _Design([_noisier(log, speed_noise_mps, rng) for log in logs], geometry).fit(
-                c, slice(None), theta
+                c, slice(None), theta, free
             )
             for _ in range(n_simex)
         ]
         shift = theta - np.mean(sims, axis=0)
         theta = np.clip(theta + shift, _LOWER, _UPPER)
         lo, hi = simex_widen(lo, hi, shift, 0.0)
-    mae, energy = _holdout(logs, geometry, spec, holdout_fraction, theta)
+    mae, energy = _holdout(logs, geometry, spec, holdout_fraction, theta, free)
     signal = np.concatenate([log.logged_power_w(spec.bus_voltage_v)[log.used] for log in logs])
     return CurrentFit(
         terrain=logs[0].terrain,
@@ -461,6 +464,7 @@ def _terrain_fit(
         heldout_energy_error=energy,
         mean_power_w=float(signal.mean()),
         n_excluded=int(sum(int(np.sum(~log.used)) for log in logs)),
+        fitted=tuple(n for n, f in zip(CURRENT_PARAMETERS, free, strict=True) if f),
     )
 
 
@@ -470,6 +474,7 @@ def _holdout(
     spec: MotorCurrentLog,
     holdout_fraction: float,
     start: FloatArray,
+    free: BoolArray,
 ) -> tuple[float, tuple[float, ...]]:
     """Leave-one-log-out (several logs) or a final time split (one log)."""
     splits: list[tuple[list[CurrentLog], CurrentLog]] = []
@@ -492,7 +497,7 @@ def _holdout(
     energy: list[float] = []
     v_bus = spec.bus_voltage_v
     for train, held in splits:
-        theta = _Design(train, geometry).fit(spec.amps_per_newton, slice(None), start)
+        theta = _Design(train, geometry).fit(spec.amps_per_newton, slice(None), start, free)
         ground = SideForceTerrain(
             **{n: float(x) for n, x in zip(CURRENT_PARAMETERS, theta, strict=True)}
         )
@@ -519,6 +524,7 @@ def identify_from_currents(
     speed_noise_mps: float = 0.005,
     n_simex: int = 10,
     rng: RngLike = None,
+    startup: bool = False,
 ) -> CurrentIdentification:
     """Identify the side-force model of each terrain from motor-current logs.
 
@@ -549,6 +555,10 @@ def identify_from_currents(
         Refits averaged in the SIMEX step.
     rng : Generator, int or None
         Randomness of the bootstrap.
+    startup : bool
+        Also fit the start-up resistance ``K_s exp(-s / s0)`` after each stop (ground where
+        a robot at rest settles in: snow, soft soil); False: no start-up term (``K_s = 0``,
+        the pair reported as not identified).
 
     Returns
     -------
@@ -572,7 +582,7 @@ def identify_from_currents(
     fits = {
         terrain: _terrain_fit(
             group,
-            _geometry(base, terrain),
+            geometry_of(base, terrain),
             spec,
             level=level,
             n_boot=n_boot,
@@ -581,45 +591,11 @@ def identify_from_currents(
             speed_noise_mps=speed_noise_mps,
             n_simex=n_simex,
             rng=gen,
+            startup=startup,
         )
         for terrain, group in sorted(by_terrain.items())
     }
     return CurrentIdentification(base, spec, fits, level, tuple(logs), name or base.name)
-
-
-def motor_current_spec(vehicle: Vehicle) -> MotorCurrentLog:
-    """The :class:`MotorCurrentLog` of a vehicle file with ``power_log: motor_current``.
-
-    Raises
-    ------
-    InputError
-        The file's logs are battery power.
-    """
-    log = vehicle.spec.power_log
-    if log.signal != "motor_current" or log.bus_voltage_v is None or log.amps_per_newton is None:
-        raise InputError(f"{vehicle.name}: power_log.signal is {log.signal}, not motor_current")
-    r = log.winding_resistance_ohm
-    return MotorCurrentLog(
-        log.bus_voltage_v.value, log.amps_per_newton.value, 0.0 if r is None else r.value
-    )
-
-
-def side_force_terrain(vehicle: Vehicle, terrain: str | None = None) -> SideForceTerrain:
-    """The side-force coefficients of a terrain of a ``motor_current`` vehicle file."""
-    motor_current_spec(vehicle)  # refuses battery-power files
-    e = vehicle.terrain(terrain)
-    assert e.mu is not None and e.turn_slip_scale is not None  # schema of motor_current files
-    k = e.k_resistance_n.value if e.k_resistance_n is not None else None
-    if k is None:
-        rr = 0.0 if e.rolling_resistance is None else e.rolling_resistance.value
-        k = rr * vehicle.mass_kg * GRAVITY_MPS2 / 2.0
-    i0 = 0.0 if e.no_load_current_a is None else e.no_load_current_a.value
-    return SideForceTerrain(k, e.mu.value, e.turn_slip_scale.value, i0)
-
-
-def geometry_of(vehicle: Vehicle, terrain: str | None = None) -> dict[str, float]:
-    """Geometry and mass keywords of :func:`~ecoplan.models.motor_current.side_forces`."""
-    return _geometry(vehicle, terrain or vehicle.default_terrain)
 
 
 #: Driver terms of the planners' contact-friction model fitted to the forces' battery power.
@@ -654,9 +630,9 @@ def planner_driver_terms(
         ``p_braking_w`` [W], ``k_nonregen_n`` [N], ``p_powerup_w`` [W].
     """
     spec, ground = motor_current_spec(vehicle), side_force_terrain(vehicle, terrain)
-    geom = _geometry(vehicle, terrain)
+    geom = geometry_of(vehicle, terrain)
     full = vehicle.params(terrain)
-    assert isinstance(full, TrackedParams)  # _geometry refuses radius-fit files
+    assert isinstance(full, TrackedParams)  # geometry_of refuses radius-fit files
     params = dataclasses.replace(full, p_braking_w=0.0, k_nonregen_n=0.0, p_powerup_w=0.0)
     rows, target = [], []
     for log in logs:

@@ -14,7 +14,11 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.models._validate import finite_array
-from ecoplan.models.identify_current import geometry_of, motor_current_spec, side_force_terrain
+from ecoplan.models.identify_current_vehicle import (
+    geometry_of,
+    motor_current_spec,
+    side_force_terrain,
+)
 from ecoplan.models.motor_current import side_currents_a, side_forces
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.vehicles import Vehicle
@@ -37,7 +41,7 @@ def logged_signal_w(
     ``mass_terms=False`` leaves out the acceleration forces (steady motion; ``t_s`` then
     only needs one value per sample).
 
-    >>> from ecoplan.models.identify_current import motor_current_spec, side_force_terrain
+    >>> from ecoplan.models.identify_current_vehicle import motor_current_spec, side_force_terrain
     >>> from ecoplan.models.vehicles import shipped_vehicle
     >>> husky = shipped_vehicle("husky-a200")
     >>> t, v = np.arange(5.0), np.full(5, 0.5)

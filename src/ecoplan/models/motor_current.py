@@ -18,10 +18,14 @@ with speed.
 
 The side forces [N] (REP-103, positive forward), per side ``i`` with ``s_i = sign(V_i)``:
 
-    F_i = K s_i ± F_turn + (M a + M g sin θ) / 2 ± I_z α / B
+    F_i = (K + K_s exp(-s / s0)) s_i ± F_turn + (M a + M g sin θ) / 2 ± I_z α / B
 
 * ``K``: rolling (traction) resistance of the terrain per side (the force behind tracked
-  eq. 18, ``P_R = K (|V_l| + |V_r|)``);
+  eq. 18, ``P_R = K (|V_l| + |V_r|)``), plus a **start-up resistance**
+  ``K_s exp(-s / s0)`` that decays with the wheel travel ``s`` since the robot last stood
+  still (:func:`travel_since_stop_m`): on deformable ground a robot at rest settles into
+  the terrain and its wheels first climb out of their own depression (break-out of the
+  static sinkage); on rigid ground ``K_s`` is about 0;
 * ``F_turn = µ c_S tanh(λ / λ0) sign(V_r - V_l)``: the pair of longitudinal friction forces
   that turns the robot (tracked eqs. 10-17: ``c_S = P_S / |V_r - V_l|`` per unit µ, from the
   contact layout and χ), ``+`` on the right side; Coulomb friction (eq. 8) would be
@@ -69,6 +73,7 @@ __all__ = [
     "logged_power_w",
     "side_currents_a",
     "side_forces",
+    "travel_since_stop_m",
     "turn_slip",
 ]
 
@@ -112,12 +117,18 @@ class SideForceTerrain:
         Wheel slip ``λ0`` over which the turning force saturates [-], in (0, 10].
     no_load_current_a : float
         No-load current of a side's motor [A], >= 0.
+    startup_force_n : float
+        Start-up resistance per side ``K_s`` at the moment the robot sets off [N], >= 0.
+    startup_distance_m : float
+        Wheel travel ``s0`` over which the start-up resistance decays by ``1/e`` [m], > 0.
     """
 
     k_resistance_n: float
     mu: float
     turn_slip_scale: float
     no_load_current_a: float = 0.0
+    startup_force_n: float = 0.0
+    startup_distance_m: float = 1.0
 
     def __post_init__(self) -> None:
         who = "SideForceTerrain"
@@ -125,6 +136,8 @@ class SideForceTerrain:
         check_range(who, "mu", self.mu, 0.0, 5.0)
         check_range(who, "turn_slip_scale", self.turn_slip_scale, 0.0, 10.0, lo_open=True)
         check_range(who, "no_load_current_a", self.no_load_current_a, 0.0, 1e3)
+        check_range(who, "startup_force_n", self.startup_force_n, 0.0, 1e5)
+        check_range(who, "startup_distance_m", self.startup_distance_m, 0.0, 1e3, lo_open=True)
 
 
 def turn_slip(
@@ -143,6 +156,31 @@ def turn_slip(
     wa = np.abs(vr - vl) / spread_m * half_wheelbase_m
     den = np.hypot(0.5 * (vl + vr), wa)
     return np.divide(wa, den, out=np.zeros_like(den), where=den > 0.0)
+
+
+def travel_since_stop_m(
+    t_s: ArrayLike, v_left: ArrayLike, v_right: ArrayLike, speed_tol_mps: float = 0.01
+) -> FloatArray:
+    """Wheel travel since the robot last stood still [m], per sample.
+
+    ``s(t) = ∫ (|V_l| + |V_r|) / 2 dt`` (trapezoids) from the last sample where both sides
+    were slower than ``speed_tol_mps``; the first sample counts as a stop (a log, like a
+    plan, starts from rest).
+
+    >>> [round(float(x), 3) for x in travel_since_stop_m([0, 1, 2, 3, 4], [0, .2, .2, 0, .2],
+    ...                                                  [0, .2, .2, 0, .4])]
+    [0.0, 0.1, 0.3, 0.0, 0.15]
+    """
+    t = finite_array("t_s", t_s)
+    vl, vr = finite_array("v_left", v_left), finite_array("v_right", v_right)
+    if t.size == 0:
+        return np.zeros(0)
+    speed = 0.5 * (np.abs(vl) + np.abs(vr))
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(t))])
+    stopped = (np.abs(vl) <= speed_tol_mps) & (np.abs(vr) <= speed_tol_mps)
+    stopped[0] = True
+    last = np.maximum.accumulate(np.where(stopped, np.arange(t.size), 0))
+    return np.where(stopped, 0.0, cum - cum[last])
 
 
 def side_forces(
@@ -203,7 +241,10 @@ def side_forces(
         acc = alpha = np.zeros_like(t)
     f_mass = 0.5 * mass_kg * (acc + GRAVITY_MPS2 * np.sin(grade))
     f_yaw = yaw_inertia_kgm2 * alpha / track_gauge_m
-    k = ground.k_resistance_n
+    k: FloatArray = np.full(t.shape, ground.k_resistance_n)
+    if ground.startup_force_n > 0.0:
+        s = travel_since_stop_m(t, vl, vr, speed_tol_mps)
+        k += ground.startup_force_n * np.exp(-s / ground.startup_distance_m)
     s_l = np.sign(vl) * (np.abs(vl) > speed_tol_mps)
     s_r = np.sign(vr) * (np.abs(vr) > speed_tol_mps)
     return k * s_l - f_turn + f_mass - f_yaw, k * s_r + f_turn + f_mass + f_yaw
