@@ -44,6 +44,7 @@ from ecoplan.io.borealtc import (
     BorealRun,
     at_rest_mask,
     data_root,
+    imu_grade_rad,
     list_terrains,
     load_runs,
 )
@@ -273,6 +274,18 @@ def main() -> int:
     ap.add_argument("--write", type=Path, default=None, help="write the identified vehicle file")
     ap.add_argument("--explain", action="store_true", help="print what the data say, no fit")
     ap.add_argument(
+        "--no-grade",
+        dest="grade",
+        action="store_false",
+        help="drive every run on the flat (no IMU grade in the fits and the predictions)",
+    )
+    ap.add_argument(
+        "--no-startup",
+        dest="startup",
+        action="store_false",
+        help="no start-up resistance after stops (ecoplan.models.motor_current)",
+    )
+    ap.add_argument(
         "--no-screen",
         dest="screen",
         action="store_false",
@@ -299,14 +312,20 @@ def main() -> int:
         )
         logs += [
             CurrentLog(r.t, r.v_left, r.v_right, r.current_left, r.current_right, terrain,
-                       r.run_id, excluded=m)
+                       r.run_id, imu_grade_rad(r) if args.grade else None, excluded=m)
             for r, m in zip(runs, rests, strict=True)
         ]  # fmt: skip
     print("screen: samples where the wheels turn but the body rests (gyroscope rms < 0.01 rad/s")
     print("over 5 s), left out of every fit and score (the baseline's too):")
     for terrain, items in stuck.items():
         print(f"  {terrain:<11} {', '.join(items) if items else '-'}")
-    res = identify_from_currents(logs, base, motor_current_spec(base), rng=0, n_boot=args.boot)
+    res = identify_from_currents(
+        logs, base, motor_current_spec(base), rng=0, n_boot=args.boot, startup=args.startup
+    )
+    print(
+        f"grade: {'IMU pitch (io.borealtc.imu_grade_rad)' if args.grade else 'flat'}; "
+        f"start-up resistance after stops: {'fitted' if args.startup else 'none'}"
+    )
     print(
         f"{'terrain':<11} {'runs':>4} {'mean P':>7} {'baseline MAE':>12} {'identified MAE':>14}"
         f" {'beats':>5} {'median |dE|':>11} {'<=10 %':>6}"

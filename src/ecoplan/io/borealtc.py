@@ -20,7 +20,9 @@ default -- an assumption; the true voltage sags under load and with charge.
 :func:`load_run` gives the raw run (:class:`BorealRun`, with the motor currents);
 :func:`load_borealtc` gives it as a :class:`~ecoplan.dynamics.log.Log` (with the
 per-side currents) for the diagnosis and ``ecoplan identify``; :func:`at_rest_mask` marks
-where a run's robot is stuck (wheels turning, body at rest by the IMU's gyroscope).
+where a run's robot is stuck (wheels turning, body at rest by the IMU's gyroscope);
+:func:`imu_grade_rad` gives the slope climbed, from the IMU's accelerometer (the runs have
+no pose and no elevation map).
 """
 
 from __future__ import annotations
@@ -43,6 +45,7 @@ __all__ = [
     "BorealRun",
     "at_rest_mask",
     "data_root",
+    "imu_grade_rad",
     "list_runs",
     "list_terrains",
     "load_borealtc",
@@ -59,6 +62,9 @@ HUSKY_BUS_VOLTAGE_V = 24.0
 _PRO_COLUMNS = ("time", "curL", "curR", "velL", "velR")
 _IMU_COLUMNS = ("time", "wz")
 _GYRO_COLUMNS = ("time", "wx", "wy", "wz")
+_ACCEL_COLUMNS = ("time", "ax")
+#: Standard gravity [m/s²] (the accelerometer's reading of a level body at rest is -g on z).
+_G_MPS2 = 9.81
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -387,6 +393,68 @@ def at_rest_mask(
     return body_at_rest(
         run.t, run.v_left, run.v_right, imu["time"], gyro, max_rate_radps=max_rate_radps
     )
+
+
+def _window_mean(t: FloatArray, x: FloatArray, at: FloatArray, width_s: float) -> FloatArray:
+    """Mean of the samples ``x(t)`` within ``width_s`` centred on each time of ``at``."""
+    c = np.concatenate([[0.0], np.cumsum(x)])
+    i0 = np.searchsorted(t, at - width_s / 2)
+    i1 = np.searchsorted(t, at + width_s / 2)
+    out = (c[i1] - c[i0]) / np.maximum(i1 - i0, 1)
+    return np.where(i1 > i0, out, np.interp(at, t, x))
+
+
+def imu_grade_rad(
+    run: BorealRun,
+    root: str | os.PathLike[str] | None = None,
+    window_s: float = 2.0,
+    max_grade_rad: float = np.pi / 6,
+) -> FloatArray | None:
+    """Slope climbed along the robot's +x per sample [rad], from the IMU's accelerometer.
+
+    An accelerometer on a body pitched nose-up by θ reads ``a_x = dv/dt + g sin θ``; with
+    ``dv/dt`` from the odometry (the mean side speed), ``θ = asin((a_x - dv/dt) / g)``,
+    both sides averaged over ``window_s`` (the accelerometer's vibration and the
+    odometry's steps average out), clipped to ``±max_grade_rad``.  This is the body's
+    pitch: on firm ground the grade of the path; on deformable ground it also holds the
+    trim of a body that sinks in at the rear (a planner's grade comes from its elevation
+    map instead).
+
+    Parameters
+    ----------
+    run : BorealRun
+        A run of :func:`load_run`.
+    root : path-like, optional
+        Data root (see :func:`data_root`).
+    window_s : float
+        Width of the centred means [s], > 0.
+    max_grade_rad : float
+        Largest grade magnitude returned [rad], in (0, π/2).
+
+    Returns
+    -------
+    ndarray or None
+        Per sample of ``run.t``; None when the run has no IMU file.
+
+    Raises
+    ------
+    InputError
+        A bad window or bound.
+    """
+    if not (isinstance(window_s, int | float) and 0.0 < window_s <= 1e3):
+        raise InputError(f"imu_grade_rad: window_s = {window_s!r} s; accepted: (0, 1000]")
+    if not (isinstance(max_grade_rad, int | float) and 0.0 < max_grade_rad < np.pi / 2):
+        raise InputError(f"imu_grade_rad: max_grade_rad = {max_grade_rad!r}; accepted: (0, pi/2)")
+    _, folder = _terrain_dir(run.terrain, root)
+    path = folder / f"imu_{run.run_id}.csv"
+    if not path.is_file():
+        return None
+    imu = _read_csv(path, _ACCEL_COLUMNS)
+    ax = _window_mean(imu["time"], imu["ax"], run.t, window_s)
+    v = _window_mean(run.t, 0.5 * (run.v_left + run.v_right), run.t, window_s)
+    accel = np.gradient(v, run.t) if run.t.size >= 2 else np.zeros_like(v)
+    sin_grade = np.clip((ax - accel) / _G_MPS2, -np.sin(max_grade_rad), np.sin(max_grade_rad))
+    return np.asarray(np.arcsin(sin_grade), dtype=np.float64)
 
 
 def load_runs(
