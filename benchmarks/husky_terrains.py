@@ -11,7 +11,10 @@ terrain table is the side-force model of :mod:`ecoplan.models.motor_current`.  P
   leave-one-run-out (:func:`ecoplan.models.identify.leave_one_run_out`);
 * **identified**: :func:`ecoplan.models.identify_current.identify_from_currents` on the runs
   of the terrain (rolling resistance K, turning friction µ with its slip scale, no-load
-  current I0; geometry, mass and ``c = r / (G k_t)`` fixed), leave-one-run-out as well;
+  current I0, the start-up resistance ``K_s exp(-s / s0)`` after each stop; geometry, mass
+  and ``c = r / (G k_t)`` fixed), with the grade of each sample from the IMU's
+  accelerometer (:func:`ecoplan.io.borealtc.imu_grade_rad`, the runs have no map),
+  leave-one-run-out as well (the held-out run gives its side speeds and its grade only);
 * MAE of the logged signal over all held-out samples [W] and the integral of each held-out
   run, predicted vs measured [%] (median of the absolute errors);
 * the planners' model of the same file: contact-friction power with µ and ``K + I0 / c``,
@@ -132,6 +135,13 @@ HUSKY_BASE: dict[str, object] = {
         "samples where the wheels turn but the body rests (IMU gyroscope rms < 0.01 rad/s over "
         "5 s: a stuck robot, ecoplan.models.identify_screen) are left out of the fits and "
         "the held-out errors, on every terrain (BorealTC: 58 s of SNOW runs 14 and 19)",
+        "grade in the identification: the body pitch from the IMU accelerometer minus the "
+        "odometry's acceleration, 2 s means (ecoplan.io.borealtc.imu_grade_rad); on snow it "
+        "also holds the trim of a body sinking in at the rear; planners take the grade from "
+        "their elevation map",
+        "start-up resistance K_s exp(-s / s0) per side after each stop (s: wheel travel since "
+        "both sides stood still), fitted on every terrain the same way; the planners' "
+        "contact-friction power does not carry it (driver terms absorb its mean)",
     ],
 }
 
@@ -233,7 +243,9 @@ def explain() -> None:
         "\nOn SNOW one command draws 397-674 W (spot turn 0.06 m/s) or 227-313 W (straight"
         "\n0.24 m/s) in different runs (snow depth, slopes up to ~20 deg by the IMU, wheels"
         "\nthat dig in during long spot turns): a model of motion and terrain predicts the"
-        "\nmiddle of that spread, not each run; the median energy error stays near 12 %."
+        "\nmiddle of that spread, not each run.  Short runs from rest draw more per second"
+        "\n(the wheels climb out of the snow they settled into): the start-up resistance"
+        "\nafter each stop and the IMU grade bring the median energy error to about 10 %."
     )
 
 
