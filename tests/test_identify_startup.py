@@ -187,3 +187,17 @@ def test_a_vehicle_file_carries_the_start_up_pair_into_the_side_forces() -> None
     assert (ground.startup_force_n, ground.startup_distance_m) == (K_S, S0)
     bare = side_force_terrain(vehicle_from_mapping(MOTOR_DOC), "asphalt")
     assert bare.startup_force_n == 0.0  # no pair in the file: no start-up term
+
+
+def test_without_startup_the_base_vehicles_pair_is_kept() -> None:
+    doc = yaml.safe_load(yaml.safe_dump(MOTOR_DOC))
+    doc["terrains"]["asphalt"]["startup_force_n"] = {"value": 33.0, "source": "assumption"}
+    doc["terrains"]["asphalt"]["startup_distance_m"] = {"value": 0.4, "source": "assumption"}
+    res = identify_from_currents(_logs(ROBOT50, [0.0] * 2), vehicle_from_mapping(doc), LOG,
+                                 n_boot=10, rng=0)  # fmt: skip
+    written = yaml.safe_load(res.to_yaml())["terrains"]["asphalt"]
+    assert (written["startup_force_n"]["value"], written["startup_force_n"]["source"]) == (
+        33.0,
+        "assumption",
+    )
+    assert side_force_terrain(res.vehicle(), "asphalt").startup_distance_m == 0.4

@@ -336,6 +336,11 @@ class CurrentIdentification:
                 }
                 for name in fit.fitted
             }
+            kept = self.base.spec.terrains.get(terrain)
+            for name in fit.unidentified:  # the base's values, if it has them
+                value = None if kept is None else getattr(kept, name)
+                if value is not None:
+                    entry[name] = value.model_dump(mode="json", exclude_none=True)
             entry["heldout_mae_w"] = float(f"{fit.heldout_mae_w:.5g}")
             out[terrain] = entry
         return out
