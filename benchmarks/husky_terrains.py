@@ -46,7 +46,6 @@ from ecoplan.io.borealtc import (
     HUSKY_BUS_VOLTAGE_V,
     BorealRun,
     at_rest_mask,
-    data_root,
     imu_grade_rad,
     list_terrains,
     load_runs,
@@ -150,14 +149,6 @@ HUSKY_BASE: dict[str, object] = {
 _BINS = (0.05, 0.3, 0.6, 1.0)
 
 
-def _mean_around(t: np.ndarray, x: np.ndarray, at: np.ndarray, width_s: float) -> np.ndarray:
-    """Mean of ``x(t)`` over ``width_s`` centred on each time of ``at``."""
-    c = np.concatenate([[0.0], np.cumsum(x)])
-    i0 = np.searchsorted(t, at - width_s / 2)
-    i1 = np.searchsorted(t, at + width_s / 2)
-    return (c[i1] - c[i0]) / np.maximum(i1 - i0, 1)
-
-
 def _single_command(r: BorealRun) -> str | None:
     """``"straight 0.24 m/s"`` / ``"spot turn 0.06 m/s"`` when a run holds one command."""
     for kind, side in (("straight", r.v_right), ("spot turn", r.v_right)):
@@ -202,14 +193,11 @@ def explain() -> None:
     for terrain in list_terrains():
         slopes = []
         for r in load_runs(terrain):
-            path = data_root() / terrain / f"imu_{r.run_id}.csv"
-            if not path.is_file():
+            grade = imu_grade_rad(r)
+            if grade is None:
                 continue
-            imu = np.genfromtxt(path, delimiter=",", names=True)
-            ax = _mean_around(imu["time"], imu["ax"], r.t, 2.0)
             v = 0.5 * (r.v_left + r.v_right)
-            a = np.gradient(_mean_around(r.t, v, r.t, 2.0), r.t)
-            force = HUSKY_BASE_MASS_KG * 9.81 * np.clip((ax - a) / 9.81, -0.5, 0.5) * np.sign(v)
+            force = HUSKY_BASE_MASS_KG * 9.81 * np.sin(grade) * np.sign(v)
             straight = (np.abs(r.v_right - r.v_left) < 0.03) & (np.abs(v) > 0.05)
             if straight.sum() > 100 and np.std(force[straight]) > 1.0:
                 slopes.append(float(np.polyfit(force[straight], r.p_total[straight], 1)[0]))
