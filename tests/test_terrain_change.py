@@ -194,8 +194,8 @@ def test_the_diagnosis_labels_each_stretch_with_the_preset_terrain_that_drew_it(
 # takes its turning force from the tracked paper's contact layout instead.  The terrains'
 # K, µ, λ0 and I0 are the husky-a200 file's ice and snow values (identified on BorealTC).
 HUSKY = "husky-a200"
-ICE = {"k_n": 50.238, "mu": 0.15275, "slip0": 0.004829, "i0_a": 0.54254}
-SNOW = {"k_n": 125.25, "mu": 0.38612, "slip0": 0.073866, "i0_a": 0.64707}
+ICE = {"k_n": 49.982, "mu": 0.15308, "slip0": 0.0049109, "i0_a": 0.53564}
+SNOW = {"k_n": 102.32, "mu": 0.40235, "slip0": 0.077692, "i0_a": 0.0}
 BUS_V, AMPS_PER_N, MASS_KG, GAUGE_M, HALF_BASE_M = 24.0, 0.0375, 70.0, 0.555, 0.256
 
 
