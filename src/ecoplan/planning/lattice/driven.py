@@ -18,6 +18,7 @@ import numpy as np
 from ecoplan._typing import FloatArray
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.controlled import controlled_turns, drive_path
+from ecoplan.energy.driven_path import DrivenPathCost
 from ecoplan.energy.objective import CostObjective
 from ecoplan.energy.path import path_cost
 from ecoplan.energy.result import PathCost
@@ -36,6 +37,7 @@ _DRIVEN_GAIN = 0.01
 # step of the controller roll-outs that pick among routes [s]: on the Husky's 60 m sites of
 # benchmarks/sites.py within 0.01 % of the simulator at 0.01 s
 _ROLLOUT_DT_S = 0.1
+_MAX_PIECES = 100_000  # pieces of driven evaluations kept across queries (a few MB)
 
 Candidate = tuple[FloatArray, PathCost]
 """A candidate route: waypoints ``(N, 2)`` [m] and their full evaluation."""
@@ -75,6 +77,11 @@ class RouteFinisher:
         self.grid, self.cost, self.smoother = grid, cost, smoother
         self.passes, self.refine_options = smoothing_passes, refine
         self.ctrl, self.weights = controller, weights
+        self._drive: DrivenPathCost | None = None  # the evaluations as driven, pieces cached
+        if controller is not None and cost.elevation is None:
+            self._drive = DrivenPathCost(
+                cost.vehicle, cost.speed_mps, controller, world=grid, max_pieces=_MAX_PIECES
+            )
 
     def rank(
         self, wps: FloatArray, pc: PathCost, heading: float | None, *, driven: bool
@@ -92,8 +99,15 @@ class RouteFinisher:
         return (not pc.feasible, value)
 
     def driven(self, wps: FloatArray, heading: float | None) -> PathCost:
-        """The path as the controller drives it (:mod:`ecoplan.energy.controlled`)."""
+        """The path as the controller drives it (:mod:`ecoplan.energy.controlled`).
+
+        :func:`~ecoplan.energy.path.path_cost` with ``turn=controller``; its pieces are
+        cached across the stages and queries (:class:`~ecoplan.energy.driven_path.DrivenPathCost`),
+        except on an elevation map.
+        """
         assert self.ctrl is not None
+        if self._drive is not None:
+            return self._drive(wps, heading)
         return path_cost(
             wps, self.cost.vehicle, self.cost.speed_mps, world=self.grid,
             initial_heading_rad=heading, turn=self.ctrl, elevation=self.cost.elevation,

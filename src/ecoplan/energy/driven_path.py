@@ -1,0 +1,386 @@
+"""Path costs as the heading controller drives them, with every piece cached.
+
+:func:`ecoplan.energy.path.path_cost` with ``turn=HeadingController(...)`` prices a
+waypoint path the way the tracked paper's heading controller (§IV, eq. 23) drives it,
+from the tables of :mod:`ecoplan.energy.controlled`.  That cost is a sum of pieces, each
+of which depends on a few neighbouring way points only:
+
+* **the start**: the excess of a start misaligned with the first segment (way points 0
+  and 1, the initial heading, whether the path has one segment) and the excess of
+  starting from rest and stopping, on the start's terrain;
+* **each corner** ``i``: its excess from the tables of the terrain at way point ``i``,
+  blended over the terrains the controller turns on
+  (:func:`~ecoplan.energy.controlled.corner_samples`; way points ``i - 1 .. i + 1``,
+  and whether it is the last corner);
+* **each close pair of corners** ``i, i + 1`` (a leg shorter than the tables' settled
+  length): the pair's correction (way points ``i - 1 .. i + 2``);
+* **each straight segment**: steady driving ``P_T(v, v) L / v`` on each terrain it
+  crosses (:meth:`~ecoplan.energy.primitives.WorldLike.split_by_terrain`), its collision
+  and track-limit checks (its two way points).
+
+:class:`DrivenPathCost` keeps the pieces it has costed, keyed by the exact way points
+(the vehicle, speed, controller and world are fixed per instance), so a local search
+that moves one way point re-costs two segments, three corners and up to four pairs
+instead of the whole path (:mod:`ecoplan.planning.refine`), with the same result as a
+fresh evaluation (``tests/test_path_driven_cache.py``).  A path with a leg after the
+first shorter than the tables reach (``ControlledTurns.legs_m[0]``) is rolled out
+instead (:func:`~ecoplan.energy.controlled.drive_path`), never cached.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from ecoplan._typing import ArrayLike, FloatArray
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.controlled import (
+    ORBIT,
+    ControlledTurns,
+    Excess,
+    blend_excess,
+    controlled_turns,
+    corner_pairs,
+    corner_samples,
+    drive_path,
+)
+from ecoplan.energy.primitives import (
+    Vehicle,
+    VehicleParams,
+    WorldLike,
+    check_vehicle_world,
+    params_on,
+    positive_speed,
+    wrap_pi,
+)
+from ecoplan.energy.result import PathCost, Violation
+from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
+from ecoplan.energy.turns import TurnPlan
+from ecoplan.energy.waypoints import validate_path
+from ecoplan.errors import InputError
+from ecoplan.models.limits import check_tracks
+from ecoplan.models.power import COMPONENTS
+
+__all__ = ["DrivenPathCost"]
+
+# a piece's row: energy per component [J], then duration [s], length [m], psi [rad], peak [W]
+_NC = len(COMPONENTS)
+_DUR, _LEN, _PSI, _PEAK = _NC, _NC + 1, _NC + 2, _NC + 3
+_WIDTH = _NC + 4
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class _Corner:
+    """A corner's piece: its row, turn plan (None when straight), limit broken, terrain."""
+
+    row: FloatArray
+    plan: TurnPlan | None
+    violated: str
+    terrain: str | None
+    settled_m: float  # the tables' settled leg: a shorter leg after it makes a pair
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class _Start:
+    """The start's piece: rows, the misaligned start's plan and limits (initial, ends)."""
+
+    rows: tuple[FloatArray, ...]
+    plan: TurnPlan | None
+    violated: tuple[str, str]
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class _Segment:
+    """A straight segment's piece: its row and the limits it breaks, in order."""
+
+    row: FloatArray
+    violated: tuple[str, ...]
+
+
+def _row(ex: Excess, *, with_psi: bool = True, with_peak: bool = True) -> FloatArray:
+    out = np.zeros(_WIDTH)
+    out[:_NC] = [ex.breakdown_j.get(c, 0.0) for c in COMPONENTS]
+    out[_DUR], out[_LEN] = ex.duration_s, ex.length_m
+    out[_PSI] = ex.psi_rad if with_psi else 0.0
+    out[_PEAK] = ex.peak_power_w if with_peak else 0.0
+    return out
+
+
+def _plan(angle: float, speed: float, ex: Excess) -> TurnPlan:
+    return TurnPlan(
+        "controller", angle, speed, math.nan, 0.0, ex.duration_s, ex.length_m, 0.0,
+        ex.energy_j, dict(ex.breakdown_j), ex.peak_power_w, ex.violated == "", ex.violated,
+    )  # fmt: skip
+
+
+class DrivenPathCost:
+    """Costs of waypoint paths as a heading controller drives them, pieces cached.
+
+    Calling it gives what :func:`~ecoplan.energy.path.path_cost` gives with
+    ``turn=controller`` (it is that function's implementation); the pieces (module doc)
+    of every path costed are kept, so paths that share way points share the work.
+
+    Parameters
+    ----------
+    vehicle : TrackedParams, WheeledParams or TerrainVehicle
+        The vehicle; a spec when the world has terrain regions.
+    speed_mps : float
+        The controller's set point [m/s] (replaces the controller's ``speed_mps``).
+    controller : HeadingController
+        Gain, switching radius and slow-down heading (tracked paper eq. 23).
+    world : WorldLike, optional
+        Terrain and free space (a :class:`~ecoplan.geometry.maps.GridMap` or a
+        :class:`~ecoplan.geometry.world.World`); it must not change while cached.
+    max_pieces : int
+        The cache is emptied when it holds more pieces than this.
+
+    Examples
+    --------
+    >>> from ecoplan.dynamics.controller import HeadingController
+    >>> from ecoplan.presets import vehicle
+    >>> drive = DrivenPathCost(vehicle("husky-a200"), 0.5, HeadingController(speed_mps=0.5))
+    >>> a = drive([[0.0, 0.0], [20.0, 0.0], [20.0, 20.0]])
+    >>> b = drive([[0.0, 0.0], [20.0, 0.0], [25.0, 20.0]])  # shares the start and a segment
+    >>> a.feasible, round(a.length_m) in (39, 40, 41), a.energy_j > 0.0
+    (True, True, True)
+    """
+
+    def __init__(
+        self,
+        vehicle: Vehicle,
+        speed_mps: float,
+        controller: HeadingController,
+        *,
+        world: WorldLike | None = None,
+        max_pieces: int = 200_000,
+    ) -> None:
+        check_vehicle_world(vehicle, world)
+        if not isinstance(controller, HeadingController):
+            raise InputError(f"controller must be a HeadingController, got {controller!r}")
+        if isinstance(max_pieces, bool) or not isinstance(max_pieces, int) or max_pieces < 1:
+            raise InputError(f"max_pieces must be an integer >= 1, got {max_pieces!r}")
+        v = float(positive_speed("speed", speed_mps))
+        self.vehicle, self.world, self.speed_mps = vehicle, world, v
+        self.controller = dataclasses.replace(controller, speed_mps=v)
+        self.max_pieces = max_pieces
+        self._params: dict[str | None, VehicleParams] = {}
+        self._steady: dict[str | None, tuple[FloatArray, str]] = {}
+        self._point_terrain: dict[bytes, str | None] = {}
+        self._starts: dict[bytes, _Start] = {}
+        self._corners: dict[bytes, _Corner] = {}
+        self._pairs: dict[bytes, FloatArray] = {}
+        self._segments: dict[bytes, _Segment] = {}
+
+    @property
+    def n_pieces(self) -> int:
+        """Pieces held in the cache."""
+        return len(self._starts) + len(self._corners) + len(self._pairs) + len(self._segments)
+
+    def clear(self) -> None:
+        """Empty the cache of pieces."""
+        for d in (self._point_terrain, self._starts, self._corners, self._pairs, self._segments):
+            d.clear()
+
+    # ------------------------------------------------------------------ terrain
+    def params(self, terrain: str | None) -> VehicleParams:
+        """The vehicle's parameters on ``terrain`` (cached)."""
+        if terrain not in self._params:
+            self._params[terrain] = params_on(self.vehicle, terrain)
+        return self._params[terrain]
+
+    def _table(self, terrain: str | None) -> ControlledTurns:
+        return controlled_turns(self.params(terrain), self.controller)
+
+    def _terrain_at(self, p: FloatArray) -> str | None:
+        if self.world is None:
+            return None
+        key = p.tobytes()
+        if key not in self._point_terrain:
+            self._point_terrain[key] = self.world.terrain_at(p.reshape(1, 2))[0]
+        return self._point_terrain[key]
+
+    def _steady_power(self, terrain: str | None) -> tuple[FloatArray, str]:
+        """Power per component and total [W] of straight driving on ``terrain``; limit broken."""
+        if terrain not in self._steady:
+            p, v = self.params(terrain), self.speed_mps
+            pw = p.power(v, v)
+            comps = pw.components()
+            row = np.array([float(np.mean(comps[c])) for c in COMPONENTS]
+                           + [float(np.max(pw.total_w))])  # fmt: skip
+            self._steady[terrain] = (row, str(check_tracks(p, v, v).violated.ravel()[0]))
+        return self._steady[terrain]
+
+    # ------------------------------------------------------------------ pieces
+    def _start(self, pts: FloatArray, yaw0: float, d0: float, table0: ControlledTurns) -> _Start:
+        n_seg = len(pts) - 1
+        key = pts[:2].tobytes() + np.float64(yaw0).tobytes() + (b"1" if n_seg == 1 else b"n")
+        if key in self._starts:
+            return self._starts[key]
+        ends = table0.ends
+        rows, plan, first = [_row(ends, with_psi=False)], None, ""
+        if abs(d0) > 1e-12:
+            ex0 = table0.initial_excess(d0, float(np.hypot(*(pts[1] - pts[0]))), last=n_seg == 1)
+            rows.insert(0, _row(ex0))
+            plan, first = _plan(d0, self.speed_mps, ex0), ex0.violated
+        piece = _Start(tuple(rows), plan, (first, ends.violated))
+        self._starts[key] = piece
+        return piece
+
+    def _corner(self, tri: FloatArray, angle: float, leg_m: float, last: bool) -> _Corner:
+        key = tri.tobytes() + (b"L" if last else b"c")
+        if key in self._corners:
+            return self._corners[key]
+        terr = self._terrain_at(tri[1])
+        table = self._table(terr)
+        ex = table.corner_excess(angle, leg_m, last=last)
+        if self.world is not None:  # the terrains it turns on
+            names = self.world.terrain_at(
+                corner_samples(tri, self.controller, self.speed_mps).reshape(-1, 2)
+            )
+            kinds = list(dict.fromkeys(names))
+            if names and kinds != [terr]:
+                each = [self._table(t).corner_excess(angle, leg_m, last=last) for t in kinds]
+                ex = blend_excess(each, [names.count(t) / len(names) for t in kinds])
+        turned = abs(angle) > 0.0
+        plan = _plan(angle, self.speed_mps, ex) if turned else None
+        piece = _Corner(_row(ex, with_psi=turned), plan, ex.violated, terr, float(table.legs_m[-1]))
+        self._corners[key] = piece
+        return piece
+
+    def _pair(
+        self, quad: FloatArray, corner: _Corner, dpsi: FloatArray, leg_m: float
+    ) -> FloatArray:
+        key = quad.tobytes()
+        if key not in self._pairs:
+            pair = corner_pairs(self.params(corner.terrain), self.controller)
+            ex = pair.correction(float(dpsi[0]), leg_m, float(dpsi[1]))
+            self._pairs[key] = _row(ex, with_peak=False)
+        return self._pairs[key]
+
+    def _segment(self, ab: FloatArray) -> _Segment:
+        key = ab.tobytes()
+        if key in self._segments:
+            return self._segments[key]
+        a, b = ab[0], ab[1]
+        v = self.speed_mps
+        total = float(np.hypot(*(b - a)))
+        bad: list[str] = []
+        pieces: list[tuple[float, float, str | None]] = [(0.0, total, None)]
+        if self.world is not None:
+            if not self.world.segment_free(a, b):
+                bad.append("collision")
+            pieces, s = [], 0.0
+            for pc in self.world.split_by_terrain(a, b):
+                pieces.append((s, s + pc.length_m, pc.terrain))
+                s += pc.length_m
+        row = np.zeros(_WIDTH)
+        checked: set[str | None] = set()
+        for s0, s1, terr in pieces:
+            length = max(min(s1, total) - max(s0, 0.0), 0.0)
+            power, violated = self._steady_power(terr)
+            if terr not in checked:
+                checked.add(terr)
+                if violated:
+                    bad.append(violated)
+            if length > 0.0:
+                duration = length / v
+                row[:_NC] += power[:_NC] * duration
+                row[_DUR] += duration
+                row[_LEN] += length
+                row[_PEAK] = max(row[_PEAK], power[_NC])
+        piece = _Segment(row, tuple(bad))
+        self._segments[key] = piece
+        return piece
+
+    # ------------------------------------------------------------------ evaluation
+    def __call__(self, path: ArrayLike, initial_heading_rad: float | None = None) -> PathCost:
+        """The path's cost as driven (see :func:`~ecoplan.energy.path.path_cost`).
+
+        Parameters
+        ----------
+        path : array_like, shape (N, 2)
+            Waypoints [m], N >= 2, no repeated consecutive points.
+        initial_heading_rad : float, optional
+            Heading at the start; ``None``: aligned with the first segment.
+
+        Returns
+        -------
+        PathCost
+            Energy, time, length, turned angle, turns, violations.
+        """
+        pts = validate_path(path)
+        n_seg = len(pts) - 1
+        d = np.diff(pts, axis=0)
+        heading = np.arctan2(d[:, 1], d[:, 0])
+        seg_len = np.hypot(d[:, 0], d[:, 1])
+        dpsi = wrap_pi(np.diff(heading))
+        yaw0 = float(heading[0]) if initial_heading_rad is None else float(initial_heading_rad)
+        if not math.isfinite(yaw0):
+            raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
+        d0 = float(wrap_pi(float(heading[0]) - yaw0))
+        table0 = self._table(self._terrain_at(pts[0]))
+        if n_seg > 1 and float(np.min(seg_len[1:])) < float(table0.legs_m[0]):
+            return self._rolled_out(pts, yaw0)
+        if self.n_pieces > self.max_pieces:
+            self.clear()
+        start = self._start(pts, yaw0, d0, table0)
+        rows = list(start.rows)
+        turns = [start.plan] if start.plan is not None else []
+        violations: list[Violation] = []
+        v = self.speed_mps
+        if start.violated[0]:
+            violations.append(Violation("turn", 0, start.violated[0], v, math.nan))
+        pairs: list[FloatArray] = []
+        for i in range(1, n_seg):
+            leg = float(seg_len[i])
+            c = self._corner(pts[i - 1 : i + 2], float(dpsi[i - 1]), leg, i == n_seg - 1)
+            rows.append(c.row)
+            if c.plan is not None:
+                turns.append(c.plan)
+                if c.violated:
+                    violations.append(Violation("turn", i, c.violated, v, math.nan))
+            elif c.violated:
+                violations.append(Violation("segment", i, c.violated, v, math.nan))
+            if i < n_seg - 1 and leg < c.settled_m:
+                pairs.append(self._pair(pts[i - 1 : i + 3], c, dpsi[i - 1 : i + 1], leg))
+        if start.violated[1]:
+            violations.append(Violation("segment", n_seg, start.violated[1], v, math.nan))
+        rows += pairs
+        for k in range(n_seg):
+            seg = self._segment(pts[k : k + 2])
+            rows.append(seg.row)
+            violations += [Violation("segment", k, name, v, math.inf) for name in seg.violated]
+        m = np.array(rows)
+        tot = m[:, :_PEAK].sum(axis=0)
+        breakdown = {c: float(tot[k]) for k, c in enumerate(COMPONENTS)}
+        return PathCost(
+            length_m=float(tot[_LEN]),
+            duration_s=float(tot[_DUR]),
+            psi_rad=float(tot[_PSI]),
+            energy_j=float(sum(breakdown.values())),
+            breakdown_j=breakdown,
+            peak_power_w=max(0.0, float(m[:, _PEAK].max())),
+            feasible=not violations,
+            violations=tuple(violations),
+            turns=tuple(turns),
+        )
+
+    def _rolled_out(self, pts: FloatArray, yaw0: float) -> PathCost:
+        """Way points closer than the tables reach: roll the controller out on the path."""
+        params = self.params(self._terrain_at(pts[0]))
+        t, vl, vr, done = drive_path(params, pts, self.controller, yaw0)
+        if t.size < 2:  # every way point within the switching radius: the robot never moves
+            return PathCost(
+                length_m=0.0, duration_s=0.0, psi_rad=0.0, energy_j=0.0,
+                breakdown_j=dict.fromkeys(COMPONENTS, 0.0), peak_power_w=0.0, feasible=True,
+                violations=(), turns=(),
+            )  # fmt: skip
+        traj = TrackTrajectory(t, vl, vr)
+        start = (float(pts[0, 0]), float(pts[0, 1]), yaw0)
+        pc = trajectory_cost(traj, self.vehicle, world=self.world, start_pose=start)
+        if done:
+            return pc
+        orbit = Violation("turn", len(pts) - 2, ORBIT, self.speed_mps, math.nan)
+        return dataclasses.replace(pc, feasible=False, violations=(orbit, *pc.violations))
