@@ -106,7 +106,8 @@ def test_cached_pieces_give_the_fresh_cost_of_every_path(
                 w = np.delete(w, k, axis=0)
             else:
                 w[k] += (dx, dy)
-        if np.hypot(*np.diff(w, axis=0).T)[1:].min(initial=math.inf) >= MIN_LEG_M:
+        legs = np.hypot(*np.diff(w, axis=0).T)
+        if legs[0] > 1e-6 and legs[1:].min(initial=math.inf) >= MIN_LEG_M:
             paths.append(w)
     for w in paths + paths[::-1]:  # the second time round, every piece is cached
         _assert_same(drive(w, heading), _fresh(w, heading))
@@ -131,6 +132,18 @@ def test_a_corner_mid_path_is_not_taken_for_the_same_corner_last() -> None:
     drive = DrivenPathCost(HUSKY, V, CTRL, world=GRID)
     for w in (short, longer, short):
         _assert_same(drive(w), _fresh(w, None))
+
+
+def test_a_path_the_tables_do_not_reach_is_rolled_out_once_with_the_fresh_result() -> None:
+    """A 1 m leg (under the tables' shortest): the whole path is rolled out and kept."""
+    w = np.array([[3.0, 3.0], [12.0, 3.0], [13.0, 3.5], [20.0, 9.0]])
+    drive = DrivenPathCost(HUSKY, V, CTRL, world=GRID)
+    first = drive(w)
+    assert drive.n_pieces == 1
+    again = drive(w)
+    assert again is first
+    _assert_same(again, _fresh(w, None))
+    _assert_same(drive(w, 0.5), _fresh(w, 0.5))  # another start heading: another roll-out
 
 
 def test_the_cache_is_bounded_and_still_right_after_clearing() -> None:

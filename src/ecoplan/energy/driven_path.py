@@ -24,7 +24,7 @@ that moves one way point re-costs two segments, three corners and up to four pai
 instead of the whole path (:mod:`ecoplan.planning.refine`), with the same result as a
 fresh evaluation (``tests/test_path_driven_cache.py``).  A path with a leg after the
 first shorter than the tables reach (``ControlledTurns.legs_m[0]``) is rolled out
-instead (:func:`~ecoplan.energy.controlled.drive_path`), never cached.
+instead (:func:`~ecoplan.energy.controlled.drive_path`); its cost is kept whole.
 """
 
 from __future__ import annotations
@@ -166,21 +166,25 @@ class DrivenPathCost:
         self.controller = dataclasses.replace(controller, speed_mps=v)
         self.max_pieces = max_pieces
         self._params: dict[str | None, VehicleParams] = {}
+        self._tables: dict[str | None, ControlledTurns] = {}
         self._steady: dict[str | None, tuple[FloatArray, str]] = {}
         self._point_terrain: dict[bytes, str | None] = {}
         self._starts: dict[bytes, _Start] = {}
         self._corners: dict[bytes, _Corner] = {}
         self._pairs: dict[bytes, FloatArray] = {}
         self._segments: dict[bytes, _Segment] = {}
+        self._rolled: dict[bytes, PathCost] = {}  # whole paths rolled out
 
     @property
     def n_pieces(self) -> int:
         """Pieces held in the cache."""
-        return len(self._starts) + len(self._corners) + len(self._pairs) + len(self._segments)
+        held = (self._starts, self._corners, self._pairs, self._segments, self._rolled)
+        return sum(len(d) for d in held)
 
     def clear(self) -> None:
         """Empty the cache of pieces."""
-        for d in (self._point_terrain, self._starts, self._corners, self._pairs, self._segments):
+        held = (self._point_terrain, self._starts, self._corners, self._pairs, self._segments)
+        for d in (*held, self._rolled):
             d.clear()
 
     # ------------------------------------------------------------------ terrain
@@ -191,7 +195,9 @@ class DrivenPathCost:
         return self._params[terrain]
 
     def _table(self, terrain: str | None) -> ControlledTurns:
-        return controlled_turns(self.params(terrain), self.controller)
+        if terrain not in self._tables:
+            self._tables[terrain] = controlled_turns(self.params(terrain), self.controller)
+        return self._tables[terrain]
 
     def _terrain_at(self, p: FloatArray) -> str | None:
         if self.world is None:
@@ -228,10 +234,9 @@ class DrivenPathCost:
         self._starts[key] = piece
         return piece
 
-    def _corner(self, tri: FloatArray, angle: float, leg_m: float, last: bool) -> _Corner:
-        key = tri.tobytes() + (b"L" if last else b"c")
-        if key in self._corners:
-            return self._corners[key]
+    def _corner(
+        self, key: bytes, tri: FloatArray, angle: float, leg_m: float, last: bool
+    ) -> _Corner:
         terr = self._terrain_at(tri[1])
         table = self._table(terr)
         ex = table.corner_excess(angle, leg_m, last=last)
@@ -250,19 +255,14 @@ class DrivenPathCost:
         return piece
 
     def _pair(
-        self, quad: FloatArray, corner: _Corner, dpsi: FloatArray, leg_m: float
+        self, key: bytes, terrain: str | None, angles: tuple[float, float], leg_m: float
     ) -> FloatArray:
-        key = quad.tobytes()
-        if key not in self._pairs:
-            pair = corner_pairs(self.params(corner.terrain), self.controller)
-            ex = pair.correction(float(dpsi[0]), leg_m, float(dpsi[1]))
-            self._pairs[key] = _row(ex, with_peak=False)
-        return self._pairs[key]
+        pair = corner_pairs(self.params(terrain), self.controller)
+        row = _row(pair.correction(angles[0], leg_m, angles[1]), with_peak=False)
+        self._pairs[key] = row
+        return row
 
-    def _segment(self, ab: FloatArray) -> _Segment:
-        key = ab.tobytes()
-        if key in self._segments:
-            return self._segments[key]
+    def _segment(self, key: bytes, ab: FloatArray) -> _Segment:
         a, b = ab[0], ab[1]
         v = self.speed_mps
         total = float(np.hypot(*(b - a)))
@@ -321,10 +321,13 @@ class DrivenPathCost:
             raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
         d0 = float(wrap_pi(float(heading[0]) - yaw0))
         table0 = self._table(self._terrain_at(pts[0]))
-        if n_seg > 1 and float(np.min(seg_len[1:])) < float(table0.legs_m[0]):
-            return self._rolled_out(pts, yaw0)
         if self.n_pieces > self.max_pieces:
             self.clear()
+        if n_seg > 1 and float(np.min(seg_len[1:])) < float(table0.legs_m[0]):
+            key = pts.tobytes() + np.float64(yaw0).tobytes()
+            if key not in self._rolled:
+                self._rolled[key] = self._rolled_out(pts, yaw0)
+            return self._rolled[key]
         start = self._start(pts, yaw0, d0, table0)
         rows = list(start.rows)
         turns = [start.plan] if start.plan is not None else []
@@ -333,9 +336,15 @@ class DrivenPathCost:
         if start.violated[0]:
             violations.append(Violation("turn", 0, start.violated[0], v, math.nan))
         pairs: list[FloatArray] = []
+        raw = pts.tobytes()  # 16 bytes per way point: the pieces' keys are slices of it
+        ang, legs = dpsi.tolist(), seg_len.tolist()
+        corners, pair_rows, segments = self._corners, self._pairs, self._segments
         for i in range(1, n_seg):
-            leg = float(seg_len[i])
-            c = self._corner(pts[i - 1 : i + 2], float(dpsi[i - 1]), leg, i == n_seg - 1)
+            last = i == n_seg - 1
+            key = raw[16 * (i - 1) : 16 * (i + 2)] + (b"L" if last else b"c")
+            c = corners.get(key)
+            if c is None:
+                c = self._corner(key, pts[i - 1 : i + 2], ang[i - 1], legs[i], last)
             rows.append(c.row)
             if c.plan is not None:
                 turns.append(c.plan)
@@ -343,15 +352,23 @@ class DrivenPathCost:
                     violations.append(Violation("turn", i, c.violated, v, math.nan))
             elif c.violated:
                 violations.append(Violation("segment", i, c.violated, v, math.nan))
-            if i < n_seg - 1 and leg < c.settled_m:
-                pairs.append(self._pair(pts[i - 1 : i + 3], c, dpsi[i - 1 : i + 1], leg))
+            if not last and legs[i] < c.settled_m:
+                key = raw[16 * (i - 1) : 16 * (i + 3)]
+                p = pair_rows.get(key)
+                if p is None:
+                    p = self._pair(key, c.terrain, (ang[i - 1], ang[i]), legs[i])
+                pairs.append(p)
         if start.violated[1]:
             violations.append(Violation("segment", n_seg, start.violated[1], v, math.nan))
         rows += pairs
         for k in range(n_seg):
-            seg = self._segment(pts[k : k + 2])
+            key = raw[16 * k : 16 * (k + 2)]
+            seg = segments.get(key)
+            if seg is None:
+                seg = self._segment(key, pts[k : k + 2])
             rows.append(seg.row)
-            violations += [Violation("segment", k, name, v, math.inf) for name in seg.violated]
+            if seg.violated:
+                violations += [Violation("segment", k, name, v, math.inf) for name in seg.violated]
         m = np.array(rows)
         tot = m[:, :_PEAK].sum(axis=0)
         breakdown = {c: float(tot[k]) for k, c in enumerate(COMPONENTS)}

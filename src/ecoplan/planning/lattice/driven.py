@@ -16,11 +16,14 @@ import math
 import numpy as np
 
 from ecoplan._typing import FloatArray
-from ecoplan.dynamics.controller import HeadingController
-from ecoplan.energy.controlled import controlled_turns, drive_path
+from ecoplan.dynamics.controller import HeadingController, WaypointFollower, power_limited_radius
+from ecoplan.dynamics.drive import IcrArrays
+from ecoplan.dynamics.rollout import ROLLOUT_STATE, rollout
+from ecoplan.energy.controlled import controlled_turns
 from ecoplan.energy.driven_path import DrivenPathCost
 from ecoplan.energy.objective import CostObjective
 from ecoplan.energy.path import path_cost
+from ecoplan.energy.primitives import VehicleParams
 from ecoplan.energy.result import PathCost
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.geometry.maps import GridMap
@@ -29,7 +32,7 @@ from ecoplan.planning.lattice.primitives import PenaltyWeights
 from ecoplan.planning.lattice.smooth import Smoother
 from ecoplan.planning.refine import RefineOptions, RefineResult, refine_waypoints
 
-__all__ = ["Candidate", "RouteFinisher"]
+__all__ = ["Candidate", "RouteFinisher", "drive_paths"]
 
 # a route refined for a controller must be estimated cheaper by more than the controlled
 # model's error (as the graph planner's refinement)
@@ -83,17 +86,10 @@ class RouteFinisher:
                 cost.vehicle, cost.speed_mps, controller, world=grid, max_pieces=_MAX_PIECES
             )
 
-    def rank(
-        self, wps: FloatArray, pc: PathCost, heading: float | None, *, driven: bool
-    ) -> tuple[bool, float]:
-        """Sort key of an evaluated path: feasible first, then the search objective.
-
-        ``driven``: the objective of the path as the controller drives it (:meth:`driven`).
-        """
+    def rank(self, pc: PathCost) -> tuple[bool, float]:
+        """Sort key of an evaluated path: feasible first, then the search objective."""
         if self.weights is not None:  # the penalty baseline ranks by its own costs
             value = pc.length_m + self.weights.turn_per_rad * pc.psi_rad
-        elif driven:
-            value = self.cost.value(self.driven(wps, heading))
         else:
             value = self.cost.value(pc)
         return (not pc.feasible, value)
@@ -128,7 +124,16 @@ class RouteFinisher:
     def refine(
         self, wps: FloatArray, heading: float | None, deadline: Deadline, *, driven: bool
     ) -> RefineResult:
-        """:func:`refine_waypoints` of the route, as the controller drives it if ``driven``."""
+        """:func:`refine_waypoints` of the route, as the controller drives it if ``driven``.
+
+        As driven, legs (after the first) shorter than the corner tables reach are merged
+        first (:meth:`drop_short_legs`).  A route that keeps such a leg is returned
+        unrefined (changed if merging changed it, for :meth:`pick` to judge): the
+        refinement tries no candidate with such a leg, so it could only move that leg's
+        ends, against a start value that needs a roll-out of its own (0.04 s steps,
+        about 0.35 s on a 200 m site); on the 18 sites of ``benchmarks/lattice_scale.py``
+        it kept none of those moves.
+        """
         if not driven or self.ctrl is None:
             return refine_waypoints(
                 wps, self.cost, self.grid, initial_heading_rad=heading,
@@ -141,6 +146,13 @@ class RouteFinisher:
             return self.driven(w, heading)
 
         merged = self.drop_short_legs(wps, min_leg)
+        if float(np.hypot(*np.diff(merged[1:], axis=0).T).min(initial=math.inf)) < min_leg:
+            pc = path_cost(
+                merged, self.cost.vehicle, self.cost.speed_mps, world=self.grid,
+                initial_heading_rad=heading, turn=self.cost.turn, ramps=self.cost.ramps,
+                elevation=self.cost.elevation,
+            )  # fmt: skip
+            return RefineResult(merged, pc, 0, merged.shape != wps.shape)
         res = refine_waypoints(
             merged, self.cost, self.grid, initial_heading_rad=heading,
             options=self.refine_options, deadline=deadline, driven=as_driven,
@@ -178,31 +190,33 @@ class RouteFinisher:
     ) -> tuple[list[Candidate], float, float]:
         """Smoothing passes and refinement while time remains.
 
-        Every smoothing stage is evaluated in full and the best (feasible first, then the
-        objective, as driven when ``driven``) is kept, so smoothing never loses.  Returns
-        that stage, then the refined route if the refinement improved it (each with its
-        evaluation), and the smoothing and evaluation times [s].
+        Every smoothing stage is evaluated in full.  Statically, the best stage (feasible
+        first, then the objective) is kept, so smoothing never loses, and refined.  As
+        driven (``driven``), every stage is returned as a candidate for :meth:`pick`,
+        whose roll-outs rank them, and the last one is refined: ranking the lattice's own
+        route as driven needs a roll-out of its own (its legs are shorter than the corner
+        tables reach), and the pick rolls it out in the same batch as the other routes
+        for little more.  Returns the stages kept, then the refined route if the
+        refinement improved it (each with its evaluation), and the smoothing and
+        evaluation times [s].
         """
         t0 = deadline.elapsed_s
-        wps, pc = raw, self.evaluate(raw, heading)
+        stages = [(raw, self.evaluate(raw, heading))]
         t_eval, t_smooth = deadline.elapsed_s - t0, 0.0
-        best_key = self.rank(raw, pc, heading, driven=driven)
-        stage = raw
         for _ in range(self.passes):
             if deadline.expired:
                 break
             t0 = deadline.elapsed_s
-            stage = self.smoother.shortcut(stage)
+            stage = self.smoother.shortcut(stages[-1][0])
             t1 = deadline.elapsed_s
-            pc_stage = self.evaluate(stage, heading)
+            stages.append((stage, self.evaluate(stage, heading)))
             t_smooth, t_eval = t_smooth + t1 - t0, t_eval + deadline.elapsed_s - t1
-            key = self.rank(stage, pc_stage, heading, driven=driven)
-            if key < best_key:
-                wps, pc, best_key = stage, pc_stage, key
-        out = [(wps, pc)]
+        out = stages
+        if not driven:
+            out = [min(stages, key=lambda c: self.rank(c[1]))]  # the first of equals
         if self.refine_options is not None and self.weights is None and not deadline.expired:
             t0 = deadline.elapsed_s
-            ref = self.refine(wps, heading, deadline, driven=driven)
+            ref = self.refine(out[-1][0], heading, deadline, driven=driven)
             t_smooth += deadline.elapsed_s - t0
             if ref.improved:
                 out.append((ref.waypoints, ref.cost))
@@ -212,31 +226,98 @@ class RouteFinisher:
         """The candidate route the controller drives cheapest, by roll-out.
 
         Feasible first, then the objective of the controller's roll-out
-        (:meth:`rollout_value`: the simulator's physics, power on the terrain under the
+        (:meth:`rollout_values`: the simulator's physics, power on the terrain under the
         robot).  The corner tables cannot see where the controller's cut and overshot
         corners leave the polyline's terrain, and a refinement under them alone can trade
-        real energy for model error; the roll-out settles it.  Candidates are rolled out
-        in order while the budget lasts (at least the first).
+        real energy for model error; the roll-out settles it.  All candidates are rolled
+        out at once (one batch in lockstep); when the budget is spent before the pick,
+        the first is returned.
         """
-        keys: list[tuple[bool, float]] = []
-        for k, (w, pc) in enumerate(cands):
-            if k > 0 and deadline.expired:
-                break
-            keys.append((not pc.feasible, self.rollout_value(w, heading)))
+        if len(cands) == 1 or deadline.expired:
+            return cands[0]
+        values = self.rollout_values([w for w, _ in cands], heading)
+        keys = [(not pc.feasible, val) for (_, pc), val in zip(cands, values, strict=True)]
         return cands[min(range(len(keys)), key=keys.__getitem__)]
 
-    def rollout_value(self, wps: FloatArray, heading: float | None) -> float:
-        """Objective of the route as the controller drives it, rolled out (inf: never ends)."""
+    def rollout_values(self, routes: list[FloatArray], heading: float | None) -> list[float]:
+        """Objective of each route as the controller drives it, rolled out (inf: never ends).
+
+        The routes share their start (and its terrain); they are rolled out in one batch
+        (:func:`drive_paths`), each then costed with the power on the terrain under the
+        robot (:func:`~ecoplan.energy.trajectory.trajectory_cost`).
+        """
         assert self.ctrl is not None
-        yaw0 = heading
-        if yaw0 is None:
-            yaw0 = math.atan2(float(wps[1, 1] - wps[0, 1]), float(wps[1, 0] - wps[0, 0]))
-        params = self.cost.params(self.grid.terrain_at(wps[:1])[0])
-        t, vl, vr, done = drive_path(params, wps, self.ctrl, yaw0, _ROLLOUT_DT_S)
-        if not done or t.size < 2:
-            return math.inf
-        pose = (float(wps[0, 0]), float(wps[0, 1]), yaw0)
-        traj = TrackTrajectory(t, vl, vr)
-        return self.cost.value(
-            trajectory_cost(traj, self.cost.vehicle, world=self.grid, start_pose=pose)
-        )
+        yaws = [
+            heading if heading is not None else math.atan2(w[1, 1] - w[0, 1], w[1, 0] - w[0, 0])
+            for w in routes
+        ]
+        params = self.cost.params(self.grid.terrain_at(routes[0][:1])[0])
+        out = []
+        for w, yaw0, (t, vl, vr, done) in zip(
+            routes, yaws, drive_paths(params, routes, self.ctrl, yaws, _ROLLOUT_DT_S), strict=True
+        ):
+            if not done or t.size < 2:
+                out.append(math.inf)
+                continue
+            pose = (float(w[0, 0]), float(w[0, 1]), float(yaw0))
+            pc = trajectory_cost(
+                TrackTrajectory(t, vl, vr), self.cost.vehicle, world=self.grid, start_pose=pose
+            )
+            out.append(self.cost.value(pc))
+        return out
+
+
+def drive_paths(
+    params: VehicleParams,
+    paths: list[FloatArray],
+    controller: HeadingController,
+    yaws0_rad: list[float],
+    dt_s: float,
+) -> list[tuple[FloatArray, FloatArray, FloatArray, bool]]:
+    """:func:`~ecoplan.energy.controlled.drive_path` of several paths in one roll-out.
+
+    The runs are stepped in lockstep (one batch of :func:`~ecoplan.dynamics.rollout.rollout`,
+    a run frozen once it stops), each with the time limit ``drive_path`` gives it (three
+    times its travel time plus 60 s): per path, the same times, track speeds and
+    completion as ``drive_path``.
+
+    Parameters
+    ----------
+    params : TrackedParams or WheeledParams
+        Vehicle (its kinematics and limits drive the motion).
+    paths : list of ndarray, shape (n_i, 2)
+        Each path: start, then the goals [m].
+    controller : HeadingController
+        Gains and set point.
+    yaws0_rad : list of float
+        Initial heading of each run [rad].
+    dt_s : float
+        Step [s].
+
+    Returns
+    -------
+    list of (t, v_left, v_right, completed)
+        Per path, as :func:`~ecoplan.energy.controlled.drive_path`.
+    """
+    k = len(paths)
+    r_min = power_limited_radius(params, controller.speed_mps) if controller.power_limited else 0.0
+    icr = IcrArrays.of([params.icr] * k, [params.top_track_speed_mps] * k)
+    policy = WaypointFollower(
+        [w[1:] for w in paths], [controller] * k, icr, [r_min] * k,
+        [params.accel_max_mps2 * dt_s] * k,
+    )  # fmt: skip
+    starts = np.array([[w[0, 0], w[0, 1], y] for w, y in zip(paths, yaws0_rad, strict=True)])
+    t_max = [
+        3.0 * float(np.sum(np.hypot(*np.diff(w, axis=0).T))) / controller.speed_mps + 60.0
+        for w in paths
+    ]
+    rows, end, finished = rollout([params] * k, policy, starts, dt_s, max(t_max))
+    i_vl, i_vr = ROLLOUT_STATE.index("v_left"), ROLLOUT_STATE.index("v_right")
+    out = []
+    for i in range(k):
+        n_max = max(math.ceil(t_max[i] / dt_s - 1e-9), 1)  # the steps drive_path allows
+        done = bool(finished[i]) and int(end[i]) <= n_max
+        e = int(end[i]) if done else n_max
+        t = np.arange(e + 1, dtype=np.float64) * dt_s
+        out.append((t, rows[: e + 1, i_vl, i].copy(), rows[: e + 1, i_vr, i].copy(), done))
+    return out
