@@ -234,25 +234,36 @@ class DrivenPathCost:
         self._starts[key] = piece
         return piece
 
-    def _corner(
-        self, key: bytes, tri: FloatArray, angle: float, leg_m: float, last: bool
-    ) -> _Corner:
-        terr = self._terrain_at(tri[1])
-        table = self._table(terr)
-        ex = table.corner_excess(angle, leg_m, last=last)
-        if self.world is not None:  # the terrains it turns on
-            names = self.world.terrain_at(
-                corner_samples(tri, self.controller, self.speed_mps).reshape(-1, 2)
+    def _new_corners(
+        self, pts: FloatArray, miss: list[int], keys: list[bytes], angles: list[float],
+        legs: list[float],
+    ) -> None:  # fmt: skip
+        """Cost the corners ``miss`` of the path (way point indices) and keep them."""
+        n_seg = len(pts) - 1
+        idx = np.array(miss)
+        terrs: list[str | None] = [None] * len(miss)
+        names: list[str | None] = []
+        if self.world is not None:  # the terrains at the corners and those it turns on
+            terrs = self.world.terrain_at(pts[idx])
+            lo, hi = miss[0], miss[-1]  # the stretch of the path that holds them
+            samples = corner_samples(pts[lo - 1 : hi + 2], self.controller, self.speed_mps)
+            samples = samples[idx - lo]
+            names = self.world.terrain_at(samples.reshape(-1, 2))
+        k_s = len(names) // len(miss)
+        for j, i in enumerate(miss):
+            angle, leg, last, terr = angles[i - 1], legs[i], i == n_seg - 1, terrs[j]
+            table = self._table(terr)
+            ex = table.corner_excess(angle, leg, last=last)
+            at = names[j * k_s : (j + 1) * k_s]
+            kinds = list(dict.fromkeys(at))
+            if at and kinds != [terr]:  # it turns on other terrains: their excesses
+                each = [self._table(t).corner_excess(angle, leg, last=last) for t in kinds]
+                ex = blend_excess(each, [at.count(t) / len(at) for t in kinds])
+            turned = abs(angle) > 0.0
+            plan = _plan(angle, self.speed_mps, ex) if turned else None
+            self._corners[keys[i - 1]] = _Corner(
+                _row(ex, with_psi=turned), plan, ex.violated, terr, float(table.legs_m[-1])
             )
-            kinds = list(dict.fromkeys(names))
-            if names and kinds != [terr]:
-                each = [self._table(t).corner_excess(angle, leg_m, last=last) for t in kinds]
-                ex = blend_excess(each, [names.count(t) / len(names) for t in kinds])
-        turned = abs(angle) > 0.0
-        plan = _plan(angle, self.speed_mps, ex) if turned else None
-        piece = _Corner(_row(ex, with_psi=turned), plan, ex.violated, terr, float(table.legs_m[-1]))
-        self._corners[key] = piece
-        return piece
 
     def _pair(
         self, key: bytes, terrain: str | None, angles: tuple[float, float], leg_m: float
@@ -262,37 +273,46 @@ class DrivenPathCost:
         self._pairs[key] = row
         return row
 
-    def _segment(self, key: bytes, ab: FloatArray) -> _Segment:
-        a, b = ab[0], ab[1]
+    def _new_segments(self, pts: FloatArray, miss: list[int], keys: list[bytes]) -> None:
+        """Cost the segments ``miss`` of the path (``k``: way point ``k`` to ``k + 1``)."""
         v = self.speed_mps
-        total = float(np.hypot(*(b - a)))
-        bad: list[str] = []
-        pieces: list[tuple[float, float, str | None]] = [(0.0, total, None)]
+        idx = np.array(miss)
+        a_all, b_all = pts[idx], pts[idx + 1]
+        free = np.ones(len(miss), dtype=bool)
         if self.world is not None:
-            if not self.world.segment_free(a, b):
-                bad.append("collision")
-            pieces, s = [], 0.0
-            for pc in self.world.split_by_terrain(a, b):
-                pieces.append((s, s + pc.length_m, pc.terrain))
-                s += pc.length_m
-        row = np.zeros(_WIDTH)
-        checked: set[str | None] = set()
-        for s0, s1, terr in pieces:
-            length = max(min(s1, total) - max(s0, 0.0), 0.0)
-            power, violated = self._steady_power(terr)
-            if terr not in checked:
-                checked.add(terr)
-                if violated:
-                    bad.append(violated)
-            if length > 0.0:
-                duration = length / v
-                row[:_NC] += power[:_NC] * duration
-                row[_DUR] += duration
-                row[_LEN] += length
-                row[_PEAK] = max(row[_PEAK], power[_NC])
-        piece = _Segment(row, tuple(bad))
-        self._segments[key] = piece
-        return piece
+            many = getattr(self.world, "segments_free", None)
+            if many is not None:
+                free = np.asarray(many(a_all, b_all), dtype=bool)
+            else:
+                free = np.array(
+                    [self.world.segment_free(a_all[j], b_all[j]) for j in range(len(idx))]
+                )
+        for j, k in enumerate(miss):
+            a, b = a_all[j], b_all[j]
+            total = float(np.hypot(*(b - a)))
+            bad: list[str] = [] if free[j] else ["collision"]
+            pieces: list[tuple[float, float, str | None]] = [(0.0, total, None)]
+            if self.world is not None:
+                pieces, s = [], 0.0
+                for pc in self.world.split_by_terrain(a, b):
+                    pieces.append((s, s + pc.length_m, pc.terrain))
+                    s += pc.length_m
+            row = np.zeros(_WIDTH)
+            checked: set[str | None] = set()
+            for s0, s1, terr in pieces:
+                length = max(min(s1, total) - max(s0, 0.0), 0.0)
+                power, violated = self._steady_power(terr)
+                if terr not in checked:
+                    checked.add(terr)
+                    if violated:
+                        bad.append(violated)
+                if length > 0.0:
+                    duration = length / v
+                    row[:_NC] += power[:_NC] * duration
+                    row[_DUR] += duration
+                    row[_LEN] += length
+                    row[_PEAK] = max(row[_PEAK], power[_NC])
+            self._segments[keys[k]] = _Segment(row, tuple(bad))
 
     # ------------------------------------------------------------------ evaluation
     def __call__(self, path: ArrayLike, initial_heading_rad: float | None = None) -> PathCost:
@@ -339,12 +359,19 @@ class DrivenPathCost:
         raw = pts.tobytes()  # 16 bytes per way point: the pieces' keys are slices of it
         ang, legs = dpsi.tolist(), seg_len.tolist()
         corners, pair_rows, segments = self._corners, self._pairs, self._segments
+        ckeys = [
+            raw[16 * (i - 1) : 16 * (i + 2)] + (b"L" if i == n_seg - 1 else b"c")
+            for i in range(1, n_seg)
+        ]
+        miss = [i for i in range(1, n_seg) if ckeys[i - 1] not in corners]
+        if miss:  # costed together: one pass over the path for the terrains they turn on
+            self._new_corners(pts, miss, ckeys, ang, legs)
+        skeys = [raw[16 * k : 16 * (k + 2)] for k in range(n_seg)]
+        miss = [k for k in range(n_seg) if skeys[k] not in segments]
+        if miss:  # their collision checks in one call
+            self._new_segments(pts, miss, skeys)
         for i in range(1, n_seg):
-            last = i == n_seg - 1
-            key = raw[16 * (i - 1) : 16 * (i + 2)] + (b"L" if last else b"c")
-            c = corners.get(key)
-            if c is None:
-                c = self._corner(key, pts[i - 1 : i + 2], ang[i - 1], legs[i], last)
+            c = corners[ckeys[i - 1]]
             rows.append(c.row)
             if c.plan is not None:
                 turns.append(c.plan)
@@ -352,7 +379,7 @@ class DrivenPathCost:
                     violations.append(Violation("turn", i, c.violated, v, math.nan))
             elif c.violated:
                 violations.append(Violation("segment", i, c.violated, v, math.nan))
-            if not last and legs[i] < c.settled_m:
+            if i < n_seg - 1 and legs[i] < c.settled_m:
                 key = raw[16 * (i - 1) : 16 * (i + 3)]
                 p = pair_rows.get(key)
                 if p is None:
@@ -362,10 +389,7 @@ class DrivenPathCost:
             violations.append(Violation("segment", n_seg, start.violated[1], v, math.nan))
         rows += pairs
         for k in range(n_seg):
-            key = raw[16 * k : 16 * (k + 2)]
-            seg = segments.get(key)
-            if seg is None:
-                seg = self._segment(key, pts[k : k + 2])
+            seg = segments[skeys[k]]
             rows.append(seg.row)
             if seg.violated:
                 violations += [Violation("segment", k, name, v, math.inf) for name in seg.violated]
