@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ecoplan.dynamics.controller import HeadingController
-from ecoplan.energy.driven_path import DrivenPathCost
+from ecoplan.energy.driven_path import DrivenPathCost, _grid_pieces
 from ecoplan.energy.path import path_cost
 from ecoplan.energy.result import PathCost
 from ecoplan.errors import InputError
@@ -170,3 +170,19 @@ def test_bad_arguments_give_one_clear_line() -> None:
         drive([[1.0, 1.0], [1.0, 1.0]])
     with pytest.raises(InputError, match="finite"):
         drive([[1.0, 1.0], [5.0, 1.0]], math.nan)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(*[st.floats(-2.0, 42.0)] * 4), min_size=1, max_size=12))
+def test_segments_sampled_together_match_the_grid_one_by_one(
+    ends: list[tuple[float, float, float, float]],
+) -> None:
+    """Collision flags and terrain pieces of many segments at once, against the grid's own
+    ``segment_free`` and ``split_by_terrain`` of each (off the map and zero length too)."""
+    ab = np.array(ends)
+    free, pieces = _grid_pieces(GRID, ab[:, :2], ab[:, 2:])
+    for k, (x0, y0, x1, y1) in enumerate(ends):
+        assert bool(free[k]) == GRID.segment_free((x0, y0), (x1, y1))
+        ref = GRID.split_by_terrain((x0, y0), (x1, y1))
+        assert [t for _, t in pieces[k]] == [p.terrain for p in ref]
+        assert [m for m, _ in pieces[k]] == pytest.approx([p.length_m for p in ref], abs=1e-12)

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from ecoplan._typing import ArrayLike, FloatArray
+from ecoplan._typing import ArrayLike, BoolArray, FloatArray
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.controlled import (
     ORBIT,
@@ -60,6 +60,7 @@ from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan
 from ecoplan.energy.waypoints import validate_path
 from ecoplan.errors import InputError
+from ecoplan.geometry.maps import GridMap
 from ecoplan.models.limits import check_tracks
 from ecoplan.models.power import COMPONENTS
 
@@ -113,6 +114,42 @@ def _plan(angle: float, speed: float, ex: Excess) -> TurnPlan:
         "controller", angle, speed, math.nan, 0.0, ex.duration_s, ex.length_m, 0.0,
         ex.energy_j, dict(ex.breakdown_j), ex.peak_power_w, ex.violated == "", ex.violated,
     )  # fmt: skip
+
+
+def _grid_pieces(
+    grid: GridMap, a: FloatArray, b: FloatArray
+) -> tuple[BoolArray, list[list[tuple[float, str | None]]]]:
+    """Free flags and terrain pieces ``(length [m], terrain)`` of segments ``a[k] -> b[k]``.
+
+    :meth:`GridMap.segments_free <ecoplan.geometry.maps.GridMap.segments_free>` and, for
+    all segments in one pass, the samples and pieces of
+    :meth:`GridMap.split_by_terrain <ecoplan.geometry.maps.GridMap.split_by_terrain>`
+    (the terrain at the midpoints of ``ceil(L / (res / 4))`` equal intervals; a piece
+    ends where it changes).
+    """
+    free = np.asarray(grid.segments_free(a, b), dtype=np.bool_)
+    length = np.hypot(*(b - a).T)
+    if not grid.has_regions:
+        names = grid.terrain_at(a)
+        return free, [[(float(length[k]), names[k])] for k in range(len(a))]
+    n = np.maximum(np.ceil(length / (grid.resolution_m / 4.0)), 1.0).astype(np.int64)
+    seg = np.repeat(np.arange(len(a)), n)
+    first = np.concatenate([[0], np.cumsum(n)[:-1]])
+    local = np.arange(len(seg)) - first[seg]
+    t_mid = (local + 0.5) / n[seg]
+    ids = grid.terrain_id_at(a[seg] + t_mid[:, None] * (b[seg] - a[seg]))
+    change = np.flatnonzero((ids[1:] != ids[:-1]) & (seg[1:] == seg[:-1])) + 1
+    starts = np.union1d(first, change)  # first sample of every piece, in order
+    p_seg = seg[starts]
+    p_end = np.append(starts[1:], len(seg))
+    t0 = (starts - first[p_seg]) / n[p_seg]
+    t1 = (p_end - first[p_seg]) / n[p_seg]
+    d = b[p_seg] - a[p_seg]
+    p_len = np.hypot(*((a[p_seg] + t1[:, None] * d) - (a[p_seg] + t0[:, None] * d)).T)
+    out: list[list[tuple[float, str | None]]] = [[] for _ in range(len(a))]
+    for k, ln, t in zip(p_seg.tolist(), p_len.tolist(), ids[starts].tolist(), strict=True):
+        out[k].append((ln, grid.terrain_names[t]))
+    return free, out
 
 
 class DrivenPathCost:
@@ -279,13 +316,18 @@ class DrivenPathCost:
         idx = np.array(miss)
         a_all, b_all = pts[idx], pts[idx + 1]
         free = np.ones(len(miss), dtype=bool)
-        if self.world is not None:
-            many = getattr(self.world, "segments_free", None)
-            if many is not None:
-                free = np.asarray(many(a_all, b_all), dtype=bool)
-            else:
-                free = np.array(
-                    [self.world.segment_free(a_all[j], b_all[j]) for j in range(len(idx))]
+        split: list[list[tuple[float, str | None]]] = []
+        if isinstance(self.world, GridMap):  # sampled for all segments at once
+            free, split = _grid_pieces(self.world, a_all, b_all)
+        elif self.world is not None:
+            one = self.world.segment_free
+            free = np.array([one(a_all[j], b_all[j]) for j in range(len(idx))])
+            for j in range(len(idx)):
+                split.append(
+                    [
+                        (p.length_m, p.terrain)
+                        for p in self.world.split_by_terrain(a_all[j], b_all[j])
+                    ]
                 )
         for j, k in enumerate(miss):
             a, b = a_all[j], b_all[j]
@@ -294,9 +336,9 @@ class DrivenPathCost:
             pieces: list[tuple[float, float, str | None]] = [(0.0, total, None)]
             if self.world is not None:
                 pieces, s = [], 0.0
-                for pc in self.world.split_by_terrain(a, b):
-                    pieces.append((s, s + pc.length_m, pc.terrain))
-                    s += pc.length_m
+                for piece_m, terrain in split[j]:
+                    pieces.append((s, s + piece_m, terrain))
+                    s += piece_m
             row = np.zeros(_WIDTH)
             checked: set[str | None] = set()
             for s0, s1, terr in pieces:
