@@ -3,12 +3,13 @@
 A robot that logs the motor current of each side (``power_log: motor_current`` in its
 vehicle file; :mod:`ecoplan.models.motor_current`) measures forces, not power: the
 current of a side is its no-load current plus its driving force times ``c = r / (G k_t)``.
-This module fits, per terrain, the six coefficients of :class:`SideForceTerrain`
+This module fits, per terrain, the coefficients of :class:`SideForceTerrain`
 
-    θ = (I0 [A], K [N], µ [-], λ0 [-], K_s [N], s0 [m])
+    θ = (I0 [A], K [N], µ [-], λ0 [-]) and, with ``startup=True``, (K_s [N], s0 [m])
 
-(``K_s``, ``s0``: the start-up resistance ``K_s exp(-s / s0)`` after each stop, 0 on
-ground where the robot does not settle in; ``s0`` is then not identified)
+(``K_s``, ``s0``: the start-up resistance ``K_s exp(-s / s0)`` after each stop, about 0 on
+ground where the robot does not settle in; ``s0`` is then poorly identified, its interval
+wide)
 
 to the logged side currents by bounded nonlinear least squares
 (:func:`scipy.optimize.least_squares`, both sides' residuals), with the base vehicle's
@@ -16,7 +17,7 @@ geometry, mass and χ and the file's ``c`` held fixed (the logs scale the forces
 ``c`` only: ``c`` and the winding resistance are stated assumptions, not identified).
 
 * **Intervals**: moving-block bootstrap over samples (blocks of ``block_s`` seconds),
-  percentile intervals at a joint level (Bonferroni over the six coefficients); the bias
+  percentile intervals at a joint level (Bonferroni over the fitted coefficients); the bias
   of encoder noise (errors in the regressors) is removed by SIMEX and the interval widened
   by its size, as in :mod:`ecoplan.models.identify_logs`.
 * **Held-out error**: leave-one-log-out (several logs; a single log: its last
