@@ -153,10 +153,17 @@ class RouteFinisher:
                 elevation=self.cost.elevation,
             )  # fmt: skip
             return RefineResult(merged, pc, 0, merged.shape != wps.shape)
+        many = None
+        if self._drive is not None:
+            drive = self._drive
+
+            def many(ws: list[FloatArray]) -> list[PathCost]:
+                return drive.many(ws, heading)
+
         res = refine_waypoints(
             merged, self.cost, self.grid, initial_heading_rad=heading,
             options=self.refine_options, deadline=deadline, driven=as_driven,
-            min_leg_m=min_leg, min_gain=_DRIVEN_GAIN,
+            driven_many=many, min_leg_m=min_leg, min_gain=_DRIVEN_GAIN,
         )  # fmt: skip
         if res.improved or merged.shape == wps.shape:
             return res
