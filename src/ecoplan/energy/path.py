@@ -54,8 +54,10 @@ Decisions where the issue is silent
   (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`:
   tabulated corner, corner-pair, start and stop excesses on top of steady driving):
   the estimate a battery budget should use.  A corner's excess is that of the terrains
-  the controller turns on (:func:`~ecoplan.energy.controlled.corner_samples`), weighted
-  by how much of the turn falls on each.
+  the controller turns on, weighted by how much of the turn falls on each, and straight
+  driving is charged on the terrains of the track the controller drives
+  (:mod:`ecoplan.energy.swept`: it swings out at corners and heads for the next way
+  point from there), not only of the polyline.
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
 * Terrain of a turn is the terrain at its waypoint; straight parts are split by
@@ -78,7 +80,6 @@ from ecoplan.energy.controlled import (
     blend_excess,
     controlled_turns,
     corner_pairs,
-    corner_samples,
     drive_path,
 )
 from ecoplan.energy.primitives import (
@@ -92,6 +93,7 @@ from ecoplan.energy.primitives import (
     wrap_pi,
 )
 from ecoplan.energy.result import PathCost, Violation
+from ecoplan.energy.swept import steady_per_m, swept_track, terrain_shift_j
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
@@ -392,9 +394,14 @@ def _controlled_path_cost(
     if abs(d0) > 1e-12:
         ex0 = table0.initial_excess(d0, float(seg_len[0]), last=n_seg == 1)
         excesses.append((0, d0, ex0))
-    corner_terr: list[str | None] = []  # where each corner turns (corner_samples)
-    if world is not None and n_seg > 1:
-        corner_terr = world.terrain_at(corner_samples(pts, ctrl, ctrl.speed_mps).reshape(-1, 2))
+    corner_terr: list[str | None] = []  # where each corner turns (on the swept track)
+    if world is not None and world.has_regions:
+        track = swept_track(pts, params_on(vehicle, terrains[0]), ctrl, yaw0)
+        shift = terrain_shift_j(track, pts, world, steady_per_m(vehicle, ctrl.speed_mps))
+        for k, val in shift.items():
+            acc.energy[k] += val
+        if n_seg > 1:
+            corner_terr = world.terrain_at(track.corner_samples().reshape(-1, 2))
     k_s = len(corner_terr) // max(n_seg - 1, 1)
     for i in range(1, n_seg):
         table = controlled_turns(params_on(vehicle, terrains[i]), ctrl)

@@ -1,0 +1,170 @@
+"""The track the heading controller drives around corners, and the terrain under it.
+
+References written here, independent of :mod:`ecoplan.energy.swept`:
+
+* a **unicycle integration** of the heading controller's law (tracked paper §IV, eq. 23,
+  with the slow-down for a goal abeam of :mod:`ecoplan.dynamics.controller`), explicit
+  Euler at 1 ms;
+* the **simulator** (:func:`ecoplan.sim.simulate.simulate_waypoints`: drive law, lag and
+  all), its power recomputed per sample on the terrain under the robot.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.spatial import cKDTree
+
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.path import path_cost
+from ecoplan.energy.swept import steady_per_m, swept_track, terrain_shift_j
+from ecoplan.geometry.maps import GridMap
+from ecoplan.presets import vehicle
+from ecoplan.sim.simulate import simulate_waypoints
+
+HUSKY = vehicle("husky-a200")
+V = 0.5
+CTRL = HeadingController(speed_mps=V)  # G = 0.18 1/s, d_th = 1 m, slow-down beyond 45 deg
+
+
+def _unicycle(wps: np.ndarray, yaw0: float, dt: float = 1e-3) -> tuple[np.ndarray, np.ndarray]:
+    """Times and positions of eq. (23) on a unicycle: w = G phi, v = v_sp min(1, cos phi / cos 45).
+
+    The Husky's yaw rate (at most G pi = 0.57 rad/s) stays far below its top yaw rate
+    (1 m/s / 0.52 m = 1.9 rad/s) and its forward speed below eq. (5)'s limit, so neither
+    saturates here.
+    """
+    x, y, yaw, k, t = float(wps[0, 0]), float(wps[0, 1]), yaw0, 1, 0.0
+    ts, xy = [0.0], [(x, y)]
+    while True:
+        gx, gy = wps[k]
+        if math.hypot(gx - x, gy - y) < CTRL.switch_radius_m:
+            if k == len(wps) - 1:
+                return np.array(ts), np.array(xy)
+            k += 1
+            continue
+        phi = math.remainder(math.atan2(gy - y, gx - x) - yaw, 2.0 * math.pi)
+        v = V * min(max(math.cos(phi) / math.cos(math.pi / 4.0), 0.0), 1.0)
+        x, y, yaw, t = (
+            x + v * math.cos(yaw) * dt,
+            y + v * math.sin(yaw) * dt,
+            yaw + 0.18 * phi * dt,
+            t + dt,
+        )
+        ts.append(t)
+        xy.append((x, y))
+
+
+@pytest.mark.parametrize("deg", [45.0, 90.0, -135.0])
+def test_swept_track_follows_the_controller_law_around_a_corner(deg: float) -> None:
+    a = math.radians(deg)
+    wps = np.array([[0.0, 0.0], [15.0, 0.0], [15.0 + 20.0 * math.cos(a), 20.0 * math.sin(a)]])
+    track = swept_track(wps, HUSKY.on("asphalt"), CTRL)
+    t_ref, xy_ref = _unicycle(wps, 0.0)
+    # same positions at the same times (the reference's 1 ms Euler against 0.55 s Heun
+    # steps and the straight line once the heading error is below 0.01 rad: 5 cm)
+    q = np.linspace(0.0, min(t_ref[-1], track.t_s[-1]), 400)
+    ref = np.column_stack([np.interp(q, t_ref, xy_ref[:, 0]), np.interp(q, t_ref, xy_ref[:, 1])])
+    assert np.max(np.hypot(*(track.at(q) - ref).T)) < 0.05
+    # it swings out on the side of its incoming heading: the reference's farthest point
+    # along +x lies past the switch point (x = 14 m), and the track's matches it
+    assert np.max(xy_ref[:, 0]) > 14.2
+    assert np.max(track.xy_m[:, 0]) == pytest.approx(np.max(xy_ref[:, 0]), abs=0.05)
+    assert track.t_s[-1] == pytest.approx(t_ref[-1], rel=0.01)
+    assert track.completed
+
+
+def test_swept_track_matches_the_simulator_within_its_drive_law_lag() -> None:
+    # the simulator adds the drive law (acceleration limit, lag): the kinematic track is
+    # a prediction, within 0.15 m of the simulated one at every simulated position
+    wps = np.array([[0.0, 0.0], [15.0, 0.0], [15.0, 20.0], [40.0, 25.0]])
+    track = swept_track(wps, HUSKY.on("asphalt"), CTRL)
+    sim = simulate_waypoints(HUSKY.on("asphalt"), wps, CTRL)
+    gap, _ = cKDTree(_dense(track.xy_m)).query(np.column_stack([sim.x, sim.y]))
+    assert np.max(gap) < 0.15
+
+
+def _dense(xy: np.ndarray, step_m: float = 0.005) -> np.ndarray:
+    """Points every ``step_m`` or less along the polyline ``xy``."""
+    parts = [
+        np.linspace(a, b, max(math.ceil(math.hypot(*(b - a)) / step_m), 1), endpoint=False)
+        for a, b in itertools.pairwise(xy)
+    ]
+    return np.vstack([*parts, xy[-1:]])
+
+
+def _road(width_m: float) -> GridMap:
+    """Snow with an asphalt road from y = 10 m to y = 10 + width_m, 60 m x 40 m."""
+    labels = np.ones((400, 600), dtype=np.uint8)
+    labels[100 : 100 + round(width_m / 0.1), :] = 0
+    return GridMap(
+        np.zeros((400, 600), dtype=np.int8), 0.1, terrain=labels,
+        terrain_names=("asphalt", "snow"),
+    )  # fmt: skip
+
+
+def _simulated_j(grid: GridMap, wps: np.ndarray) -> float:
+    sim = simulate_waypoints(HUSKY.on(None), wps, CTRL)
+    terr = grid.terrain_at(np.column_stack([sim.x, sim.y]))
+    vl, vr = np.asarray(sim.v_left), np.asarray(sim.v_right)
+    power = np.zeros(len(terr))
+    for name in set(terr):
+        idx = np.array([t == name for t in terr])
+        power[idx] = HUSKY.on(name).power(vl[idx], vr[idx]).total_w
+    return float(power.sum() * sim.dt_s)
+
+
+def test_a_corner_beside_costly_terrain_costs_more_as_the_simulator_finds() -> None:
+    # The route climbs onto a 4 m road at 45 degrees and turns along its far edge (0.2 m
+    # inside): the controller swings out onto the snow beyond and heads for the next way
+    # point, 30 m on, from there, so much of that leg is driven on snow.  The same corner
+    # on a 10 m road stays on asphalt.  Every polyline point has the same terrain on both
+    # maps; only the track differs.  The estimate must see the difference the simulator
+    # sees (the Husky's snow costs 2.3 times asphalt per metre).
+    wps = np.array([[3.0, 3.0], [13.8, 13.8], [45.0, 13.8], [57.0, 13.8]])
+    narrow, wide = _road(4.0), _road(10.0)
+    assert narrow.terrain_at(wps) == wide.terrain_at(wps)
+    est_n = path_cost(wps, HUSKY, V, world=narrow, turn=CTRL).energy_j
+    est_w = path_cost(wps, HUSKY, V, world=wide, turn=CTRL).energy_j
+    sim_n, sim_w = _simulated_j(narrow, wps), _simulated_j(wide, wps)
+    assert sim_n > 1.1 * sim_w  # premise: the swing-out costs in reality
+    assert est_n > est_w
+    assert est_n - est_w == pytest.approx(sim_n - sim_w, rel=0.15)
+    assert est_n == pytest.approx(sim_n, rel=0.03)
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    legs=st.lists(st.floats(3.0, 15.0), min_size=1, max_size=4),
+    turns=st.lists(st.floats(-2.5, 2.5), min_size=3, max_size=3),
+)
+def test_terrain_shift_is_zero_on_one_terrain(legs: list[float], turns: list[float]) -> None:
+    # on one terrain the track's terrain is the polyline's everywhere: no shift, whatever
+    # the track's length (cut corners are the corner tables' business)
+    heading = np.cumsum([0.0, *turns[: len(legs) - 1]])
+    steps = np.column_stack([np.cos(heading), np.sin(heading)]) * np.array(legs)[:, None]
+    start = np.array([30.0, 20.0])
+    wps = np.vstack([start, start + np.cumsum(steps, axis=0)])
+    grid = GridMap(np.zeros((400, 600), dtype=np.int8), 0.1, terrain=np.zeros((400, 600), np.uint8),
+                   terrain_names=("snow",))  # fmt: skip
+    track = swept_track(wps, HUSKY.on("snow"), CTRL)
+    shift = terrain_shift_j(track, wps, grid, steady_per_m(HUSKY, V))
+    assert all(val == 0.0 for val in shift.values())
+
+
+def test_corner_samples_lie_on_the_track_after_each_switch() -> None:
+    wps = np.array([[0.0, 0.0], [15.0, 0.0], [15.0, 20.0], [40.0, 25.0]])
+    track = swept_track(wps, HUSKY.on("asphalt"), CTRL)
+    samples = track.corner_samples()
+    assert samples.shape == (2, 8, 2)
+    # the first sample of each corner lies within d_th (the switching radius) of its way
+    # point, plus the half-sample of driving (at most 0.5 m/s for 1.4 s)
+    for i in range(2):
+        assert math.hypot(*(samples[i, 0] - wps[i + 1])) < 1.0 + 0.5 * 1.4
+    gap, _ = cKDTree(_dense(track.xy_m)).query(samples.reshape(-1, 2))
+    assert np.max(gap) < 0.01
