@@ -55,7 +55,9 @@ table look-ups, about a millisecond per path.  Where it errs:
   ``benchmarks/analytic_vs_sim.py --legs 1.6 8``);
 * interpolation between the grid angles and legs;
 * a pair whose second corner is the path's last (its correction assumes driving on);
-* terrain changes inside a corner (the corner's excess is that of one terrain).
+* terrain changes inside a corner: the excess is a blend of the tables of the terrains
+  the controller turns on, and :func:`ecoplan.energy.path.path_cost` charges straight
+  driving on the terrains of the track it drives (:mod:`ecoplan.energy.swept`).
 
 Measured against the simulator on 200 random polylines per vehicle
 (``benchmarks/analytic_vs_sim.py``; README) and on the shipped scenarios
