@@ -26,6 +26,7 @@ from ecoplan.energy.swept import steady_per_m, swept_track, terrain_shift_j
 from ecoplan.geometry.maps import GridMap
 from ecoplan.presets import vehicle
 from ecoplan.sim.simulate import simulate_waypoints
+from test_lattice_driven import _simulated_j  # the simulator, power on the terrain under it
 
 HUSKY = vehicle("husky-a200")
 V = 0.5
@@ -106,17 +107,6 @@ def _road(width_m: float) -> GridMap:
         np.zeros((400, 600), dtype=np.int8), 0.1, terrain=labels,
         terrain_names=("asphalt", "snow"),
     )  # fmt: skip
-
-
-def _simulated_j(grid: GridMap, wps: np.ndarray) -> float:
-    sim = simulate_waypoints(HUSKY.on(None), wps, CTRL)
-    terr = grid.terrain_at(np.column_stack([sim.x, sim.y]))
-    vl, vr = np.asarray(sim.v_left), np.asarray(sim.v_right)
-    power = np.zeros(len(terr))
-    for name in set(terr):
-        idx = np.array([t == name for t in terr])
-        power[idx] = HUSKY.on(name).power(vl[idx], vr[idx]).total_w
-    return float(power.sum() * sim.dt_s)
 
 
 def test_a_corner_beside_costly_terrain_costs_more_as_the_simulator_finds() -> None:
