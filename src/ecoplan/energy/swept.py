@@ -11,7 +11,7 @@ route estimated 4 % cheaper than the energy route cost 38 % more in the simulato
 
 :func:`swept_track` predicts that track with the controller's law and eq. (5)-(6)
 saturation, kinematically (the set point is reached at once, no drive-law lag): steps of
-``0.1 / G`` (at most 0.25 m) with Heun's method while the heading error exceeds 0.01 rad,
+``0.2 / G`` (at most 0.5 m) with Heun's method while the heading error exceeds 0.01 rad,
 then the straight line to the goal's switching circle, on which the heading error stays
 zero.  :meth:`SweptTrack.corner_samples` reads where each corner is turned (the points
 whose terrains weight the corner's excess), :func:`terrain_shift_j` what steady driving
@@ -137,7 +137,7 @@ def swept_track(
     d_sw = max(controller.switch_radius_m, 1.5 * r_min)
     slow = controller.slowdown_heading_rad
     inv_cos_s = 1.0 / math.cos(slow) if slow is not None and r_min == 0.0 else 0.0
-    dt = min(0.1 / g, 0.25 / v_sp)
+    dt = min(0.2 / g, 0.5 / v_sp)
     length = float(np.sum(np.hypot(*np.diff(wps, axis=0).T)))
     t_max = 3.0 * length / v_sp + 60.0
 
