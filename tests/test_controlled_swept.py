@@ -20,7 +20,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.spatial import cKDTree
 
-from ecoplan.dynamics.controller import HeadingController
+from ecoplan.dynamics.controller import HeadingController, power_limited_radius
 from ecoplan.energy.path import path_cost
 from ecoplan.energy.swept import steady_per_m, swept_track, terrain_shift_j
 from ecoplan.geometry.maps import GridMap
@@ -81,14 +81,30 @@ def test_swept_track_follows_the_controller_law_around_a_corner(deg: float) -> N
     assert track.completed
 
 
-def test_swept_track_matches_the_simulator_within_its_drive_law_lag() -> None:
-    # the simulator adds the drive law (acceleration limit, lag): the kinematic track is
-    # a prediction, within 0.15 m of the simulated one at every simulated position
-    wps = np.array([[0.0, 0.0], [15.0, 0.0], [15.0, 20.0], [40.0, 25.0]])
-    track = swept_track(wps, HUSKY.on("asphalt"), CTRL)
-    sim = simulate_waypoints(HUSKY.on("asphalt"), wps, CTRL)
-    gap, _ = cKDTree(_dense(track.xy_m)).query(np.column_stack([sim.x, sim.y]))
-    assert np.max(gap) < 0.15
+@pytest.mark.parametrize(
+    ("name", "speed", "limited"),
+    [("husky-a200", 0.5, False), ("auriga-beta-narrow", 0.5, False), ("pioneer-3at", 0.4, True)],
+)
+def test_swept_track_matches_the_simulator_within_the_braking_distance(
+    name: str, speed: float, limited: bool
+) -> None:
+    # The simulator adds the drive law: the forward speed follows the slow-down for a sharp
+    # corner at most at the acceleration limit, so the robot runs on by up to the braking
+    # distance v^2 / (2 a_max) (Husky 0.13 m, Auriga-beta 0.36 m, Pioneer 0.22 m), which
+    # the kinematic track leaves out.  Every simulated position before the final stop (it
+    # brakes inside the switching radius of the goal) lies within that (+ 5 cm) of the
+    # track; the Pioneer is power-limited (wheeled paper §III), turning no tighter than
+    # r_min and switching within 1.5 r_min.
+    params = vehicle(name, "asphalt")
+    ctrl = HeadingController(speed_mps=speed, power_limited=limited)
+    wps = np.array([[0.0, 0.0], [15.0, 0.0], [15.0, 20.0], [40.0, 25.0], [30.0, 5.0]])
+    track = swept_track(wps, params, ctrl)
+    sim = simulate_waypoints(params, wps, ctrl)
+    xy = np.column_stack([sim.x, sim.y])
+    d_switch = max(ctrl.switch_radius_m, 1.5 * power_limited_radius(params, speed))
+    before_stop = np.hypot(*(xy - wps[-1]).T) > d_switch
+    gap, _ = cKDTree(_dense(track.xy_m)).query(xy[before_stop])
+    assert np.max(gap) < speed**2 / (2.0 * params.accel_max_mps2) + 0.05
 
 
 def _dense(xy: np.ndarray, step_m: float = 0.005) -> np.ndarray:
