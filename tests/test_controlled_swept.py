@@ -22,7 +22,7 @@ from scipy.spatial import cKDTree
 
 from ecoplan.dynamics.controller import HeadingController, power_limited_radius
 from ecoplan.energy.path import path_cost
-from ecoplan.energy.swept import steady_per_m, swept_track, terrain_shift_j
+from ecoplan.energy.swept import steady_per_m, sweep_corner, swept_track, terrain_shift_j
 from ecoplan.geometry.maps import GridMap
 from ecoplan.presets import vehicle
 from ecoplan.sim.simulate import simulate_waypoints
@@ -160,18 +160,29 @@ def test_terrain_shift_is_zero_on_one_terrain(legs: list[float], turns: list[flo
     grid = GridMap(np.zeros((400, 600), dtype=np.int8), 0.1, terrain=np.zeros((400, 600), np.uint8),
                    terrain_names=("snow",))  # fmt: skip
     track = swept_track(wps, HUSKY.on("snow"), CTRL)
-    shift = terrain_shift_j(track, wps, grid, steady_per_m(HUSKY, V))
+    shift = terrain_shift_j(track.xy_m, wps, grid, steady_per_m(HUSKY, V))
     assert all(val == 0.0 for val in shift.values())
+    for i in range(1, len(wps) - 1):
+        sw = sweep_corner(wps[i - 1 : i + 2], HUSKY.on("snow"), CTRL)
+        shift = terrain_shift_j(sw.track.xy_m, sw.planned_m, grid, steady_per_m(HUSKY, V))
+        assert all(val == 0.0 for val in shift.values())
 
 
-def test_corner_samples_lie_on_the_track_after_each_switch() -> None:
-    wps = np.array([[0.0, 0.0], [15.0, 0.0], [15.0, 20.0], [40.0, 25.0]])
-    track = swept_track(wps, HUSKY.on("asphalt"), CTRL)
-    samples = track.corner_samples()
-    assert samples.shape == (2, 8, 2)
-    # the first sample of each corner lies within d_th (the switching radius) of its way
-    # point, plus the half-sample of driving (at most 0.5 m/s for 1.4 s)
-    for i in range(2):
-        assert math.hypot(*(samples[i, 0] - wps[i + 1])) < 1.0 + 0.5 * 1.4
-    gap, _ = cKDTree(_dense(track.xy_m)).query(samples.reshape(-1, 2))
+def test_a_corner_sweep_starts_at_the_switch_and_is_sampled_on_its_track() -> None:
+    tri = np.array([[0.0, 0.0], [15.0, 0.0], [15.0, 20.0]])
+    sw = sweep_corner(tri, HUSKY.on("asphalt"), CTRL)
+    # from the switch point d_th = 1 m before the corner into the next switching circle
+    # (by less than one step of at most 0.5 m)
+    assert sw.track.xy_m[0] == pytest.approx([14.0, 0.0])
+    assert 0.5 <= math.hypot(*(sw.track.xy_m[-1] - tri[2])) < 1.0
+    assert sw.planned_m == pytest.approx(np.array([[14.0, 0.0], [15.0, 0.0], [15.0, 19.0]]))
+    # eight samples on the track, the first within the half-sample of driving (at most
+    # 0.5 m/s for 4 / G / 16 = 1.4 s) of the switch point, spread over 4 / G = 22 s
+    assert sw.samples_m.shape == (8, 2)
+    assert math.hypot(*(sw.samples_m[0] - [14.0, 0.0])) < 0.5 * 1.4 + 1e-9
+    gap, _ = cKDTree(_dense(sw.track.xy_m)).query(sw.samples_m)
     assert np.max(gap) < 0.01
+    # the same corner inside a whole path's track: the samples agree with it
+    whole = swept_track(np.array([[-20.0, 0.0], *tri[1:]]), HUSKY.on("asphalt"), CTRL)
+    gap, _ = cKDTree(_dense(whole.xy_m)).query(sw.samples_m)
+    assert np.max(gap) < 0.05

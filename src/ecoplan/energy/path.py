@@ -93,7 +93,7 @@ from ecoplan.energy.primitives import (
     wrap_pi,
 )
 from ecoplan.energy.result import PathCost, Violation
-from ecoplan.energy.swept import steady_per_m, swept_track, terrain_shift_j
+from ecoplan.energy.swept import steady_per_m, sweep_corner, sweep_start, terrain_shift_j
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
 from ecoplan.errors import InputError
@@ -394,19 +394,19 @@ def _controlled_path_cost(
     if abs(d0) > 1e-12:
         ex0 = table0.initial_excess(d0, float(seg_len[0]), last=n_seg == 1)
         excesses.append((0, d0, ex0))
-    corner_terr: list[str | None] = []  # where each corner turns (on the swept track)
-    if world is not None and world.has_regions:
-        track = swept_track(pts, params_on(vehicle, terrains[0]), ctrl, yaw0)
-        shift = terrain_shift_j(track, pts, world, steady_per_m(vehicle, ctrl.speed_mps))
-        for k, val in shift.items():
-            acc.energy[k] += val
-        if n_seg > 1:
-            corner_terr = world.terrain_at(track.corner_samples().reshape(-1, 2))
-    k_s = len(corner_terr) // max(n_seg - 1, 1)
+    swept = world if world is not None and world.has_regions else None  # terrain under it
+    per_m = steady_per_m(vehicle, ctrl.speed_mps)
+    if swept is not None and abs(d0) > 1e-12:
+        sw = sweep_start(pts[:2], params_on(vehicle, terrains[0]), ctrl, yaw0)
+        _add_shift(acc, terrain_shift_j(sw.track.xy_m, sw.planned_m, swept, per_m))
     for i in range(1, n_seg):
         table = controlled_turns(params_on(vehicle, terrains[i]), ctrl)
         ex = table.corner_excess(float(dpsi[i - 1]), float(seg_len[i]), last=i == n_seg - 1)
-        names = corner_terr[(i - 1) * k_s : i * k_s]
+        names: list[str | None] = []
+        if swept is not None:  # where it turns; the terrain under it until the next switch
+            sw = sweep_corner(pts[i - 1 : i + 2], params_on(vehicle, terrains[i]), ctrl)
+            names = swept.terrain_at(sw.samples_m)
+            _add_shift(acc, terrain_shift_j(sw.track.xy_m, sw.planned_m, swept, per_m))
         kinds = list(dict.fromkeys(names))
         if names and kinds != [terrains[i]]:  # it turns on other terrains: their excesses
             each = [
@@ -448,6 +448,11 @@ def _controlled_path_cost(
         seg = (pts[i], pts[i + 1], float(v_seg[i]), np.zeros(2))
         _add_segment(acc, vehicle, world, seg, (None, None), i, violations)
     return acc.result(psi, violations, turns)
+
+
+def _add_shift(acc: _Acc, shift_j: dict[str, float]) -> None:
+    for k, val in shift_j.items():
+        acc.energy[k] += val
 
 
 def _add_turn(

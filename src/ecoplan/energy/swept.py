@@ -19,9 +19,11 @@ brakes for the slow-down and runs on by up to ``v^2 / (2 a_max)`` (Auriga-beta a
 ``tests/test_controlled_swept.py``); modelling it needed steps four times shorter for
 a third of that error.
 
-:meth:`SweptTrack.corner_samples` reads where each corner is turned (the points whose
-terrains weight the corner's excess), :func:`terrain_shift_j` what steady driving costs
-on the track's terrains instead of the planned polyline's.
+:func:`sweep_corner` follows one corner (the three way points around it: local, so a
+cost that caches corners can cache it too) and gives the points where it is turned, whose
+terrains weight the corner's excess; :func:`terrain_shift_j` what steady driving costs on
+the track's terrains instead of the planned polyline's.  The start, misaligned with the
+first leg, is swept the same way (:func:`sweep_start`).
 """
 
 from __future__ import annotations
@@ -37,7 +39,15 @@ from ecoplan.dynamics.controller import HeadingController, power_limited_radius
 from ecoplan.energy.primitives import Vehicle, VehicleParams, WorldLike, params_on
 from ecoplan.models.power import COMPONENTS
 
-__all__ = ["SweptTrack", "steady_per_m", "swept_track", "terrain_shift_j"]
+__all__ = [
+    "Sweep",
+    "SweptTrack",
+    "steady_per_m",
+    "sweep_corner",
+    "sweep_start",
+    "swept_track",
+    "terrain_shift_j",
+]
 
 _CONVERGED_RAD = 0.01  # heading error below which the robot drives straight at its goal
 _N_CORNER_SAMPLES = 8
@@ -84,23 +94,6 @@ class SweptTrack:
         y = np.interp(t, self.t_s, self.xy_m[:, 1])
         out: FloatArray = np.stack([x, y], axis=-1)
         return out
-
-    def corner_samples(self) -> FloatArray:
-        """Where the controller turns at each interior way point: points to read terrain at.
-
-        Eight positions at ``t_switch + (k + 1/2) / 8 * 4 / G``, spread over the settling
-        (98 % of the turn): the excess is not spent in proportion to the turned angle --
-        the slower, longer path driven while the heading converges costs as much as the
-        turning.  A corner never switched to takes the track's end.
-
-        Returns
-        -------
-        ndarray, shape (N - 2, 8, 2)
-            Sample points [m].
-        """
-        t_q = (np.arange(_N_CORNER_SAMPLES) + 0.5) / _N_CORNER_SAMPLES * _SETTLE / self.gain
-        t0 = np.where(np.isnan(self.switch_s), self.t_s[-1], self.switch_s)
-        return self.at(t0[:, None] + t_q[None, :])
 
 
 def swept_track(
@@ -200,6 +193,86 @@ def swept_track(
     return SweptTrack(np.column_stack([xs, ys]), np.asarray(ts), switch, float(g), completed)
 
 
+@dataclass(frozen=True, slots=True)
+class Sweep:
+    """One corner (or a misaligned start) as the controller drives it.
+
+    Attributes
+    ----------
+    track : SweptTrack
+        From the switch point ``d_th`` before the corner's way point, heading along the
+        incoming leg (or from the start, at the initial heading), to the switching
+        circle of the next way point.
+    planned_m : ndarray, shape (3, 2) or (2, 2)
+        The polyline the track replaces: the switch point, the way point, the next way
+        point's switch point (or the start and the first way point's switch point) [m].
+    samples_m : ndarray, shape (8, 2)
+        Where the corner is turned: the track at ``(k + 1/2) / 8 * 4 / G`` after the
+        switch (98 % of the turn; the excess is not spent in proportion to the turned
+        angle -- the slower, longer path driven while the heading converges costs as
+        much as the turning) [m].
+    """
+
+    track: SweptTrack
+    planned_m: FloatArray
+    samples_m: FloatArray
+
+
+def _switch_radius(params: VehicleParams, controller: HeadingController) -> float:
+    r_min = power_limited_radius(params, controller.speed_mps) if controller.power_limited else 0.0
+    return max(controller.switch_radius_m, 1.5 * r_min)
+
+
+def _sweep(
+    start: FloatArray, yaw_rad: float, planned: list[FloatArray], goal: FloatArray,
+    params: VehicleParams, controller: HeadingController,
+) -> Sweep:  # fmt: skip
+    d_sw = _switch_radius(params, controller)
+    prev = planned[-1]
+    leg = float(np.hypot(*(goal - prev)))
+    end = goal - min(d_sw, 0.999 * leg) * (goal - prev) / max(leg, 1e-12)
+    track = swept_track(np.array([start, goal]), params, controller, yaw_rad)
+    t_q = (np.arange(_N_CORNER_SAMPLES) + 0.5) / _N_CORNER_SAMPLES * _SETTLE / controller.gain
+    return Sweep(track, np.array([*planned, end]), track.at(t_q))
+
+
+def sweep_corner(tri: FloatArray, params: VehicleParams, controller: HeadingController) -> Sweep:
+    """The corner at ``tri[1]`` between the legs ``tri[0] -> tri[1] -> tri[2]`` (local).
+
+    The robot is taken to reach the switching circle on the incoming leg, heading along
+    it (the previous corner has settled; closer corners are the corner-pair tables'
+    business), so the sweep depends on the three way points alone and can be cached with
+    the corner.
+
+    Parameters
+    ----------
+    tri : ndarray, shape (3, 2)
+        The way points before, at and after the corner [m].
+    params : TrackedParams or WheeledParams
+        The vehicle (saturation and power-limited radius).
+    controller : HeadingController
+        Gain, set point and switching radius.
+
+    Returns
+    -------
+    Sweep
+        The track, the polyline it replaces and the corner's terrain samples.
+    """
+    a, b, c = (np.asarray(p, dtype=np.float64) for p in tri)
+    leg = float(np.hypot(*(b - a)))
+    u = (b - a) / leg
+    switch = b - min(_switch_radius(params, controller), leg) * u
+    return _sweep(switch, math.atan2(u[1], u[0]), [switch, b], c, params, controller)
+
+
+def sweep_start(
+    pair: FloatArray, params: VehicleParams, controller: HeadingController, yaw0_rad: float
+) -> Sweep:
+    """A start misaligned with the first leg ``pair[0] -> pair[1]`` (see :func:`sweep_corner`)."""
+    a = np.asarray(pair[0], dtype=np.float64)
+    return _sweep(a, yaw0_rad, [a], np.asarray(pair[1], dtype=np.float64), params, controller)
+
+
 def _resample(xy: FloatArray, n: int) -> FloatArray:
     """Midpoints of ``n`` equal arc-length pieces of the polyline ``xy``."""
     seg = np.hypot(*np.diff(xy, axis=0).T)
@@ -210,8 +283,8 @@ def _resample(xy: FloatArray, n: int) -> FloatArray:
 
 
 def terrain_shift_j(
-    track: SweptTrack,
-    waypoints: FloatArray,
+    track_m: FloatArray,
+    planned_m: FloatArray,
     world: WorldLike,
     per_m: Callable[[str | None], dict[str, float]],
 ) -> dict[str, float]:
@@ -226,10 +299,10 @@ def terrain_shift_j(
 
     Parameters
     ----------
-    track : SweptTrack
-        The track driven (:func:`swept_track`).
-    waypoints : ndarray, shape (N, 2)
-        The planned polyline [m].
+    track_m : ndarray, shape (M, 2)
+        The track driven (:attr:`SweptTrack.xy_m`, :attr:`Sweep.track`) [m].
+    planned_m : ndarray, shape (N, 2)
+        The planned polyline it replaces [m].
     world : WorldLike
         Terrain under each point.
     per_m : callable
@@ -240,13 +313,14 @@ def terrain_shift_j(
     dict
         Energy per component [J] (positive: the track's terrain costs more).
     """
-    wps = np.asarray(waypoints, dtype=np.float64)
+    wps = np.asarray(planned_m, dtype=np.float64)
+    xy = np.asarray(track_m, dtype=np.float64)
     length = float(np.sum(np.hypot(*np.diff(wps, axis=0).T)))
     out = dict.fromkeys(COMPONENTS, 0.0)
-    if track.xy_m.shape[0] < 2 or track.length_m <= 0.0:
+    if xy.shape[0] < 2 or float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) <= 0.0:
         return out
     n = max(math.ceil(length / _SAMPLE_M), 1)
-    on_track = world.terrain_at(_resample(track.xy_m, n))
+    on_track = world.terrain_at(_resample(xy, n))
     on_path = world.terrain_at(_resample(wps, n))
     count: dict[str | None, int] = {}
     for a, b in zip(on_track, on_path, strict=True):
