@@ -1,7 +1,7 @@
 """How the energy lattice planner scales with map size and obstacle count.
 
 Run: ``.venv/bin/python benchmarks/lattice_scale.py [--seeds 10] [--sizes 50 100 200]
-[--obstacles 50 200 400] [--out DIR] [--quick]``
+[--obstacles 50 200 400] [--out DIR] [--quick] [--static]``
 
 Maps: square sites of ``size`` metres at 0.1 m resolution (a 200 m site is 2000 x 2000
 cells), ``n`` random obstacles (rectangles 1-10 m a side and discs 0.5-3 m in radius,
@@ -13,15 +13,13 @@ inflation is part of the map preparation, timed apart), start (3, 3) and goal
 four labels carry two distinct terrains each; the Husky A200 (0.5 m/s) its identified
 asphalt, sandy loam, snow and flooring.
 
-Planner: the energy lattice with the static turn model; ``--driven``: with the heading
-controller's corners (default settings at the vehicle's speed:
-:class:`~ecoplan.planning.lattice.LatticePlannerOptions` ``controller``; its corner
-tables built per vehicle and terrain before the clock starts), energies then as the
-controller drives the route (:func:`~ecoplan.energy.path.path_cost` with
-``turn=controller``).  Measured (00:10 UTC, 24 Nov, a machine shared by five runs): the
-driven mode takes 3.3-5.1 s of CPU per 200 m plan (median), most of it in the
-refinement's evaluations as driven, so it does not meet the 1 s target; the energy
-stays within 0.5 % of the finer reference.
+Planner: the energy lattice as the heading controller drives the route (the default, the
+mode of ``benchmarks/sites.py``: default controller settings at the vehicle's speed,
+:class:`~ecoplan.planning.lattice.LatticePlannerOptions` ``controller``; its corner tables
+built per vehicle and terrain before the clock starts, like a vehicle file), energies then
+as the controller drives the route (:func:`~ecoplan.energy.path.path_cost` with
+``turn=controller``); ``--static``: the static turn model (turns as steady primitives)
+and its energies.  (``--driven`` is accepted and is the default.)
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
 of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and
@@ -230,10 +228,14 @@ def plot(rows: list[dict[str, Any]], path: Path) -> None:
 
 
 def _worker() -> int:
-    """Answer ``[vehicle, size, obstacles, seed]`` JSON lines on stdin with result rows."""
+    """Answer ``[vehicle, size, obstacles, seed, driven]`` JSON lines with result rows."""
+    warmed: set[str] = set()
     for line in sys.stdin:
-        name, size, n_obs, seed = json.loads(line)
-        print(json.dumps(run_one(name, size, n_obs, seed, False)), flush=True)
+        name, size, n_obs, seed, driven = json.loads(line)
+        if driven and name not in warmed:
+            warm_tables(name)
+            warmed.add(name)
+        print(json.dumps(run_one(name, size, n_obs, seed, False, driven)), flush=True)
     return 0
 
 
@@ -247,9 +249,9 @@ class _Worker:
             stdin=subprocess.PIPE, stdout=subprocess.PIPE,
         )  # fmt: skip
 
-    def run(self, name: str, size: float, n_obs: int, seed: int) -> dict[str, Any]:
+    def run(self, name: str, size: float, n_obs: int, seed: int, driven: bool) -> dict[str, Any]:
         assert self.proc.stdin is not None and self.proc.stdout is not None
-        self.proc.stdin.write(json.dumps([name, size, n_obs, seed]) + "\n")
+        self.proc.stdin.write(json.dumps([name, size, n_obs, seed, driven]) + "\n")
         self.proc.stdin.flush()
         out: dict[str, Any] = json.loads(self.proc.stdout.readline())
         return out
@@ -261,7 +263,7 @@ class _Worker:
 
 
 def before_after(
-    rev: str, names: list[str], size: float, n_obs: int, seeds: int
+    rev: str, names: list[str], size: float, n_obs: int, seeds: int, driven: bool
 ) -> list[dict[str, Any]]:
     """Plan the same sites with this tree and with revision ``rev``; print the ratios."""
     root = Path(__file__).resolve().parents[1]
@@ -277,7 +279,7 @@ def before_after(
                 for seed in range(seeds):
                     order = list(workers) if seed % 2 == 0 else list(workers)[::-1]
                     for tree in order:
-                        row = workers[tree].run(name, size, n_obs, seed)
+                        row = workers[tree].run(name, size, n_obs, seed, driven)
                         rows.append(dict(row, tree=tree))
         finally:
             for w in workers.values():
@@ -323,8 +325,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--baseline", metavar="REV", help="also plan with git revision REV")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument(
-        "--driven", action="store_true", help="plan with the heading controller's corners"
+        "--static", action="store_true", help="plan with the static turn model (no controller)"
     )
+    ap.add_argument("--driven", action="store_true", help="the default: the controller's corners")
     args = ap.parse_args(argv)
     if args.worker:
         return _worker()
@@ -336,15 +339,17 @@ def main(argv: list[str] | None = None) -> int:
     if missing:
         print(f"not run (no preset on this branch): {', '.join(missing)}")
     big = (max(args.sizes), max(args.obstacles))
+    driven = not args.static
+    print(f"mode: {'driven (heading controller)' if driven else 'static turn model'}")
     rows: list[dict[str, Any]] = []
     for name in names:
-        if args.driven:
+        if driven:
             warm_tables(name)
         for size in args.sizes:
             for n_obs in args.obstacles:
                 for seed in range(args.seeds):
                     ref = (size, n_obs) == big
-                    rows.append(run_one(name, size, n_obs, seed, ref, args.driven))
+                    rows.append(run_one(name, size, n_obs, seed, ref, driven))
     keys = sorted({k for r in rows for k in r})
     with open(args.out / "lattice_scale.csv", "w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=keys)
@@ -408,7 +413,7 @@ def main(argv: list[str] | None = None) -> int:
             f"(within 2 %: {'met' if abs(med_r - 1) <= 0.02 else 'NOT met'}; n={len(ratios)})"
         )  # fmt: skip
     if args.baseline:
-        ba = before_after(args.baseline, names, big[0], big[1], args.seeds)
+        ba = before_after(args.baseline, names, big[0], big[1], args.seeds, driven)
         keys = sorted({k for r in ba for k in r})
         with open(args.out / "lattice_scale_before_after.csv", "w", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=keys)

@@ -9,8 +9,6 @@ here, not recomputed by the code under test.
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -23,6 +21,7 @@ from ecoplan.diagnose.replay import build_frame
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import vehicle
+from synth_logs import log_record, random_commands
 
 TRACKED = vehicle("auriga-beta-wide", "marble")
 WHEELED = vehicle("pioneer-3at", "asphalt")
@@ -33,33 +32,14 @@ def _random_log(params, seed: int, mass: float, drag: float, gain: float, pose: 
     rng = np.random.default_rng(seed)
     hz, n = 10.0, 400
     t = np.arange(n) / hz
-    vmax = params.top_track_speed_mps
-    cl, cr = np.zeros(n), np.zeros(n)
-    i = 0
-    while i < n:
-        k = int(rng.uniform(2, 6) * hz)
-        cl[i : i + k], cr[i : i + k] = rng.uniform(-vmax, vmax, 2)
-        i += k
+    cl, cr = random_commands(rng, n, hz, params.top_track_speed_mps)
     vl = follow_commands(t, cl, params.accel_max_mps2)
     vr = follow_commands(t, cr, params.accel_max_mps2)
     vx = 0.5 * (vl + vr)
-    wz = (vr - vl) / params.track_gauge_m
-    yaw = np.cumsum(wz) / hz
     p = gain * np.asarray(params.power(vl, vr).total_w)
     p += mass * vx * np.gradient(vx, t) + drag * (vl**2 + vr**2)
     p += rng.normal(0.0, 0.05 * float(np.std(p)) + 1e-3, n)
-    return SimpleNamespace(
-        t=t,
-        v_left=vl,
-        v_right=vr,
-        p_total=p,
-        v_left_cmd=cl,
-        v_right_cmd=cr,
-        x=np.cumsum(vx * np.cos(yaw)) / hz if pose else None,
-        y=np.cumsum(vx * np.sin(yaw)) / hz if pose else None,
-        yaw=yaw if pose else None,
-        wz=None,
-    )
+    return log_record(t, vl, vr, p, (cl, cr), params.track_gauge_m, pose)
 
 
 def assert_fit_within_bounds(params, log) -> None:  # type: ignore[no-untyped-def]

@@ -29,26 +29,9 @@ from ecoplan.diagnose.stats import block_bootstrap, ljung_box, noise_floor_mae
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
 from ecoplan.presets import vehicle
+from synth_logs import log_record, mixed_commands
 
 PARAMS = vehicle("auriga-beta-wide", "asphalt")
-
-
-def _commands(rng: np.random.Generator, n: int, hz: float) -> tuple[np.ndarray, np.ndarray]:
-    """Piecewise-constant side-speed commands: straight, same-sign turns, spins, stops."""
-    vl = np.zeros(n)
-    vr = np.zeros(n)
-    i = 0
-    vmax = PARAMS.top_track_speed_mps
-    while i < n:
-        k = int(rng.uniform(3, 7) * hz)
-        v = rng.uniform(0.3, 0.9) * vmax
-        kind = rng.integers(4)
-        a, b = [(v, v), (v, 0.5 * v), (-0.6 * v, 0.6 * v), (0.0, 0.0)][kind]
-        if rng.random() < 0.5:
-            a, b = b, a
-        vl[i : i + k], vr[i : i + k] = a, b
-        i += k
-    return vl, vr
 
 
 def _log(extra: str = "", value: float = 0.0, seed: int = 0, dur: float = 200.0, hz: float = 25.0):
@@ -56,7 +39,7 @@ def _log(extra: str = "", value: float = 0.0, seed: int = 0, dur: float = 200.0,
     rng = np.random.default_rng(seed)
     n = int(dur * hz)
     t = np.arange(n) / hz
-    cl, cr = _commands(rng, n, hz)
+    cl, cr = mixed_commands(rng, n, hz, PARAMS.top_track_speed_mps)
     vl = follow_commands(t, cl, PARAMS.accel_max_mps2)
     vr = follow_commands(t, cr, PARAMS.accel_max_mps2)
     p = PARAMS.power(vl, vr).total_w.copy()
@@ -76,18 +59,7 @@ def _log(extra: str = "", value: float = 0.0, seed: int = 0, dur: float = 200.0,
     elif extra == "slope":  # a plane of angle `value` rising along world x
         p += PARAMS.mass_kg * 9.81 * np.sin(value) * vx * np.cos(yaw) / PARAMS.eta
     p = p + rng.normal(0.0, 3.0, n)
-    return SimpleNamespace(
-        t=t,
-        v_left=vl,
-        v_right=vr,
-        p_total=p,
-        v_left_cmd=cl,
-        v_right_cmd=cr,
-        x=np.cumsum(vx * np.cos(yaw)) / hz,
-        y=np.cumsum(vx * np.sin(yaw)) / hz,
-        yaw=yaw,
-        wz=None,
-    )
+    return log_record(t, vl, vr, p, (cl, cr), half)
 
 
 def _data(log, params=PARAMS):  # type: ignore[no-untyped-def]

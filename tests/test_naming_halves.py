@@ -24,6 +24,7 @@ from ecoplan.diagnose.naming import (
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.presets import vehicle
+from synth_logs import mixed_commands
 
 PARAMS = vehicle("auriga-beta-wide", "asphalt")
 HZ, DUR = 20.0, 180.0
@@ -33,15 +34,7 @@ def _speeds(seed: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     rng = np.random.default_rng(seed)
     n = int(DUR * HZ)
     t = np.arange(n) / HZ
-    vmax = PARAMS.top_track_speed_mps
-    cl, cr = np.zeros(n), np.zeros(n)
-    i = 0
-    while i < n:
-        k = int(rng.uniform(3, 7) * HZ)
-        v = rng.uniform(0.3, 0.9) * vmax
-        a, b = [(v, v), (v, 0.5 * v), (-0.6 * v, 0.6 * v), (0.0, 0.0)][rng.integers(4)]
-        cl[i : i + k], cr[i : i + k] = (b, a) if rng.random() < 0.5 else (a, b)
-        i += k
+    cl, cr = mixed_commands(rng, n, HZ, PARAMS.top_track_speed_mps)
     acc = PARAMS.accel_max_mps2
     return t, follow_commands(t, cl, acc), follow_commands(t, cr, acc)
 

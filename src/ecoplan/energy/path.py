@@ -74,14 +74,7 @@ import numpy as np
 
 from ecoplan._typing import ArrayLike, FloatArray
 from ecoplan.dynamics.controller import HeadingController
-from ecoplan.energy.controlled import (
-    ORBIT,
-    Excess,
-    blend_excess,
-    controlled_turns,
-    corner_pairs,
-    drive_path,
-)
+from ecoplan.energy.driven_path import DrivenPathCost
 from ecoplan.energy.primitives import (
     TurnMode,
     Vehicle,
@@ -89,13 +82,12 @@ from ecoplan.energy.primitives import (
     WorldLike,
     check_vehicle_world,
     params_on,
-    positive_speed,
     wrap_pi,
 )
 from ecoplan.energy.result import PathCost, Violation
-from ecoplan.energy.swept import steady_per_m, sweep_corner, sweep_start, terrain_shift_j
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan, _turn_plan, fillet_collides
+from ecoplan.energy.waypoints import segment_speeds, validate_path
 from ecoplan.errors import InputError
 from ecoplan.models.inertial import Elevation, climb_energy_along_j, kinetic_energy_j
 from ecoplan.models.limits import check_tracks
@@ -107,31 +99,6 @@ __all__ = ["Speed", "path_cost"]
 _RAMP_SAMPLES = 33
 
 Speed = float | Sequence[float] | FloatArray | TrackTrajectory
-
-
-def _validate_path(path: ArrayLike) -> FloatArray:
-    try:
-        pts = np.asarray(path, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise InputError("path must be an (N, 2) array of waypoints") from None
-    if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 2:
-        raise InputError(f"path must be an (N >= 2, 2) array of waypoints, got {pts.shape}")
-    if not np.all(np.isfinite(pts)):
-        raise InputError("path waypoints must be finite")
-    seg = np.hypot(*np.diff(pts, axis=0).T)
-    if np.any(seg <= 1e-9):
-        i = int(np.flatnonzero(seg <= 1e-9)[0])
-        raise InputError(f"path segment {i} has zero length (waypoints {i} and {i + 1} coincide)")
-    return pts
-
-
-def _segment_speeds(speed: float | Sequence[float] | FloatArray, n_seg: int) -> FloatArray:
-    v = np.asarray(speed, dtype=np.float64)
-    if v.ndim == 0:
-        v = np.full(n_seg, float(v))
-    if v.shape != (n_seg,):
-        raise InputError(f"need one speed or {n_seg} per-segment speeds, got shape {v.shape}")
-    return positive_speed("speed", v)
 
 
 def _ramp_power(
@@ -273,7 +240,7 @@ def path_cost(
         pc = _controlled_path_cost(path, vehicle, speed, world, initial_heading_rad, turn)
         if elevation is None:
             return pc
-        pts = _validate_path(path)
+        pts = validate_path(path)
         p = params_on(vehicle, world.terrain_at(pts[:1])[0] if world is not None else None)
         eta = p.eta if isinstance(p, TrackedParams) else 1.0
         climb = sum(
@@ -288,9 +255,9 @@ def path_cost(
         yaw0 = 0.0 if initial_heading_rad is None else float(initial_heading_rad)
         start = (float(pts0[0, 0]), float(pts0[0, 1]), yaw0)
         return trajectory_cost(speed, vehicle, world=world, start_pose=start)
-    pts = _validate_path(path)
+    pts = validate_path(path)
     n_seg = len(pts) - 1
-    v_seg = _segment_speeds(speed, n_seg)
+    v_seg = segment_speeds(speed, n_seg)
     d = np.diff(pts, axis=0)
     seg_len = np.hypot(d[:, 0], d[:, 1])
     heading = np.arctan2(d[:, 1], d[:, 0])
@@ -353,106 +320,15 @@ def _controlled_path_cost(
     initial_heading_rad: float | None,
     controller: HeadingController,
 ) -> PathCost:
-    """:func:`path_cost` of a path driven by the heading controller (module controlled)."""
-    pts = _validate_path(path)
-    n_seg = len(pts) - 1
+    """:func:`path_cost` of a path driven by the heading controller (module driven_path)."""
+    pts = validate_path(path)
     if isinstance(speed, TrackTrajectory):
         raise InputError("a timed trajectory has no waypoints for a heading controller")
-    v_seg = _segment_speeds(speed, n_seg)
+    v_seg = segment_speeds(speed, len(pts) - 1)
     if np.any(v_seg != v_seg[0]):
         raise InputError("a heading controller drives one set point: give one speed")
-    ctrl = dataclasses.replace(controller, speed_mps=float(v_seg[0]))
-    d = np.diff(pts, axis=0)
-    heading = np.arctan2(d[:, 1], d[:, 0])
-    seg_len = np.hypot(d[:, 0], d[:, 1])
-    dpsi = wrap_pi(np.diff(heading))
-    terrains = world.terrain_at(pts) if world is not None else [None] * len(pts)
-    acc = _Acc()
-    turns: list[TurnPlan] = []
-    violations: list[Violation] = []
-    psi = 0.0
-    excesses: list[tuple[int, float, Excess]] = []
-    fixes: list[Excess] = []  # interactions of close corner pairs
-    yaw0 = float(heading[0]) if initial_heading_rad is None else float(initial_heading_rad)
-    if not math.isfinite(yaw0):
-        raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
-    d0 = float(wrap_pi(float(heading[0]) - yaw0))
-    table0 = controlled_turns(params_on(vehicle, terrains[0]), ctrl)
-    if n_seg > 1 and float(np.min(seg_len[1:])) < float(table0.legs_m[0]):
-        # way points closer than the tables reach: roll the controller out on the path
-        t, vl, vr, done = drive_path(params_on(vehicle, terrains[0]), pts, ctrl, yaw0)
-        if t.size < 2:  # every way point within the switching radius: the robot never moves
-            return _Acc().result(0.0, [], [])
-        traj = TrackTrajectory(t, vl, vr)
-        start = (float(pts[0, 0]), float(pts[0, 1]), yaw0)
-        pc = trajectory_cost(traj, vehicle, world=world, start_pose=start)
-        if done:
-            return pc
-        orbit = Violation("turn", n_seg - 1, ORBIT, ctrl.speed_mps, math.nan)
-        return dataclasses.replace(pc, feasible=False, violations=(orbit, *pc.violations))
-    ends = table0.ends
-    if abs(d0) > 1e-12:
-        ex0 = table0.initial_excess(d0, float(seg_len[0]), last=n_seg == 1)
-        excesses.append((0, d0, ex0))
-    swept = world if world is not None and world.has_regions else None  # terrain under it
-    per_m = steady_per_m(vehicle, ctrl.speed_mps)
-    if swept is not None and abs(d0) > 1e-12:
-        sw = sweep_start(pts[:2], params_on(vehicle, terrains[0]), ctrl, yaw0)
-        _add_shift(acc, terrain_shift_j(sw.track.xy_m, sw.planned_m, swept, per_m))
-    for i in range(1, n_seg):
-        table = controlled_turns(params_on(vehicle, terrains[i]), ctrl)
-        ex = table.corner_excess(float(dpsi[i - 1]), float(seg_len[i]), last=i == n_seg - 1)
-        names: list[str | None] = []
-        if swept is not None:  # where it turns; the terrain under it until the next switch
-            sw = sweep_corner(pts[i - 1 : i + 2], params_on(vehicle, terrains[i]), ctrl)
-            names = swept.terrain_at(sw.samples_m)
-            _add_shift(acc, terrain_shift_j(sw.track.xy_m, sw.planned_m, swept, per_m))
-        kinds = list(dict.fromkeys(names))
-        if names and kinds != [terrains[i]]:  # it turns on other terrains: their excesses
-            each = [
-                controlled_turns(params_on(vehicle, t), ctrl).corner_excess(
-                    float(dpsi[i - 1]), float(seg_len[i]), last=i == n_seg - 1
-                )
-                for t in kinds
-            ]
-            ex = blend_excess(each, [names.count(t) / len(names) for t in kinds])
-        excesses.append((i, float(dpsi[i - 1]), ex))
-        if i < n_seg - 1 and float(seg_len[i]) < float(table.legs_m[-1]):
-            # the next corner comes before this one has settled: the pair's interaction
-            pair = corner_pairs(params_on(vehicle, terrains[i]), ctrl)
-            fixes.append(pair.correction(float(dpsi[i - 1]), float(seg_len[i]), float(dpsi[i])))
-    for index, angle, ex in [*excesses, (len(pts) - 1, 0.0, ends)]:
-        for k, val in ex.breakdown_j.items():
-            acc.energy[k] += val
-        acc.duration += ex.duration_s
-        acc.length += ex.length_m
-        acc.peak = max(acc.peak, ex.peak_power_w)
-        if abs(angle) > 0.0:
-            psi += ex.psi_rad
-            plan = TurnPlan(
-                "controller", angle, ctrl.speed_mps, math.nan, 0.0, ex.duration_s,
-                ex.length_m, 0.0, ex.energy_j, dict(ex.breakdown_j), ex.peak_power_w,
-                ex.violated == "", ex.violated,
-            )  # fmt: skip
-            turns.append(plan)
-        if ex.violated:
-            where = "turn" if abs(angle) > 0.0 else "segment"
-            violations.append(Violation(where, index, ex.violated, ctrl.speed_mps, math.nan))
-    for ex in fixes:
-        for k, val in ex.breakdown_j.items():
-            acc.energy[k] += val
-        acc.duration += ex.duration_s
-        acc.length += ex.length_m
-        psi += ex.psi_rad
-    for i in range(n_seg):
-        seg = (pts[i], pts[i + 1], float(v_seg[i]), np.zeros(2))
-        _add_segment(acc, vehicle, world, seg, (None, None), i, violations)
-    return acc.result(psi, violations, turns)
-
-
-def _add_shift(acc: _Acc, shift_j: dict[str, float]) -> None:
-    for k, val in shift_j.items():
-        acc.energy[k] += val
+    drive = DrivenPathCost(vehicle, float(v_seg[0]), controller, world=world)
+    return drive(pts, initial_heading_rad)
 
 
 def _add_turn(

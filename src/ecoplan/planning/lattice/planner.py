@@ -12,15 +12,13 @@ from scipy.sparse import csgraph
 
 from ecoplan._typing import ArrayLike, FloatArray, IntArray
 from ecoplan.dynamics.controller import HeadingController
-from ecoplan.energy.controlled import controlled_turns, corner_pairs, drive_path
+from ecoplan.energy.controlled import corner_pairs
 from ecoplan.energy.objective import CostObjective
-from ecoplan.energy.path import path_cost
-from ecoplan.energy.result import PathCost
-from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import turn_costs
 from ecoplan.errors import InputError, PlanningError
 from ecoplan.geometry.maps import GridMap
 from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget
+from ecoplan.planning.lattice.driven import Candidate, RouteFinisher
 from ecoplan.planning.lattice.primitives import (
     EPS,
     LatticeGraph,
@@ -31,18 +29,12 @@ from ecoplan.planning.lattice.primitives import (
     terrain_costs,
 )
 from ecoplan.planning.lattice.smooth import Smoother, simplify
-from ecoplan.planning.refine import RefineOptions, RefineResult, refine_waypoints
+from ecoplan.planning.refine import RefineOptions
 
 __all__ = ["LatticePlanner", "LatticePlannerOptions", "plan_lattice"]
 
 _FAR = 1e300  # reweighted cost of a transition that cannot lead to the goal
 _TINY = 1e-9  # smallest reweighted cost (rounding; adds < 1e-9 per transition)
-# a route refined for a controller must be estimated cheaper by more than the controlled
-# model's error (as the graph planner's refinement)
-_DRIVEN_GAIN = 0.01
-# step of the controller roll-outs that pick among routes [s]: on the Husky's 60 m sites of
-# benchmarks/sites.py within 0.01 % of the simulator at 0.01 s
-_ROLLOUT_DT_S = 0.1
 _Starts = tuple[IntArray, FloatArray]  # start states and their join costs
 _Goals = tuple[IntArray, FloatArray, IntArray]  # goal states, join costs, their nodes
 
@@ -218,7 +210,11 @@ class LatticePlanner:
         self.n_edges_ = self.lattice_.n_edges
         self._per_m = costs.per_m
         self._edges = self._edge_nodes(self.lattice_)
-        self._smoother = Smoother(grid, cost, costs.per_m, self.cell_m_, weights)
+        smoother = Smoother(grid, cost, costs.per_m, self.cell_m_, weights)
+        opts = self.options
+        self._finish = RouteFinisher(
+            grid, cost, smoother, opts.smoothing_passes, opts.refine, self._ctrl, weights
+        )
         self.build_time_s_ = deadline.elapsed_s
 
     def _edge_nodes(self, lattice: LatticeGraph) -> tuple[IntArray, IntArray]:
@@ -307,88 +303,6 @@ class LatticePlanner:
             out_nodes[:, h] = np.clip(r, 0, ny - 1) * nx + np.clip(c, 0, nx - 1)
         return out_nodes, out_cost
 
-    def _rank(
-        self, wps: FloatArray, pc: PathCost, heading: float | None, *, driven: bool
-    ) -> tuple[bool, float]:
-        """Sort key of an evaluated path: feasible first, then the search objective.
-
-        ``driven``: the objective of the path as the controller drives it (:meth:`_driven`).
-        """
-        if self.weights is not None:  # the penalty baseline ranks by its own costs
-            value = pc.length_m + self.weights.turn_per_rad * pc.psi_rad
-        elif driven:
-            value = self.cost.value(self._driven(wps, heading))
-        else:
-            value = self.cost.value(pc)
-        return (not pc.feasible, value)
-
-    def _driven(self, wps: FloatArray, heading: float | None) -> PathCost:
-        """The path as the controller drives it (:mod:`ecoplan.energy.controlled`)."""
-        assert self._ctrl is not None
-        return path_cost(
-            wps, self.cost.vehicle, self.cost.speed_mps, world=self.grid,
-            initial_heading_rad=heading, turn=self._ctrl, elevation=self.cost.elevation,
-        )  # fmt: skip
-
-    def _evaluate(self, wps: FloatArray, heading: float | None) -> PathCost:
-        return path_cost(
-            wps,
-            self.cost.vehicle,
-            self.cost.speed_mps,
-            world=self.grid,
-            initial_heading_rad=heading,
-            turn=self.cost.turn,
-            ramps=self.cost.ramps,
-        )
-
-    def _refine(
-        self, wps: FloatArray, heading: float | None, deadline: Deadline, *, driven: bool
-    ) -> RefineResult:
-        """:func:`refine_waypoints` of the route, as the controller drives it if ``driven``."""
-        if not driven or self._ctrl is None:
-            return refine_waypoints(
-                wps, self.cost, self.grid, initial_heading_rad=heading,
-                options=self.options.refine, deadline=deadline,
-            )  # fmt: skip
-        start = self.grid.terrain_names[int(self.grid.terrain_id_at(wps[:1])[0])]
-        min_leg = float(controlled_turns(self.cost.params(start), self._ctrl).legs_m[0])
-
-        def as_driven(w: FloatArray) -> PathCost:
-            return self._driven(w, heading)
-
-        merged = self._drop_short_legs(wps, min_leg)
-        res = refine_waypoints(
-            merged, self.cost, self.grid, initial_heading_rad=heading,
-            options=self.options.refine, deadline=deadline, driven=as_driven,
-            min_leg_m=min_leg, min_gain=_DRIVEN_GAIN,
-        )  # fmt: skip
-        if res.improved or merged.shape == wps.shape:
-            return res
-        return RefineResult(merged, res.cost, res.evaluations, True)  # judged by _pick
-
-    def _drop_short_legs(self, wps: FloatArray, min_leg_m: float) -> FloatArray:
-        """Drop waypoints of legs (after the first) shorter than ``min_leg_m`` where free.
-
-        The controller switches to the next way point ``d_th`` early and cannot follow
-        such legs; the driven refinement tries no candidate with one
-        (:func:`~ecoplan.planning.refine.refine_waypoints` ``min_leg_m``), so a route
-        with two of them could not be refined.  Shortest leg first, its end (or else its
-        start) is dropped when the segment that replaces it is free on the grid.
-        """
-        w = wps
-        while len(w) > 2:
-            legs = np.hypot(*np.diff(w, axis=0).T)
-            short = [k for k in np.argsort(legs[1:]) + 1 if legs[k] < min_leg_m]
-            for k in short:
-                drops = [i for i in (k + 1, k) if 0 < i < len(w) - 1]
-                i = next((i for i in drops if self.grid.segment_free(w[i - 1], w[i + 1])), -1)
-                if i > 0:
-                    w = np.delete(w, i, axis=0)
-                    break
-            else:
-                return w
-        return w
-
     def _route(
         self,
         pred: IntArray,
@@ -409,41 +323,6 @@ class LatticePlanner:
         pts = self._node_xy(nodes // nx, nodes % nx)
         return simplify(np.vstack([[s], pts, [g]]))
 
-    def _polish(
-        self, raw: FloatArray, heading: float | None, deadline: Deadline, *, driven: bool
-    ) -> tuple[list[tuple[FloatArray, PathCost]], float, float]:
-        """Smoothing passes and refinement while time remains.
-
-        Every smoothing stage is evaluated in full and the best (feasible first, then the
-        objective, as driven when ``driven``) is kept, so smoothing never loses.  Returns
-        that stage, then the refined route if the refinement improved it (each with its
-        evaluation), and the smoothing and evaluation times [s].
-        """
-        t0 = deadline.elapsed_s
-        wps, pc = raw, self._evaluate(raw, heading)
-        t_eval, t_smooth = deadline.elapsed_s - t0, 0.0
-        best_key = self._rank(raw, pc, heading, driven=driven)
-        stage = raw
-        for _ in range(self.options.smoothing_passes):
-            if deadline.expired:
-                break
-            t0 = deadline.elapsed_s
-            stage = self._smoother.shortcut(stage)
-            t1 = deadline.elapsed_s
-            pc_stage = self._evaluate(stage, heading)
-            t_smooth, t_eval = t_smooth + t1 - t0, t_eval + deadline.elapsed_s - t1
-            key = self._rank(stage, pc_stage, heading, driven=driven)
-            if key < best_key:
-                wps, pc, best_key = stage, pc_stage, key
-        out = [(wps, pc)]
-        if self.options.refine is not None and self.weights is None and not deadline.expired:
-            t0 = deadline.elapsed_s
-            ref = self._refine(wps, heading, deadline, driven=driven)
-            t_smooth += deadline.elapsed_s - t0
-            if ref.improved:
-                out.append((ref.waypoints, ref.cost))
-        return out, t_smooth, t_eval
-
     def _static_candidates(
         self,
         static: tuple[sparse.csr_matrix, tuple[IntArray, IntArray]],
@@ -451,57 +330,22 @@ class LatticePlanner:
         ends: tuple[dict[int, int], tuple[float, float], tuple[float, float]],
         heading: float | None,
         deadline: Deadline,
-    ) -> list[tuple[FloatArray, PathCost]]:
+    ) -> list[Candidate]:
         """With a controller: the static lattice's routes as candidates too.
 
         Its route smoothed and refined as without a controller, and that route refined
-        as driven; while the budget lasts (see :meth:`_pick`).
+        as driven; while the budget lasts (see :meth:`RouteFinisher.pick`).
         """
         h, starts, goals = query
         dist, pred = self._astar(static[0], static[1], h, starts, goals)
         if not math.isfinite(float(dist[-1])) or deadline.expired:
             return []
-        out, _, _ = self._polish(self._route(pred, *ends), heading, deadline, driven=False)
+        out, _, _ = self._finish.polish(self._route(pred, *ends), heading, deadline, driven=False)
         if self.options.refine is not None and not deadline.expired:
-            ref = self._refine(out[-1][0], heading, deadline, driven=True)
+            ref = self._finish.refine(out[-1][0], heading, deadline, driven=True)
             if ref.improved:
                 out.append((ref.waypoints, ref.cost))
         return out
-
-    def _pick(
-        self, cands: list[tuple[FloatArray, PathCost]], heading: float | None, deadline: Deadline
-    ) -> tuple[FloatArray, PathCost]:
-        """The candidate route the controller drives cheapest, by roll-out.
-
-        Feasible first, then the objective of the controller's roll-out
-        (:meth:`_rollout_value`: the simulator's physics, power on the terrain under the
-        robot).  The corner tables cannot see where the controller's cut and overshot
-        corners leave the polyline's terrain, and a refinement under them alone can trade
-        real energy for model error; the roll-out settles it.  Candidates are rolled out
-        in order while the budget lasts (at least the first).
-        """
-        keys: list[tuple[bool, float]] = []
-        for k, (w, pc) in enumerate(cands):
-            if k > 0 and deadline.expired:
-                break
-            keys.append((not pc.feasible, self._rollout_value(w, heading)))
-        return cands[min(range(len(keys)), key=keys.__getitem__)]
-
-    def _rollout_value(self, wps: FloatArray, heading: float | None) -> float:
-        """Objective of the route as the controller drives it, rolled out (inf: never ends)."""
-        assert self._ctrl is not None
-        yaw0 = heading
-        if yaw0 is None:
-            yaw0 = math.atan2(float(wps[1, 1] - wps[0, 1]), float(wps[1, 0] - wps[0, 0]))
-        params = self.cost.params(self.grid.terrain_at(wps[:1])[0])
-        t, vl, vr, done = drive_path(params, wps, self._ctrl, yaw0, _ROLLOUT_DT_S)
-        if not done or t.size < 2:
-            return math.inf
-        pose = (float(wps[0, 0]), float(wps[0, 1]), yaw0)
-        traj = TrackTrajectory(t, vl, vr)
-        return self.cost.value(
-            trajectory_cost(traj, self.cost.vehicle, world=self.grid, start_pose=pose)
-        )
 
     def _heuristic(self, goal_nodes: IntArray, goal_cost: FloatArray) -> FloatArray:
         """Lower bound of the cost to the goal from every node (inf: no way there).
@@ -645,14 +489,16 @@ class LatticePlanner:
             )
         raw = self._route(pred, s_join_of, s, g)
         driven = self._ctrl is not None
-        cands, t_smooth, t_eval = self._polish(raw, initial_heading_rad, deadline, driven=driven)
+        cands, t_smooth, t_eval = self._finish.polish(
+            raw, initial_heading_rad, deadline, driven=driven
+        )
         if driven and self._static is not None and not deadline.expired:
             cands += self._static_candidates(
                 self._static, (h, starts, goals), (s_join_of, s, g), initial_heading_rad, deadline
             )
         wps, pc = cands[-1]  # the refined route, if the refinement improved it
         if driven and len(cands) > 1:
-            wps, pc = self._pick(cands, initial_heading_rad, deadline)
+            wps, pc = self._finish.pick(cands, initial_heading_rad, deadline)
         name = "penalty" if self.weights is not None else self.cost.name
         plan = Plan(
             waypoints=wps,

@@ -1,0 +1,51 @@
+"""The lattice's final pick as driven: candidate routes rolled out in one batch.
+
+:func:`ecoplan.planning.lattice.driven.drive_paths` steps several routes in lockstep; per
+route it must give what :func:`ecoplan.energy.controlled.drive_path` gives for that
+route alone (the reference, itself checked against the simulator elsewhere) -- the
+same times, track speeds and completion -- whatever the other routes in the batch.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from ecoplan.dynamics.controller import HeadingController
+from ecoplan.energy.controlled import drive_path
+from ecoplan.planning.lattice.driven import drive_paths
+from ecoplan.presets import vehicle
+
+_ROUTE = st.lists(
+    st.tuples(st.floats(-math.pi, math.pi), st.floats(0.5, 8.0)), min_size=1, max_size=4
+)
+
+
+@settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    st.sampled_from(["husky-a200", "pioneer-3at"]),
+    st.lists(_ROUTE, min_size=1, max_size=4),
+    st.floats(-math.pi, math.pi),
+    st.sampled_from([0.05, 0.1]),
+)
+def test_a_batch_drives_each_route_as_it_would_alone(
+    name: str, routes: list[list[tuple[float, float]]], yaw: float, dt: float
+) -> None:
+    params = vehicle(name).on(None)
+    ctrl = HeadingController(speed_mps=0.4)
+    paths = []
+    for legs in routes:  # all from the same start, legs of any length and angle
+        steps = [(d * math.cos(a), d * math.sin(a)) for a, d in legs]
+        paths.append(np.vstack([[0.0, 0.0], np.cumsum(steps, axis=0)]))
+    yaws = [yaw + 0.3 * k for k in range(len(paths))]
+    batch = drive_paths(params, paths, ctrl, yaws, dt)
+    assert len(batch) == len(paths)
+    for (t, vl, vr, done), w, y in zip(batch, paths, yaws, strict=True):
+        t1, vl1, vr1, done1 = drive_path(params, w, ctrl, y, dt)
+        assert done == done1
+        np.testing.assert_array_equal(t, t1)
+        np.testing.assert_allclose(vl, vl1, rtol=0.0, atol=1e-12)
+        np.testing.assert_allclose(vr, vr1, rtol=0.0, atol=1e-12)
