@@ -145,6 +145,26 @@ def test_a_corner_beside_costly_terrain_costs_more_as_the_simulator_finds() -> N
     assert est_n == pytest.approx(sim_n, rel=0.03)
 
 
+def test_a_misaligned_start_beside_costly_terrain_is_costed_on_the_terrain_it_swings_onto() -> None:
+    # Start on the road 0.5 m from its edge, facing the snow (90 degrees off the first
+    # leg): the controller turns while driving on (the slow-down lets it move from 45
+    # degrees of heading error on), swings 2.6 m onto the snow and heads for the goal,
+    # 45 m along the road, from there.  On the narrow road that is 39 m of snow (turning
+    # on snow is also cheaper than on asphalt); on the wide one all asphalt.
+    wps = np.array([[5.0, 13.5], [50.0, 13.5]])
+    yaw0 = math.pi / 2.0
+    est, sim = {}, {}
+    for width in (4.0, 10.0):
+        grid = _road(width)
+        est[width] = path_cost(
+            wps, HUSKY, V, world=grid, turn=CTRL, initial_heading_rad=yaw0
+        ).energy_j
+        sim[width] = _simulated_j(grid, wps, yaw0)
+    assert sim[4.0] > 1.5 * sim[10.0]  # premise: the swing onto the snow costs
+    assert est[4.0] == pytest.approx(sim[4.0], rel=0.03)
+    assert est[4.0] - est[10.0] == pytest.approx(sim[4.0] - sim[10.0], rel=0.1)
+
+
 @settings(max_examples=25, deadline=None)
 @given(
     legs=st.lists(st.floats(3.0, 15.0), min_size=1, max_size=4),

@@ -6,8 +6,10 @@ from the tables of :mod:`ecoplan.energy.controlled`.  That cost is a sum of piec
 of which depends on a few neighbouring way points only:
 
 * **the start**: the excess of a start misaligned with the first segment (way points 0
-  and 1, the initial heading, whether the path has one segment) and the excess of
-  starting from rest and stopping, on the start's terrain;
+  and 1, the initial heading, whether the path has one segment; blended over the
+  terrains it turns on, plus the terrain under its track,
+  :func:`~ecoplan.energy.swept.sweep_start`) and the excess of starting from rest and
+  stopping, on the start's terrain;
 * **each corner** ``i``: its excess from the tables of the terrain at way point ``i``,
   blended over the terrains the controller turns on, and steady driving on the terrain
   under the track it drives up to the next switch instead of the polyline's
@@ -266,12 +268,19 @@ class DrivenPathCost:
         ends = table0.ends
         rows, plan, first = [_row(ends, with_psi=False)], None, ""
         if abs(d0) > 1e-12:
-            ex0 = table0.initial_excess(d0, float(np.hypot(*(pts[1] - pts[0]))), last=n_seg == 1)
+            leg, terr0 = float(np.hypot(*(pts[1] - pts[0]))), self._terrain_at(pts[0])
+            ex0 = table0.initial_excess(d0, leg, last=n_seg == 1)
+            shift = np.zeros(_NC)
+            if self.world is not None and self.world.has_regions:  # it swings out: as corners
+                sw = sweep_start(pts[:2], self.params(terr0), self.controller, yaw0)
+                names = self.world.terrain_at(sw.samples_m)
+                kinds = list(dict.fromkeys(names))
+                if kinds != [terr0]:
+                    each = [self._table(t).initial_excess(d0, leg, last=n_seg == 1) for t in kinds]
+                    ex0 = blend_excess(each, [names.count(t) / len(names) for t in kinds])
+                shift = self._shift(self.world, sw.track.xy_m, sw.planned_m)
             rows.insert(0, _row(ex0))
-            if self.world is not None and self.world.has_regions:  # it swings out
-                params0 = self.params(self._terrain_at(pts[0]))
-                sw = sweep_start(pts[:2], params0, self.controller, yaw0)
-                rows[0][:_NC] += self._shift(self.world, sw.track.xy_m, sw.planned_m)
+            rows[0][:_NC] += shift
             plan, first = _plan(d0, self.speed_mps, ex0), ex0.violated
         piece = _Start(tuple(rows), plan, (first, ends.violated))
         self._starts[key] = piece
