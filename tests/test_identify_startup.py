@@ -201,3 +201,10 @@ def test_without_startup_the_base_vehicles_pair_is_kept() -> None:
         "assumption",
     )
     assert side_force_terrain(res.vehicle(), "asphalt").startup_distance_m == 0.4
+
+
+def test_the_start_up_pair_belongs_to_motor_current_files() -> None:
+    doc = yaml.safe_load(yaml.safe_dump(ROBOT50))  # battery-power logs
+    doc["terrains"]["asphalt"]["startup_force_n"] = {"value": 10.0, "source": "assumption"}
+    with pytest.raises(InputError, match="startup_force_n belongs to the side-force model"):
+        parse_vehicle(yaml.safe_dump(doc), "robot.yaml")

@@ -386,6 +386,12 @@ class VehicleFile(_Section):
 
 def _check_terrain(vf: VehicleFile, name: str, e: TerrainEntry) -> None:
     """Model-specific completeness of a terrain entry."""
+    for field in ("startup_force_n", "startup_distance_m"):
+        if getattr(e, field) is not None and vf.power_log.signal != "motor_current":
+            raise ValueError(
+                f"terrains.{name}.{field} belongs to the side-force model "
+                "(power_log.signal motor_current)"
+            )
     if vf.power_model == "contact-friction":
         if e.mu is None:
             raise ValueError(f"terrains.{name}.mu is required by the contact-friction model")
