@@ -27,10 +27,11 @@ and only the CPU time means much): CPU (build + query) median 0.82 / 1.09 / 0.95
 1.08 / 1.22 / 1.01 s (Auriga-β / Pioneer / Husky); energy / finer reference 1.0022 /
 1.0022 / 0.9997.  Before this session's caching (same sites, load 9-13): 3.3 / 5.1 /
 4.0 s CPU median.  ``--static`` (03:27-03:34 UTC, load 8-9): CPU median 0.35 / 0.46 /
-0.42 s, energy / finer reference 1.0009 / 1.0016 / 1.0019 (the routes of before).  The time is spread over the build of two lattices (static and driven,
-about 0.2 s), the refinements (0.3-0.5 s: the driven one costs its candidates from
-cached pieces, :class:`~ecoplan.energy.driven_path.DrivenPathCost`), the batched roll-out
-of the pick (about 0.1 s) and the searches.
+0.42 s, energy / finer reference 1.0009 / 1.0016 / 1.0019 (the routes of before).  The
+driven time is spread over the build of two lattices (static and driven, about 0.2 s),
+the refinements (0.3-0.5 s: the driven one costs its candidates from cached pieces,
+:class:`~ecoplan.energy.driven_path.DrivenPathCost`), the batched roll-out of the pick
+(about 0.1 s) and the searches.
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
 of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and
