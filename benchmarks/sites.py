@@ -38,14 +38,23 @@ Per site and vehicle, all on the same lattice (:mod:`ecoplan.planning.lattice`):
   printed: the best must not sit at the grid's edge) for the best median energy over the
   sites (one setting per vehicle, tuned on the very sites it is scored on: the best a
   user could do by hand);
-* every route's energy **as driven**: ``path_cost(..., turn=HeadingController(...))``
+* every route **simulated** (heading controller, default settings at the planned speed;
+  power recomputed per sample on the terrain under the robot, as ``ecoplan run`` does)
+  and **estimated as driven**: ``path_cost(..., turn=HeadingController(...))``
   (:mod:`ecoplan.energy.controlled`: corners, start and stop of the heading controller
-  from tables; the same controller settings as the simulation) -- the energy the robot
-  will spend, which the savings compare;
-* the energy route simulated (heading controller, default settings at the planned
-  speed; power recomputed per sample on the terrain under the robot, as ``ecoplan run``
-  does) against its planned energy as driven.  The static estimate (turns as steady
-  primitives) is printed beside it.
+  from tables, on the terrains of the track it drives, :mod:`ecoplan.energy.swept`);
+* the energy route's planned energy (the estimate as driven) against its simulated
+  energy.  The static estimate (turns as steady primitives) is printed beside it.
+
+The savings are printed twice, each with the nav2-style weights tuned on the same
+energies: on the **simulated** energies, which the targets are judged on, and on the
+estimates.  The issue asks for the energy of the routes, which is what the robot spends
+driving them: the simulator is the closest to that we have, and the estimate is our
+planner's own model of it.  Scoring the competitor with our model would charge it our
+model's errors -- before the estimate followed the swept track (corners swinging out
+onto the terrain beside a road), they favoured the nav2-style routes, which hug road
+edges (a route estimated 4 % cheaper than the energy route cost 38 % more simulated);
+they could as well favour us.  Both margins are printed so that a disagreement shows.
 
 Prints per vehicle the median energy saved against ``shortest`` and ``nav2``, the
 planning time and planned-vs-simulated energy error; and the targets of issue #14 items
@@ -222,6 +231,14 @@ def run_site(name: str, veh: FieldVehicle, seed: int) -> dict[str, Any]:
     def driven(wps: np.ndarray) -> float:
         return path_cost(wps, veh, speed, world=grid, turn=ctrl).energy_j
 
+    sims: dict[bytes, float] = {}  # many weightings give the same route: simulate it once
+
+    def simulated(wps: np.ndarray) -> float:
+        key = np.ascontiguousarray(wps).tobytes()
+        if key not in sims:
+            sims[key] = simulated_energy(grid, veh, wps, speed)
+        return sims[key]
+
     try:
         t0, cpu0 = time.perf_counter(), time.process_time()
         energy = LatticePlanner(grid, EnergyCost(veh, speed), driven_opts).plan(start, goal).best
@@ -233,18 +250,20 @@ def run_site(name: str, veh: FieldVehicle, seed: int) -> dict[str, Any]:
         length = LatticePlanner(grid, LengthCost(veh, speed), opts).plan(start, goal).best
         row["shortest_static_j"] = length.energy_j
         row["shortest_j"] = driven(length.waypoints)
+        row["shortest_sim_j"] = simulated(length.waypoints)
         for tw, ow in itertools.product(TURN_W, OFFROAD_W):
             pen = {n: (0.0 if n in PAVED else ow) for n in NAMES}
             weights = PenaltyWeights(turn_per_rad=tw, terrain_penalty=pen)
             nav = LatticePlanner(grid, LengthCost(veh, speed), opts, weights=weights)
             nav_wps = nav.plan(start, goal).best.waypoints
             row[f"nav2_{tw}_{ow}_j"] = driven(nav_wps)
+            row[f"nav2_{tw}_{ow}_sim_j"] = simulated(nav_wps)
     except EcoplanError as exc:
         row["error"] = str(exc)
         return row
     row["energy_static_j"] = energy.energy_j
     row["feasible"] = energy.cost.feasible
-    row["simulated_j"] = simulated_energy(grid, veh, energy.waypoints, speed)
+    row["simulated_j"] = simulated(energy.waypoints)
     row["energy_j"] = row["controlled_j"] = driven(energy.waypoints)
     return row
 
@@ -323,53 +342,75 @@ def main(argv: list[str] | None = None) -> int:
         if not ok:
             print(f"{name}: every site failed ({fails[0]['error'] if fails else ''})")
             continue
-        combos = list(itertools.product(TURN_W, OFFROAD_W))
-        best = min(combos, key=lambda c: _median(ok, f"nav2_{c[0]}_{c[1]}_j"))
-        nav_key = f"nav2_{best[0]}_{best[1]}_j"
-        print(f"{name}: nav2-style median driven energy [J] per (turn, off-road) weight:")
-        for tw in TURN_W:
-            cells = [f"{_median(ok, f'nav2_{tw}_{ow}_j'):8.0f}" for ow in OFFROAD_W]
-            print(f"  turn {tw:<5g} off-road {OFFROAD_W}: {' '.join(cells)}")
-        for r in ok:
-            r["saved_vs_shortest"] = 1.0 - r["energy_j"] / r["shortest_j"]
-            r["saved_vs_nav2"] = 1.0 - r["energy_j"] / r[nav_key]
-            r["static_saved_vs_nav2"] = 1.0 - r["static_route_driven_j"] / r[nav_key]
-            r["sim_error"] = r["simulated_j"] / r["controlled_j"] - 1.0
-            r["sim_error_static"] = r["simulated_j"] / r["energy_static_j"] - 1.0
-        s_short = _median(ok, "saved_vs_shortest")
-        s_nav = _median(ok, "saved_vs_nav2")
-        s_nav_static = _median(ok, "static_saved_vs_nav2")
-        err = statistics.median(abs(r["sim_error"]) for r in ok)
-        err_static = statistics.median(abs(r["sim_error_static"]) for r in ok)
-        plan_s = [r["plan_s"] for r in ok]
-        t_med, t_p95 = statistics.median(plan_s), float(np.percentile(plan_s, 95))
-        cpu_s = [r["plan_cpu_s"] for r in ok]
-        c_med, c_p95 = statistics.median(cpu_s), float(np.percentile(cpu_s, 95))
-        print(
-            f"{name}: {len(ok)} sites ({len(fails)} failed); median energy saved vs shortest "
-            f"{100 * s_short:.1f} %, vs nav2-style (turn {best[0]}, off-road {best[1]}) "
-            f"{100 * s_nav:.1f} %; plan time (build + query) median {t_med:.2f} s, p95 "
-            f"{t_p95:.2f} s (CPU {c_med:.2f} s, p95 {c_p95:.2f} s); "
-            f"|planned - simulated| median {100 * err:.1f} % (controller-driven "
-            f"estimate; static estimate {100 * err_static:.1f} %); "
-            f"feasible {sum(bool(r['feasible']) for r in ok)}/{len(ok)}"
-        )
-        print(
-            f"  the static-cost energy lattice's route (turns as steady primitives) against "
-            f"the same nav2-style: {100 * s_nav_static:.1f} % saved (driven energies)"
-        )
-        print(
-            f"  targets (#14 items 3-4, stated for the Husky): >= 10 % vs shortest "
-            f"{'met' if s_short >= 0.10 else 'NOT met'}; >= 3 % vs nav2-style "
-            f"{'met' if s_nav >= 0.03 else 'NOT met'}; planned vs simulated within 3 % "
-            f"{'met' if err <= 0.03 else 'NOT met'}; plan time <= 1 s median "
-            f"{'met' if t_med <= 1.0 else 'NOT met'} (CPU: {'met' if c_med <= 1.0 else 'NOT met'})"
-            f", <= 3 s p95 {'met' if t_p95 <= 3.0 else 'NOT met'} "
-            f"(CPU: {'met' if c_p95 <= 3.0 else 'NOT met'})"
-        )
+        report(name, ok, fails)
     plot(rows, names, args.out / "sites.png")
     print(f"wrote {args.out / 'sites.csv'} and {args.out / 'sites.png'}")
     return 0
+
+
+def _tuned_nav2(name: str, ok: list[dict[str, Any]], suffix: str, label: str) -> str:
+    """Print the nav2-style grid of medians; the key of the best weighting's energies."""
+    combos = list(itertools.product(TURN_W, OFFROAD_W))
+    best = min(combos, key=lambda c: _median(ok, f"nav2_{c[0]}_{c[1]}{suffix}"))
+    print(f"{name}: nav2-style median {label} energy [J] per (turn, off-road) weight:")
+    for tw in TURN_W:
+        cells = [f"{_median(ok, f'nav2_{tw}_{ow}{suffix}'):8.0f}" for ow in OFFROAD_W]
+        print(f"  turn {tw:<5g} off-road {OFFROAD_W}: {' '.join(cells)}")
+    edge = best[0] == TURN_W[-1] or best[1] in (OFFROAD_W[0], OFFROAD_W[-1])  # turn 0: none
+    print(f"  best: turn {best[0]}, off-road {best[1]}{' (ON THE GRID EDGE)' if edge else ''}")
+    return f"nav2_{best[0]}_{best[1]}{suffix}"
+
+
+def _met(ok: bool) -> str:
+    return "met" if ok else "NOT met"
+
+
+def report(name: str, ok: list[dict[str, Any]], fails: list[dict[str, Any]]) -> None:
+    """Print one vehicle's savings (simulated and estimated), errors, times and targets."""
+    nav_sim = _tuned_nav2(name, ok, "_sim_j", "simulated")
+    nav_est = _tuned_nav2(name, ok, "_j", "estimated (driven)")
+    for r in ok:
+        r["saved_vs_shortest"] = 1.0 - r["simulated_j"] / r["shortest_sim_j"]
+        r["saved_vs_nav2"] = 1.0 - r["simulated_j"] / r[nav_sim]
+        r["est_saved_vs_shortest"] = 1.0 - r["energy_j"] / r["shortest_j"]
+        r["est_saved_vs_nav2"] = 1.0 - r["energy_j"] / r[nav_est]
+        r["static_saved_vs_nav2"] = 1.0 - r["static_route_driven_j"] / r[nav_est]
+        r["sim_error"] = r["simulated_j"] / r["controlled_j"] - 1.0
+        r["sim_error_static"] = r["simulated_j"] / r["energy_static_j"] - 1.0
+    s_short, s_nav = _median(ok, "saved_vs_shortest"), _median(ok, "saved_vs_nav2")
+    e_short, e_nav = _median(ok, "est_saved_vs_shortest"), _median(ok, "est_saved_vs_nav2")
+    err = statistics.median(abs(r["sim_error"]) for r in ok)
+    err_static = statistics.median(abs(r["sim_error_static"]) for r in ok)
+    plan_s = [r["plan_s"] for r in ok]
+    t_med, t_p95 = statistics.median(plan_s), float(np.percentile(plan_s, 95))
+    cpu_s = [r["plan_cpu_s"] for r in ok]
+    c_med, c_p95 = statistics.median(cpu_s), float(np.percentile(cpu_s, 95))
+    print(
+        f"{name}: {len(ok)} sites ({len(fails)} failed); median energy saved, SIMULATED "
+        f"(every route rolled out): vs shortest {100 * s_short:.1f} %, vs nav2-style "
+        f"({nav_sim[5:-6].replace('_', ', ')}) {100 * s_nav:.1f} %; ESTIMATED (driven "
+        f"estimate of every route): vs shortest {100 * e_short:.1f} %, vs nav2-style "
+        f"({nav_est[5:-2].replace('_', ', ')}) {100 * e_nav:.1f} %"
+    )
+    print(
+        f"  plan time (build + query) median {t_med:.2f} s, p95 {t_p95:.2f} s (CPU "
+        f"{c_med:.2f} s, p95 {c_p95:.2f} s); |planned - simulated| median {100 * err:.1f} % "
+        f"(controller-driven estimate; static estimate {100 * err_static:.1f} %); feasible "
+        f"{sum(bool(r['feasible']) for r in ok)}/{len(ok)}"
+    )
+    print(
+        f"  the static-cost energy lattice's route (turns as steady primitives) against "
+        f"the estimate-tuned nav2-style: {100 * _median(ok, 'static_saved_vs_nav2'):.1f} % "
+        f"saved (driven estimates)"
+    )
+    print(
+        f"  targets (#14 items 3-4, stated for the Husky; savings judged on the simulated "
+        f"energies): >= 10 % vs shortest {_met(s_short >= 0.10)}; >= 3 % vs nav2-style "
+        f"{_met(s_nav >= 0.03)} (on the estimates: {_met(e_short >= 0.10)}, "
+        f"{_met(e_nav >= 0.03)}); planned vs simulated within 3 % {_met(err <= 0.03)}; "
+        f"plan time <= 1 s median {_met(t_med <= 1.0)} (CPU: {_met(c_med <= 1.0)}), <= 3 s "
+        f"p95 {_met(t_p95 <= 3.0)} (CPU: {_met(c_p95 <= 3.0)})"
+    )
 
 
 def plot(rows: list[dict[str, Any]], names: list[str], path: Path) -> None:
@@ -389,7 +430,7 @@ def plot(rows: list[dict[str, Any]], names: list[str], path: Path) -> None:
     axes[0].axhline(10, color="k", ls="--", lw=0.8)
     axes[0].axhline(3, color="k", ls=":", lw=0.8)
     axes[0].set_xlabel("site")
-    axes[0].set_ylabel("energy saved by the energy route [%]")
+    axes[0].set_ylabel("energy saved by the energy route, simulated [%]")
     axes[0].legend(fontsize=7)
     lim = axes[1].get_xlim()
     axes[1].plot(lim, lim, "k--", lw=0.8)

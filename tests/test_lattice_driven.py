@@ -34,9 +34,9 @@ V = 0.5
 CTRL = HeadingController(speed_mps=V)  # the default settings of `ecoplan run`
 
 
-def _simulated_j(grid: GridMap, wps: np.ndarray) -> float:
+def _simulated_j(grid: GridMap, wps: np.ndarray, yaw0: float | None = None) -> float:
     """Energy of the heading controller along ``wps``, power per sample on its terrain."""
-    sim = simulate_waypoints(HUSKY.on(None), wps, CTRL)
+    sim = simulate_waypoints(HUSKY.on(None), wps, CTRL, start_yaw_rad=yaw0)
     terr = grid.terrain_at(np.column_stack([sim.x, sim.y]))
     vl, vr = np.asarray(sim.v_left), np.asarray(sim.v_right)
     power = np.zeros(len(terr))

@@ -55,7 +55,9 @@ table look-ups, about a millisecond per path.  Where it errs:
   ``benchmarks/analytic_vs_sim.py --legs 1.6 8``);
 * interpolation between the grid angles and legs;
 * a pair whose second corner is the path's last (its correction assumes driving on);
-* terrain changes inside a corner (the corner's excess is that of one terrain).
+* terrain changes inside a corner: the excess is a blend of the tables of the terrains
+  the controller turns on, and :func:`ecoplan.energy.path.path_cost` charges straight
+  driving on the terrains of the track it drives (:mod:`ecoplan.energy.swept`).
 
 Measured against the simulator on 200 random polylines per vehicle
 (``benchmarks/analytic_vs_sim.py``; README) and on the shipped scenarios
@@ -88,7 +90,6 @@ __all__ = [
     "blend_excess",
     "controlled_turns",
     "corner_pairs",
-    "corner_samples",
     "drive_path",
 ]
 
@@ -374,63 +375,6 @@ class CornerPairs:
             peak_power_w=0.0,
             violated="",
         )
-
-
-_N_CORNER_SAMPLES = 8
-_SETTLE = 4.0  # time constants 1 / G over which a corner's samples are spread
-
-
-def corner_samples(
-    waypoints: FloatArray, controller: HeadingController, speed_mps: float
-) -> FloatArray:
-    """Where the controller turns at each interior way point: points to read the terrain at.
-
-    At the switch, ``d_th`` before way point ``i`` on the incoming leg, eq. (23) turns at
-    ``w = G phi`` while the heading error decays as ``phi = dpsi exp(-G t)``; the robot
-    moves on at the set point (scaled by ``cos(phi) / cos(phi_s)`` beyond the slow-down
-    heading ``phi_s``, zero from ``pi/2``), so it overshoots the corner on the side of
-    its incoming heading.  The samples are that motion's positions at 8 times evenly
-    spread over the settling, ``t = (k + 1/2) / 8 * 4 / G`` (98 % of the turn): the
-    excess is not spent in proportion to the turned angle -- the slower, longer path
-    driven while the heading converges costs as much as the turning.  Checked against
-    the simulator on a corner 0.3 m before a change from snow to asphalt
-    (``tests/test_lattice_driven.py``) and on the sites of ``benchmarks/sites.py``.
-
-    Parameters
-    ----------
-    waypoints : ndarray, shape (N, 2)
-        The path [m].
-    controller : HeadingController
-        Gain ``G``, switching radius ``d_th`` and slow-down heading.
-    speed_mps : float
-        Set point ``v`` [m/s].
-
-    Returns
-    -------
-    ndarray, shape (N - 2, 8, 2)
-        Sample points of the corner at each interior way point [m].
-    """
-    w = np.asarray(waypoints, dtype=np.float64)
-    g = controller.gain
-    t_q = (np.arange(_N_CORNER_SAMPLES) + 0.5) / _N_CORNER_SAMPLES * _SETTLE / g
-    t = np.linspace(0.0, float(t_q[-1]), 97)
-    d = np.diff(w, axis=0)
-    head = np.arctan2(d[:, 1], d[:, 0])
-    dpsi = np.remainder(np.diff(head) + math.pi, 2.0 * math.pi) - math.pi
-    phi = dpsi[:, None] * np.exp(-g * t)[None, :]  # heading error, (corners, times)
-    psi = head[1:, None] - phi
-    fwd = np.ones_like(phi)
-    if controller.slowdown_heading_rad is not None:
-        c_s = math.cos(controller.slowdown_heading_rad)
-        fwd = np.clip(np.cos(phi) / c_s, 0.0, 1.0)
-    step = speed_mps * fwd * (t[1] - t[0])
-    xy = np.stack([np.cos(psi) * step, np.sin(psi) * step], axis=-1)
-    path = np.concatenate([np.zeros((len(dpsi), 1, 2)), np.cumsum(xy[:, :-1], axis=1)], axis=1)
-    u_in = d[:-1] / np.maximum(np.hypot(d[:-1, 0], d[:-1, 1]), 1e-12)[:, None]
-    switch = w[1:-1] - controller.switch_radius_m * u_in
-    idx = np.searchsorted(t, t_q)
-    out: FloatArray = switch[:, None, :] + path[:, idx, :]
-    return out
 
 
 def blend_excess(excesses: list[Excess], weights: list[float]) -> Excess:

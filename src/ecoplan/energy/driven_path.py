@@ -6,12 +6,15 @@ from the tables of :mod:`ecoplan.energy.controlled`.  That cost is a sum of piec
 of which depends on a few neighbouring way points only:
 
 * **the start**: the excess of a start misaligned with the first segment (way points 0
-  and 1, the initial heading, whether the path has one segment) and the excess of
-  starting from rest and stopping, on the start's terrain;
+  and 1, the initial heading, whether the path has one segment; blended over the
+  terrains it turns on, plus the terrain under its track,
+  :func:`~ecoplan.energy.swept.sweep_start`) and the excess of starting from rest and
+  stopping, on the start's terrain;
 * **each corner** ``i``: its excess from the tables of the terrain at way point ``i``,
-  blended over the terrains the controller turns on
-  (:func:`~ecoplan.energy.controlled.corner_samples`; way points ``i - 1 .. i + 1``,
-  and whether it is the last corner);
+  blended over the terrains the controller turns on, and steady driving on the terrain
+  under the track it drives up to the next switch instead of the polyline's
+  (:func:`~ecoplan.energy.swept.sweep_corner`; way points ``i - 1 .. i + 1``, and
+  whether it is the last corner);
 * **each close pair of corners** ``i, i + 1`` (a leg shorter than the tables' settled
   length): the pair's correction (way points ``i - 1 .. i + 2``);
 * **each straight segment**: steady driving ``P_T(v, v) L / v`` on each terrain it
@@ -44,7 +47,6 @@ from ecoplan.energy.controlled import (
     blend_excess,
     controlled_turns,
     corner_pairs,
-    corner_samples,
     drive_path,
 )
 from ecoplan.energy.primitives import (
@@ -57,6 +59,7 @@ from ecoplan.energy.primitives import (
     wrap_pi,
 )
 from ecoplan.energy.result import PathCost, Violation
+from ecoplan.energy.swept import steady_per_m, sweep_corner, sweep_start, terrain_shift_j
 from ecoplan.energy.trajectory import TrackTrajectory, trajectory_cost
 from ecoplan.energy.turns import TurnPlan
 from ecoplan.energy.waypoints import validate_path
@@ -216,6 +219,7 @@ class DrivenPathCost:
         self.vehicle, self.world, self.speed_mps = vehicle, world, v
         self.controller = dataclasses.replace(controller, speed_mps=v)
         self.max_pieces = max_pieces
+        self._per_m = steady_per_m(vehicle, v)  # for the terrain under the swept track
         self._params: dict[str | None, VehicleParams] = {}
         self._tables: dict[str | None, ControlledTurns] = {}
         self._steady: dict[str | None, tuple[FloatArray, str]] = {}
@@ -278,8 +282,19 @@ class DrivenPathCost:
         ends = table0.ends
         rows, plan, first = [_row(ends, with_psi=False)], None, ""
         if abs(d0) > 1e-12:
-            ex0 = table0.initial_excess(d0, float(np.hypot(*(pts[1] - pts[0]))), last=n_seg == 1)
+            leg, terr0 = float(np.hypot(*(pts[1] - pts[0]))), self._terrain_at(pts[0])
+            ex0 = table0.initial_excess(d0, leg, last=n_seg == 1)
+            shift = np.zeros(_NC)
+            if self.world is not None and self.world.has_regions:  # it swings out: as corners
+                sw = sweep_start(pts[:2], self.params(terr0), self.controller, yaw0)
+                names = self.world.terrain_at(sw.samples_m)
+                kinds = list(dict.fromkeys(names))
+                if kinds != [terr0]:
+                    each = [self._table(t).initial_excess(d0, leg, last=n_seg == 1) for t in kinds]
+                    ex0 = blend_excess(each, [names.count(t) / len(names) for t in kinds])
+                shift = self._shift(self.world, sw.track.xy_m, sw.planned_m)
             rows.insert(0, _row(ex0))
+            rows[0][:_NC] += shift
             plan, first = _plan(d0, self.speed_mps, ex0), ex0.violated
         piece = _Start(tuple(rows), plan, (first, ends.violated))
         self._starts[key] = piece
@@ -288,19 +303,24 @@ class DrivenPathCost:
     def _new_corners(self, jobs: dict[bytes, tuple[FloatArray, float, float, bool]]) -> None:
         """Cost corners ``key -> (way points i-1..i+1, angle, leg after, last)`` and keep them.
 
-        The terrains the controller turns on come from one
-        :func:`~ecoplan.energy.controlled.corner_samples` over the corners' way points
-        strung together (each corner's samples depend on its own three way points only;
-        the corners at the joins are not used).
+        The terrains the controller turns on, and the terrain under its track up to the next
+        switch, come from each corner's :func:`~ecoplan.energy.swept.sweep_corner` (its own
+        three way points only: a corner is cached with them).
         """
         items = list(jobs.items())
         terrs: list[str | None] = [None] * len(items)
         names: list[str | None] = []
+        shifts = [np.zeros(_NC)] * len(items)
         if self.world is not None:  # the terrains at the corners and those it turns on
             chain = np.concatenate([tri for _, (tri, _, _, _) in items])
             terrs = self.world.terrain_at(chain[1::3])
-            samples = corner_samples(chain, self.controller, self.speed_mps)[::3]
-            names = self.world.terrain_at(samples.reshape(-1, 2))
+            sweeps = [
+                sweep_corner(tri, self.params(terrs[j]), self.controller)
+                for j, (_, (tri, _, _, _)) in enumerate(items)
+            ]
+            names = self.world.terrain_at(np.concatenate([sw.samples_m for sw in sweeps]))
+            if self.world.has_regions:  # and the terrain under the track up to the next switch
+                shifts = [self._shift(self.world, sw.track.xy_m, sw.planned_m) for sw in sweeps]
         k_s = len(names) // len(items)
         for j, (key, (_, angle, leg, last)) in enumerate(items):
             terr = terrs[j]
@@ -313,9 +333,14 @@ class DrivenPathCost:
                 ex = blend_excess(each, [at.count(t) / len(at) for t in kinds])
             turned = abs(angle) > 0.0
             plan = _plan(angle, self.speed_mps, ex) if turned else None
-            self._corners[key] = _Corner(
-                _row(ex, with_psi=turned), plan, ex.violated, terr, float(table.legs_m[-1])
-            )
+            row = _row(ex, with_psi=turned)
+            row[:_NC] += shifts[j]
+            self._corners[key] = _Corner(row, plan, ex.violated, terr, float(table.legs_m[-1]))
+
+    def _shift(self, world: WorldLike, track_m: FloatArray, planned_m: FloatArray) -> FloatArray:
+        """Energy per component [J] of the swept track's terrain over the polyline's."""
+        shift = terrain_shift_j(track_m, planned_m, world, self._per_m)
+        return np.array([shift[c] for c in COMPONENTS])
 
     def _pair(
         self, key: bytes, terrain: str | None, angles: tuple[float, float], leg_m: float

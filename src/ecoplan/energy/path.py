@@ -54,8 +54,10 @@ Decisions where the issue is silent
   (eq. 23) drives it, with the simulator's physics (:mod:`ecoplan.energy.controlled`:
   tabulated corner, corner-pair, start and stop excesses on top of steady driving):
   the estimate a battery budget should use.  A corner's excess is that of the terrains
-  the controller turns on (:func:`~ecoplan.energy.controlled.corner_samples`), weighted
-  by how much of the turn falls on each.
+  the controller turns on, weighted by how much of the turn falls on each, and straight
+  driving is charged on the terrains of the track the controller drives
+  (:mod:`ecoplan.energy.swept`: it swings out at corners and heads for the next way
+  point from there), not only of the polyline.
 * An ``initial_heading_rad`` adds a turn at the start: on the spot when feasible,
   else as an arc at the first segment's speed whose lateral displacement is not drawn.
 * Terrain of a turn is the terrain at its waypoint; straight parts are split by
