@@ -94,7 +94,7 @@ def test_cached_pieces_give_the_fresh_cost_of_every_path(
     base: tuple[np.ndarray, float | None], moves: list[tuple[int, float, float]]
 ) -> None:
     """A local search's paths (one way point moved or dropped at a time), costed through
-    one evaluator, equal fresh evaluations of each."""
+    one evaluator one by one or all in one batch, equal fresh evaluations of each."""
     pts, heading = base
     drive = DrivenPathCost(HUSKY, V, CTRL, world=GRID)
     paths = [pts]
@@ -111,6 +111,9 @@ def test_cached_pieces_give_the_fresh_cost_of_every_path(
             paths.append(w)
     for w in paths + paths[::-1]:  # the second time round, every piece is cached
         _assert_same(drive(w, heading), _fresh(w, heading))
+    batch = DrivenPathCost(HUSKY, V, CTRL, world=GRID)  # all at once: pieces costed together
+    for w, pc in zip(paths, batch.many(paths, heading), strict=True):
+        _assert_same(pc, _fresh(w, heading))
 
 
 def test_a_moved_way_point_costs_only_its_neighbouring_pieces() -> None:

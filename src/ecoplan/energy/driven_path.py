@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -101,6 +102,19 @@ class _Segment:
 
     row: FloatArray
     violated: tuple[str, ...]
+
+
+@dataclasses.dataclass(frozen=True, slots=True)
+class _Path:
+    """A path ready to assemble: way points, angles, legs, start piece, piece keys."""
+
+    pts: FloatArray
+    raw: bytes
+    angles: list[float]
+    legs: list[float]
+    start: _Start
+    corner_keys: list[bytes]
+    segment_keys: list[bytes]
 
 
 def _row(ex: Excess, *, with_psi: bool = True, with_peak: bool = True) -> FloatArray:
@@ -286,28 +300,30 @@ class DrivenPathCost:
         self._starts[key] = piece
         return piece
 
-    def _new_corners(
-        self, pts: FloatArray, miss: list[int], keys: list[bytes], angles: list[float],
-        legs: list[float],
-    ) -> None:  # fmt: skip
-        """Cost the corners ``miss`` of the path (way point indices) and keep them."""
-        n_seg = len(pts) - 1
-        idx = np.array(miss)
-        terrs: list[str | None] = [None] * len(miss)
+    def _new_corners(self, jobs: dict[bytes, tuple[FloatArray, float, float, bool]]) -> None:
+        """Cost corners ``key -> (way points i-1..i+1, angle, leg after, last)`` and keep them.
+
+        The terrains the controller turns on, and the terrain under its track up to the next
+        switch, come from each corner's :func:`~ecoplan.energy.swept.sweep_corner` (its own
+        three way points only: a corner is cached with them).
+        """
+        items = list(jobs.items())
+        terrs: list[str | None] = [None] * len(items)
         names: list[str | None] = []
-        shifts = [np.zeros(_NC)] * len(miss)
+        shifts = [np.zeros(_NC)] * len(items)
         if self.world is not None:  # the terrains at the corners and those it turns on
-            terrs = self.world.terrain_at(pts[idx])
+            chain = np.concatenate([tri for _, (tri, _, _, _) in items])
+            terrs = self.world.terrain_at(chain[1::3])
             sweeps = [
-                sweep_corner(pts[i - 1 : i + 2], self.params(terrs[j]), self.controller)
-                for j, i in enumerate(miss)
+                sweep_corner(tri, self.params(terrs[j]), self.controller)
+                for j, (_, (tri, _, _, _)) in enumerate(items)
             ]
             names = self.world.terrain_at(np.concatenate([sw.samples_m for sw in sweeps]))
             if self.world.has_regions:  # and the terrain under the track up to the next switch
                 shifts = [self._shift(self.world, sw.track.xy_m, sw.planned_m) for sw in sweeps]
-        k_s = len(names) // len(miss)
-        for j, i in enumerate(miss):
-            angle, leg, last, terr = angles[i - 1], legs[i], i == n_seg - 1, terrs[j]
+        k_s = len(names) // len(items)
+        for j, (key, (_, angle, leg, last)) in enumerate(items):
+            terr = terrs[j]
             table = self._table(terr)
             ex = table.corner_excess(angle, leg, last=last)
             at = names[j * k_s : (j + 1) * k_s]
@@ -319,9 +335,7 @@ class DrivenPathCost:
             plan = _plan(angle, self.speed_mps, ex) if turned else None
             row = _row(ex, with_psi=turned)
             row[:_NC] += shifts[j]
-            self._corners[keys[i - 1]] = _Corner(
-                row, plan, ex.violated, terr, float(table.legs_m[-1])
-            )
+            self._corners[key] = _Corner(row, plan, ex.violated, terr, float(table.legs_m[-1]))
 
     def _shift(self, world: WorldLike, track_m: FloatArray, planned_m: FloatArray) -> FloatArray:
         """Energy per component [J] of the swept track's terrain over the polyline's."""
@@ -336,26 +350,27 @@ class DrivenPathCost:
         self._pairs[key] = row
         return row
 
-    def _new_segments(self, pts: FloatArray, miss: list[int], keys: list[bytes]) -> None:
-        """Cost the segments ``miss`` of the path (``k``: way point ``k`` to ``k + 1``)."""
+    def _new_segments(self, jobs: dict[bytes, FloatArray]) -> None:
+        """Cost straight segments ``key -> way points (2, 2)`` and keep them."""
         v = self.speed_mps
-        idx = np.array(miss)
-        a_all, b_all = pts[idx], pts[idx + 1]
-        free = np.ones(len(miss), dtype=bool)
+        keys = list(jobs)
+        ab = np.array([jobs[k] for k in keys])
+        a_all, b_all = ab[:, 0], ab[:, 1]
+        free = np.ones(len(keys), dtype=bool)
         split: list[list[tuple[float, str | None]]] = []
         if isinstance(self.world, GridMap):  # sampled for all segments at once
             free, split = _grid_pieces(self.world, a_all, b_all)
         elif self.world is not None:
             one = self.world.segment_free
-            free = np.array([one(a_all[j], b_all[j]) for j in range(len(idx))])
-            for j in range(len(idx)):
+            free = np.array([one(a_all[j], b_all[j]) for j in range(len(keys))])
+            for j in range(len(keys)):
                 split.append(
                     [
                         (p.length_m, p.terrain)
                         for p in self.world.split_by_terrain(a_all[j], b_all[j])
                     ]
                 )
-        for j, k in enumerate(miss):
+        for j, key in enumerate(keys):
             a, b = a_all[j], b_all[j]
             total = float(np.hypot(*(b - a)))
             bad: list[str] = [] if free[j] else ["collision"]
@@ -380,7 +395,7 @@ class DrivenPathCost:
                     row[_DUR] += duration
                     row[_LEN] += length
                     row[_PEAK] = max(row[_PEAK], power[_NC])
-            self._segments[keys[k]] = _Segment(row, tuple(bad))
+            self._segments[key] = _Segment(row, tuple(bad))
 
     # ------------------------------------------------------------------ evaluation
     def __call__(self, path: ArrayLike, initial_heading_rad: float | None = None) -> PathCost:
@@ -398,6 +413,55 @@ class DrivenPathCost:
         PathCost
             Energy, time, length, turned angle, turns, violations.
         """
+        return self.many([path], initial_heading_rad)[0]
+
+    def many(
+        self, paths: Sequence[ArrayLike], initial_heading_rad: float | None = None
+    ) -> list[PathCost]:
+        """Costs of several paths as driven; the pieces none has cached costed in one batch.
+
+        Parameters
+        ----------
+        paths : sequence of array_like, shape (N_i, 2)
+            Waypoint paths [m] (each as in :meth:`__call__`).
+        initial_heading_rad : float, optional
+            Heading at the start of every path; ``None``: aligned with its first segment.
+
+        Returns
+        -------
+        list of PathCost
+            One per path, each what :meth:`__call__` gives for it.
+        """
+        if self.n_pieces > self.max_pieces:
+            self.clear()
+        out: list[PathCost | None] = [None] * len(paths)
+        todo: list[tuple[int, _Path]] = []
+        corner_jobs: dict[bytes, tuple[FloatArray, float, float, bool]] = {}
+        segment_jobs: dict[bytes, FloatArray] = {}
+        for n, path in enumerate(paths):
+            got = self._prepare(path, initial_heading_rad)
+            if isinstance(got, PathCost):  # rolled out
+                out[n] = got
+                continue
+            todo.append((n, got))
+            pts, ang, legs = got.pts, got.angles, got.legs
+            for i, key in enumerate(got.corner_keys, start=1):
+                if key not in self._corners and key not in corner_jobs:
+                    last = i == len(legs) - 1
+                    corner_jobs[key] = (pts[i - 1 : i + 2], ang[i - 1], legs[i], last)
+            for k, key in enumerate(got.segment_keys):
+                if key not in self._segments and key not in segment_jobs:
+                    segment_jobs[key] = pts[k : k + 2]
+        if corner_jobs:
+            self._new_corners(corner_jobs)
+        if segment_jobs:
+            self._new_segments(segment_jobs)
+        for n, prepared in todo:
+            out[n] = self._assemble(prepared)
+        return [pc for pc in out if pc is not None]
+
+    def _prepare(self, path: ArrayLike, initial_heading_rad: float | None) -> _Path | PathCost:
+        """The path's geometry, start piece and keys; or its cost when it is rolled out."""
         pts = validate_path(path)
         n_seg = len(pts) - 1
         d = np.diff(pts, axis=0)
@@ -409,14 +473,29 @@ class DrivenPathCost:
             raise InputError(f"initial_heading_rad must be finite, got {initial_heading_rad}")
         d0 = float(wrap_pi(float(heading[0]) - yaw0))
         table0 = self._table(self._terrain_at(pts[0]))
-        if self.n_pieces > self.max_pieces:
-            self.clear()
         if n_seg > 1 and float(np.min(seg_len[1:])) < float(table0.legs_m[0]):
             key = pts.tobytes() + np.float64(yaw0).tobytes()
             if key not in self._rolled:
                 self._rolled[key] = self._rolled_out(pts, yaw0)
             return self._rolled[key]
-        start = self._start(pts, yaw0, d0, table0)
+        raw = pts.tobytes()  # 16 bytes per way point: the pieces' keys are slices of it
+        return _Path(
+            pts=pts,
+            raw=raw,
+            angles=dpsi.tolist(),
+            legs=seg_len.tolist(),
+            start=self._start(pts, yaw0, d0, table0),
+            corner_keys=[
+                raw[16 * (i - 1) : 16 * (i + 2)] + (b"L" if i == n_seg - 1 else b"c")
+                for i in range(1, n_seg)
+            ],
+            segment_keys=[raw[16 * k : 16 * (k + 2)] for k in range(n_seg)],
+        )
+
+    def _assemble(self, p: _Path) -> PathCost:
+        """The cost of a prepared path from its pieces (all costed by now)."""
+        n_seg = len(p.legs)
+        start, ang, legs, raw = p.start, p.angles, p.legs, p.raw
         rows = list(start.rows)
         turns = [start.plan] if start.plan is not None else []
         violations: list[Violation] = []
@@ -424,22 +503,9 @@ class DrivenPathCost:
         if start.violated[0]:
             violations.append(Violation("turn", 0, start.violated[0], v, math.nan))
         pairs: list[FloatArray] = []
-        raw = pts.tobytes()  # 16 bytes per way point: the pieces' keys are slices of it
-        ang, legs = dpsi.tolist(), seg_len.tolist()
         corners, pair_rows, segments = self._corners, self._pairs, self._segments
-        ckeys = [
-            raw[16 * (i - 1) : 16 * (i + 2)] + (b"L" if i == n_seg - 1 else b"c")
-            for i in range(1, n_seg)
-        ]
-        miss = [i for i in range(1, n_seg) if ckeys[i - 1] not in corners]
-        if miss:  # costed together: one pass over the path for the terrains they turn on
-            self._new_corners(pts, miss, ckeys, ang, legs)
-        skeys = [raw[16 * k : 16 * (k + 2)] for k in range(n_seg)]
-        miss = [k for k in range(n_seg) if skeys[k] not in segments]
-        if miss:  # their collision checks in one call
-            self._new_segments(pts, miss, skeys)
         for i in range(1, n_seg):
-            c = corners[ckeys[i - 1]]
+            c = corners[p.corner_keys[i - 1]]
             rows.append(c.row)
             if c.plan is not None:
                 turns.append(c.plan)
@@ -449,15 +515,15 @@ class DrivenPathCost:
                 violations.append(Violation("segment", i, c.violated, v, math.nan))
             if i < n_seg - 1 and legs[i] < c.settled_m:
                 key = raw[16 * (i - 1) : 16 * (i + 3)]
-                p = pair_rows.get(key)
-                if p is None:
-                    p = self._pair(key, c.terrain, (ang[i - 1], ang[i]), legs[i])
-                pairs.append(p)
+                pair = pair_rows.get(key)
+                if pair is None:
+                    pair = self._pair(key, c.terrain, (ang[i - 1], ang[i]), legs[i])
+                pairs.append(pair)
         if start.violated[1]:
             violations.append(Violation("segment", n_seg, start.violated[1], v, math.nan))
         rows += pairs
         for k in range(n_seg):
-            seg = segments[skeys[k]]
+            seg = segments[p.segment_keys[k]]
             rows.append(seg.row)
             if seg.violated:
                 violations += [Violation("segment", k, name, v, math.inf) for name in seg.violated]

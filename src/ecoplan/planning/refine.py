@@ -248,6 +248,7 @@ def refine_waypoints(
     deadline: Deadline | None = None,
     evaluate: Callable[[FloatArray], PathCost] | None = None,
     driven: Callable[[FloatArray], PathCost] | None = None,
+    driven_many: Callable[[list[FloatArray]], list[PathCost]] | None = None,
     min_leg_m: float = 0.0,
     min_gain: float = 0.0,
 ) -> RefineResult:
@@ -278,6 +279,10 @@ def refine_waypoints(
         are ranked by ``cost.value`` of it (feasible first) instead of the search cost,
         and the refined route is kept if it ranks better there while ``evaluate`` still
         finds it feasible.
+    driven_many : callable, optional
+        ``driven`` of several paths at once (the same results, e.g.
+        :meth:`DrivenPathCost.many <ecoplan.energy.driven_path.DrivenPathCost.many>`):
+        the candidates of a waypoint are then costed in one call.
     min_leg_m : float
         With ``driven``: candidates with a leg after the first shorter than this are
         not tried (the controlled model rolls such paths out: slow; use the tables'
@@ -317,9 +322,10 @@ def refine_waypoints(
         costs = _SearchCost(cost, world, initial_heading_rad).totals
     else:
         drive = driven
+        batch = driven_many if driven_many is not None else lambda ps: [drive(p) for p in ps]
 
         def costs(paths: list[FloatArray]) -> FloatArray:
-            ranks = [rank(drive(p)) for p in paths]
+            ranks = [rank(pc) for pc in batch(paths)]
             return np.array([math.inf if bad else val for bad, val in ranks])
 
     w, h = w0, o.step_m

@@ -46,10 +46,14 @@ tables at a right angle
 :mod:`ecoplan.energy.controlled`).  A turn on the spot then leads into a second layer of
 states (a corner under way at the node) whose further turns cost that slope, and
 straight steps lead back; the heuristic is unchanged and stays a lower bound, every
-turn costing >= 0.  Smoothing stages and the refinement are ranked by the energy as
-driven; the static lattice's route (and it refined as driven) are candidates too, and
-the pick is the candidate whose controller roll-out (the simulator's physics, power on
-the terrain under the robot) is cheapest.
+turn costing >= 0.  The refinement is ranked by the energy as driven (its pieces --
+start, corners, corner pairs, segments -- cached per planner,
+:class:`~ecoplan.energy.driven_path.DrivenPathCost`, so a candidate that moves one way
+point re-costs only its neighbourhood); every smoothing stage, the refined route and the
+static lattice's routes (and those refined as driven) are candidates, and the pick is
+the candidate whose controller roll-out (the simulator's physics, power on the terrain
+under the robot; all candidates in one batch) is cheapest
+(:mod:`~ecoplan.planning.lattice.driven`).
 
 The search costs come from the cost objective's ``per_metre`` and ``turn_value``
 (:class:`~ecoplan.energy.objective.EnergyCost`: joules;

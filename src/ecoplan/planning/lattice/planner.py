@@ -76,11 +76,14 @@ class LatticePlannerOptions:
         (:func:`~ecoplan.planning.lattice.primitives.driven_turn_costs`: the corner
         tables of :mod:`ecoplan.energy.controlled`, built once per vehicle, terrain and
         controller, a few seconds each, cached; the planner builds them with the lattice,
-        outside a query's budget), and the smoothing stages and the refinement are ranked by
-        the energy as driven (:func:`~ecoplan.energy.path.path_cost` with
-        ``turn=controller``; a refined route is kept when that falls by more than 1 %,
-        the model's error).  ``None``: the static turn model.  Not used with penalty
-        weights.
+        outside a query's budget); the refinement is ranked by the energy as driven
+        (:func:`~ecoplan.energy.path.path_cost` with ``turn=controller``, its pieces
+        cached per planner: :class:`~ecoplan.energy.driven_path.DrivenPathCost`; a
+        refined route is kept when that falls by more than 1 %, the model's error), and
+        the route returned is the candidate -- every smoothing stage, the refined route,
+        the static lattice's routes -- whose controller roll-out costs least
+        (:class:`~ecoplan.planning.lattice.driven.RouteFinisher`).  ``None``: the
+        static turn model.  Not used with penalty weights.
     """
 
     cell_m: float | None = None
