@@ -21,15 +21,21 @@ as the controller drives the route (:func:`~ecoplan.energy.path.path_cost` with
 ``turn=controller``); ``--static``: the static turn model (turns as steady primitives)
 and its energies.  (``--driven`` is accepted and is the default.)
 
-Measured (``--seeds 6 --sizes 200 --obstacles 400``, driven, commit d46089f, 03:04-03:09
-UTC 24 Nov, on 2 cores shared by four sessions, load average 7-8, so wall clock is 2.5-4.4 s
-and only the CPU time means much): CPU (build + query) median 0.82 / 1.09 / 0.95 s, p95
-1.08 / 1.22 / 1.01 s (Auriga-β / Pioneer / Husky); energy / finer reference 1.0022 /
-1.0022 / 0.9997.  Before this session's caching (same sites, load 9-13): 3.3 / 5.1 /
-4.0 s CPU median.  The time is spread over the build of two lattices (static and driven,
-about 0.2 s), the refinements (0.3-0.5 s: the driven one costs its candidates from
-cached pieces, :class:`~ecoplan.energy.driven_path.DrivenPathCost`), the batched roll-out
-of the pick (about 0.1 s) and the searches.
+Measured (``--seeds 6 --sizes 200 --obstacles 400``, driven, commit d46089f, 03:04-03:09 UTC
+24 Nov, on 2 cores shared by four sessions, load average 7-8, so wall clock is 2.5-4.4 s and
+only the CPU time means much): CPU (build + query) median 0.82 / 1.09 / 0.95 s, p95 1.08 /
+1.22 / 1.01 s (Auriga-β / Pioneer / Husky); energy / finer reference 1.0022 / 1.0022 /
+0.9997. Before this session's caching (same sites, load 9-13): 3.3 / 5.1 / 4.0 s CPU median.
+After merging the swept corners of main (commit 981f54b, 03:48-03:51 UTC, load 1-3): wall
+clock (build + query) median 1.26 / 1.21 / 0.89 s, p95 3.08 / 1.45 / 1.07 s; CPU median 0.76
+/ 1.08 / 0.88 s, p95 1.04 / 1.26 / 1.03 s; energy / finer reference 1.0022 / 1.0022 / 0.9997
+-- the 1 s median is met for the Husky only (the Pioneer's refinements, about 0.5 s, are the
+largest part). ``--static`` (03:27-03:34 UTC, load 8-9): CPU median 0.35 / 0.46 / 0.42 s,
+energy / finer reference 1.0009 / 1.0016 / 1.0019 (the routes of before). The driven time is
+spread over the build of two lattices (static and driven, about 0.2 s), the refinements
+(0.3-0.5 s: the driven one costs its candidates from cached pieces,
+:class:`~ecoplan.energy.driven_path.DrivenPathCost`), the batched roll-out of the pick
+(about 0.1 s) and the searches.
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
 of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and

@@ -8,7 +8,9 @@ same times, track speeds and completion -- whatever the other routes in the batc
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import time
 
 import numpy as np
 from hypothesis import HealthCheck, given, settings
@@ -16,7 +18,12 @@ from hypothesis import strategies as st
 
 from ecoplan.dynamics.controller import HeadingController
 from ecoplan.energy.controlled import drive_path
-from ecoplan.planning.lattice.driven import drive_paths
+from ecoplan.energy.objective import EnergyCost
+from ecoplan.energy.path import path_cost
+from ecoplan.geometry.maps import GridMap
+from ecoplan.planning.base import Deadline
+from ecoplan.planning.lattice.driven import RouteFinisher, drive_paths
+from ecoplan.planning.lattice.smooth import Smoother
 from ecoplan.presets import vehicle
 
 _ROUTE = st.lists(
@@ -49,3 +56,20 @@ def test_a_batch_drives_each_route_as_it_would_alone(
         np.testing.assert_array_equal(t, t1)
         np.testing.assert_allclose(vl, vl1, rtol=0.0, atol=1e-12)
         np.testing.assert_allclose(vr, vr1, rtol=0.0, atol=1e-12)
+
+
+def test_with_the_budget_spent_the_pick_takes_the_last_feasible_route_without_roll_out() -> None:
+    """Candidates come in order of refinement; no roll-out once the budget is spent."""
+    grid = GridMap(np.zeros((100, 200), dtype=np.int8), 0.1, inflation_m=0.3)
+    cost = EnergyCost(vehicle("husky-a200"), 0.5)
+    finisher = RouteFinisher(
+        grid, cost, Smoother(grid, cost, np.array([1.0]), 0.5), 1, None,
+        HeadingController(speed_mps=0.5),
+    )  # fmt: skip
+    routes = [np.array([[1.0, 5.0], [10.0, 5.0 + k], [19.0, 5.0]]) for k in range(3)]
+    cands = [(w, path_cost(w, cost.vehicle, 0.5, world=grid)) for w in routes]
+    cands[2] = (cands[2][0], dataclasses.replace(cands[2][1], feasible=False))
+    spent = Deadline(1e-3)
+    time.sleep(2e-3)
+    assert spent.expired
+    assert finisher.pick(cands, None, spent)[0] is routes[1]

@@ -240,11 +240,13 @@ class RouteFinisher:
         robot).  The corner tables cannot see where the controller's cut and overshot
         corners leave the polyline's terrain, and a refinement under them alone can trade
         real energy for model error; the roll-out settles it.  All candidates are rolled
-        out at once (one batch in lockstep); when the budget is spent before the pick,
-        the first is returned.
+        out at once (one batch in lockstep).  When the budget is spent before the pick,
+        the last feasible candidate (the most refined route) is returned unrolled.
         """
-        if len(cands) == 1 or deadline.expired:
+        if len(cands) == 1:
             return cands[0]
+        if deadline.expired:
+            return next((c for c in reversed(cands) if c[1].feasible), cands[-1])
         values = self.rollout_values([w for w, _ in cands], heading)
         keys = [(not pc.feasible, val) for (_, pc), val in zip(cands, values, strict=True)]
         return cands[min(range(len(keys)), key=keys.__getitem__)]
