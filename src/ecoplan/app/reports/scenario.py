@@ -43,6 +43,13 @@ if TYPE_CHECKING:
 __all__ = ["write_report"]
 
 
+#: The power model behind a vehicle's parameters (a wheeled robot may use the contact model).
+_MODEL = {
+    "tracked": "contact-friction power model, tracked paper",
+    "wheeled": "radius-fit power model, wheeled paper",
+}
+
+
 def write_report(
     sc: Scenario,
     results: Sequence[CaseResult],
@@ -141,7 +148,7 @@ def _markdown(
     regions = ", ".join(f"{name} ({terr})" for name, terr, _ in sc.regions) or "none"
     lines += [
         f"- scenario file: `{sc.source}`",
-        f"- vehicle: `{sc.params.name}` ({sc.params.kind})",
+        f"- vehicle: `{sc.params.name}` ({_MODEL[sc.params.kind]})",
         f"- terrain: {sc.default_terrain}; regions: {regions}",
         f"- obstacles: {len(sc.obstacles)} (inflated by {spec.map.inflation_m:g} m)",
         f"- controller: G = {spec.controller.gain:g} 1/s, d_th = {spec.controller.d_th_m:g} m; "
