@@ -67,7 +67,7 @@ def _paths(draw: st.DrawFn) -> tuple[np.ndarray, float | None]:
     return pts, heading
 
 
-def _assert_same(a: PathCost, b: PathCost) -> None:
+def assert_same_cost(a: PathCost, b: PathCost) -> None:
     for name in ("energy_j", "duration_s", "length_m", "psi_rad", "peak_power_w"):
         x, y = getattr(a, name), getattr(b, name)
         assert x == pytest.approx(y, rel=1e-9, abs=1e-9), name
@@ -110,10 +110,10 @@ def test_cached_pieces_give_the_fresh_cost_of_every_path(
         if legs[0] > 1e-6 and legs[1:].min(initial=math.inf) >= MIN_LEG_M:
             paths.append(w)
     for w in paths + paths[::-1]:  # the second time round, every piece is cached
-        _assert_same(drive(w, heading), _fresh(w, heading))
+        assert_same_cost(drive(w, heading), _fresh(w, heading))
     batch = DrivenPathCost(HUSKY, V, CTRL, world=GRID)  # all at once: pieces costed together
     for w, pc in zip(paths, batch.many(paths, heading), strict=True):
-        _assert_same(pc, _fresh(w, heading))
+        assert_same_cost(pc, _fresh(w, heading))
 
 
 def test_a_moved_way_point_costs_only_its_neighbouring_pieces() -> None:
@@ -124,7 +124,7 @@ def test_a_moved_way_point_costs_only_its_neighbouring_pieces() -> None:
     before = drive.n_pieces
     moved = pts.astype(float)
     moved[3] += (0.4, -0.3)
-    _assert_same(drive(moved), _fresh(moved, None))
+    assert_same_cost(drive(moved), _fresh(moved, None))
     assert 2 + 3 <= drive.n_pieces - before <= 2 + 3 + 4
 
 
@@ -134,7 +134,7 @@ def test_a_corner_mid_path_is_not_taken_for_the_same_corner_last() -> None:
     longer = np.vstack([short, [[25.0, 20.0]]])  # the same corner at (16, 10), not last
     drive = DrivenPathCost(HUSKY, V, CTRL, world=GRID)
     for w in (short, longer, short):
-        _assert_same(drive(w), _fresh(w, None))
+        assert_same_cost(drive(w), _fresh(w, None))
 
 
 def test_a_path_the_tables_do_not_reach_is_rolled_out_once_with_the_fresh_result() -> None:
@@ -145,8 +145,8 @@ def test_a_path_the_tables_do_not_reach_is_rolled_out_once_with_the_fresh_result
     assert drive.n_pieces == 1
     again = drive(w)
     assert again is first
-    _assert_same(again, _fresh(w, None))
-    _assert_same(drive(w, 0.5), _fresh(w, 0.5))  # another start heading: another roll-out
+    assert_same_cost(again, _fresh(w, None))
+    assert_same_cost(drive(w, 0.5), _fresh(w, 0.5))  # another start heading: another roll-out
 
 
 def test_the_cache_is_bounded_and_still_right_after_clearing() -> None:
@@ -157,7 +157,7 @@ def test_the_cache_is_bounded_and_still_right_after_clearing() -> None:
     assert drive.n_pieces == 10
     drive(b)
     assert drive.n_pieces == 20
-    _assert_same(drive(a), _fresh(a, None))  # more than 10 held: emptied first
+    assert_same_cost(drive(a), _fresh(a, None))  # more than 10 held: emptied first
     assert drive.n_pieces == 10
 
 
