@@ -72,11 +72,9 @@ UnknownPolicy = Literal["obstacle", "free"]
 
 # segment checks with the clearance (GridMap._segments_ok): a coarse sample every
 # _COARSE fine samples (4 cells); the clearance a coarse sample needs beyond the
-# distance it covers (two half cell diagonals, and float32 rounding of the clearance);
-# segments of fewer fine samples on average are sampled finely at once
+# distance it covers (two half cell diagonals, and float32 rounding of the clearance)
 _COARSE = 16
 _DIAGONAL_CELLS = math.sqrt(2.0) + 1e-3
-_FAST_MIN_SAMPLES = 24
 
 Int8Array = npt.NDArray[np.int8]
 
@@ -327,11 +325,17 @@ class GridMap:
         row, col = self.cell_of(pts[:, 0], pts[:, 1])
         return seg, row, col
 
-    def _cells_free(self, row: IntArray, col: IntArray) -> BoolArray:
-        """Free flag of cells (outside the grid: not free)."""
+    def _samples_free(
+        self, a: FloatArray, d: FloatArray, n: FloatArray, seg: IntArray, idx: IntArray
+    ) -> tuple[BoolArray, IntArray, IntArray]:
+        """Free flags and clipped cells of samples ``a + (idx / n) d`` of segments ``seg``."""
+        t = idx / n[seg]
+        pts = a[seg] + t[:, None] * d[seg]
+        row, col = self.cell_of(pts[:, 0], pts[:, 1])
         ny, nx = self.shape
-        free = ~self.blocked[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)]
-        return np.asarray(self._inside(row, col) & free, dtype=np.bool_)
+        rc, cc = np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)
+        ok = (row == rc) & (col == cc) & ~self.blocked[rc, cc]
+        return ok, rc, cc
 
     def _segments_ok(self, a: FloatArray, b: FloatArray) -> BoolArray:
         """Per segment ``a[k] -> b[k]``: every sample of :meth:`segment_samples` free.
@@ -346,42 +350,36 @@ class GridMap:
         finely (at the same points as without the clearance), so the answer is exactly
         that of sampling everything.
         """
-        n = np.maximum(np.ceil(np.hypot(*(b - a).T) / (self.resolution_m / 4.0)), 1.0)
-        clear = self.clearance_cells
-        if clear is None or float(n.sum()) < _FAST_MIN_SAMPLES * len(a):
-            seg, row, col = self.segment_samples(a, b)
-            n_bad = np.bincount(seg, weights=~self._cells_free(row, col), minlength=len(a))
-            return np.asarray(n_bad == 0, dtype=np.bool_)
+        d = b - a
+        length = np.hypot(d[:, 0], d[:, 1])
+        n = np.maximum(np.ceil(length / (self.resolution_m / 4.0)), 1.0)
         ni = n.astype(np.int64)
+        clear = self.clearance_cells
+        if clear is None:  # every sample
+            seg = np.repeat(np.arange(len(a)), ni + 1)
+            idx = np.arange(len(seg)) - np.repeat(np.cumsum(ni + 1) - (ni + 1), ni + 1)
+            ok = self._samples_free(a, d, n, seg, idx)[0]
+            return np.asarray(np.bincount(seg, weights=~ok, minlength=len(a)) == 0)
         counts = -(-ni // _COARSE) + 1  # coarse samples per segment (both ends included)
         seg = np.repeat(np.arange(len(a)), counts)
-        first = np.cumsum(counts) - counts
-        idx = np.minimum((np.arange(len(seg)) - first[seg]) * _COARSE, ni[seg])
-        t = idx / n[seg]
-        pts = a[seg] + t[:, None] * (b[seg] - a[seg])
-        row, col = self.cell_of(pts[:, 0], pts[:, 1])
-        ok = self._cells_free(row, col)
+        idx = np.minimum((np.arange(len(seg)) - np.repeat(np.cumsum(counts) - counts, counts))
+                         * _COARSE, ni[seg])  # fmt: skip
+        ok, rc, cc = self._samples_free(a, d, n, seg, idx)
         bad: BoolArray = np.bincount(seg, weights=~ok, minlength=len(a)) > 0  # coarse: fine too
-        ny, nx = self.shape
-        c = clear[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)].astype(np.float64)
-        reach = np.where(ok, np.maximum(c - _DIAGONAL_CELLS, 0.0), 0.0)
+        reach = np.where(ok, np.maximum(clear[rc, cc] - _DIAGONAL_CELLS, 0.0), 0.0)
         left = np.flatnonzero(seg[:-1] == seg[1:])  # stretches: coarse sample -> next one
         s_left = seg[left]
-        span = (idx[left + 1] - idx[left]) / n[s_left]  # its length / the segment's
-        length_cells = np.hypot(*(b - a).T) / self.resolution_m
-        covered = reach[left] + reach[left + 1] >= span * length_cells[s_left]
-        todo = left[~covered & ~bad[s_left]]
+        span_cells = (idx[left + 1] - idx[left]) / n[s_left] * (length[s_left] / self.resolution_m)
+        todo = left[(reach[left] + reach[left + 1] < span_cells) & ~bad[s_left]]
         inner = idx[todo + 1] - idx[todo] - 1  # fine samples strictly inside each stretch
-        if todo.size == 0 or int(inner.sum()) == 0:
+        n_inner = int(inner.sum())
+        if n_inner == 0:
             return ~bad
         rep = np.repeat(np.arange(len(todo)), inner)
-        fine = idx[todo][rep] + 1 + np.arange(len(rep)) - np.repeat(np.cumsum(inner) - inner, inner)
+        fine = idx[todo][rep] + 1 + np.arange(n_inner) - np.repeat(np.cumsum(inner) - inner, inner)
         s2 = seg[todo][rep]
-        t2 = fine / n[s2]
-        pts2 = a[s2] + t2[:, None] * (b[s2] - a[s2])
-        row2, col2 = self.cell_of(pts2[:, 0], pts2[:, 1])
-        bad |= np.bincount(s2, weights=~self._cells_free(row2, col2), minlength=len(a)) > 0
-        return ~bad
+        ok2 = self._samples_free(a, d, n, s2, fine)[0]
+        return ~(bad | (np.bincount(s2, weights=~ok2, minlength=len(a)) > 0))
 
     def segment_free(self, p0: ArrayLike, p1: ArrayLike) -> bool:
         """True when every sample of ``p0 -> p1`` (a quarter cell apart) is free."""
