@@ -395,9 +395,8 @@ class LatticePlanner:
             np.subtract(g.data, np.repeat(h_state, np.diff(g.indptr)), out=w)
             w += h_state[g.indices]
         # > 0: a transition of weight 0 would tie with "no edge" in a sparse sum
-        finite = np.isfinite(w)
+        np.nan_to_num(w, copy=False, nan=_FAR, posinf=_FAR, neginf=_FAR)
         np.maximum(w, _TINY, out=w)
-        w[~finite] = _FAR
         data[nnz:] = s_cost
         indices = np.concatenate([g.indices, s_to.astype(g.indices.dtype)])
         indptr = g.indptr.copy()
