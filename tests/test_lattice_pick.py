@@ -73,3 +73,48 @@ def test_with_the_budget_spent_the_pick_takes_the_last_feasible_route_without_ro
     time.sleep(2e-3)
     assert spent.expired
     assert finisher.pick(cands, None, spent)[0] is routes[1]
+
+
+def _patchy_grid(seed: int) -> GridMap:
+    """30 m x 20 m at 0.1 m: blocks and two terrains (asphalt, snow) in patches."""
+    rng = np.random.default_rng(seed)
+    occ = np.zeros((200, 300), dtype=np.int8)
+    for _ in range(6):
+        r, c = (int(v) for v in rng.integers(30, 170, 2))
+        occ[r : r + int(rng.integers(5, 30)), c + 40 : c + 40 + int(rng.integers(5, 30))] = 100
+    labels = (rng.random((4, 6)) < 0.4).astype(np.uint8).repeat(50, 0).repeat(50, 1)
+    return GridMap(occ, 0.1, inflation_m=0.4, terrain=labels, terrain_names=("asphalt", "snow"))
+
+
+@settings(max_examples=4, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 1000), st.sampled_from([None, 0.0, 2.0]))
+def test_a_planners_kept_evaluations_equal_fresh_ones(seed: int, heading: float | None) -> None:
+    # the planner keeps the full evaluations of one query's routes (stages, refinement
+    # inputs and outputs): the plan of a second query on the same planner equals a fresh
+    # planner's plan of it, and its evaluation a fresh path_cost of its way points
+    from ecoplan.planning.lattice import LatticePlanner, LatticePlannerOptions
+
+    grid = _patchy_grid(seed)
+    cost = EnergyCost(vehicle("husky-a200"), 0.5)
+    opts = LatticePlannerOptions(time_budget_s=30.0, controller=HeadingController(speed_mps=0.5))
+    used = LatticePlanner(grid, cost, opts)
+    used.plan((1.5, 18.0), (28.0, 2.0))
+    used.plan((1.5, 2.0), (28.0, 18.0))  # the same ends, no heading
+    again = used.plan((1.5, 2.0), (28.0, 18.0), initial_heading_rad=heading).best
+    fresh = (
+        LatticePlanner(grid, cost, opts)
+        .plan((1.5, 2.0), (28.0, 18.0), initial_heading_rad=heading)
+        .best
+    )
+    assert np.array_equal(again.waypoints, fresh.waypoints)
+    want = path_cost(
+        again.waypoints, cost.vehicle, 0.5, world=grid, initial_heading_rad=heading,
+        turn=cost.turn, ramps=cost.ramps,
+    )  # fmt: skip
+    for pc in (again.cost, fresh.cost):
+        assert pc.energy_j == want.energy_j
+        assert pc.breakdown_j == want.breakdown_j
+        assert (pc.duration_s, pc.length_m, pc.psi_rad) == (
+            want.duration_s, want.length_m, want.psi_rad,
+        )  # fmt: skip
+        assert pc.feasible == want.feasible and pc.violations == want.violations

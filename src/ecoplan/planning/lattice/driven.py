@@ -12,6 +12,7 @@ controller's roll-out (the simulator's physics, power on the terrain under the r
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -84,6 +85,7 @@ class RouteFinisher:
         self.passes, self.refine_options = smoothing_passes, refine
         self.ctrl, self.weights = controller, weights
         self._drive: DrivenPathCost | None = None  # the evaluations as driven, pieces cached
+        self._full: dict[tuple[bytes, float | None], PathCost] = {}  # evaluations, per query
         if controller is not None and cost.elevation is None:
             self._drive = DrivenPathCost(
                 cost.vehicle, cost.speed_mps, controller, world=grid, max_pieces=_MAX_PIECES
@@ -113,16 +115,39 @@ class RouteFinisher:
         )  # fmt: skip
 
     def evaluate(self, wps: FloatArray, heading: float | None) -> PathCost:
-        """The full evaluation of a route with the cost object's turn model."""
-        return path_cost(
-            wps,
-            self.cost.vehicle,
-            self.cost.speed_mps,
-            world=self.grid,
-            initial_heading_rad=heading,
-            turn=self.cost.turn,
-            ramps=self.cost.ramps,
-        )
+        """The full evaluation of a route with the cost object's turn model (kept).
+
+        The stages, the refinements' inputs and outputs and the candidates of one query
+        share routes: each is evaluated once (:meth:`new_query` forgets them).  With an
+        elevation map the evaluation is the refinement's own (with the elevation), else
+        this one.
+        """
+        key = (np.ascontiguousarray(wps).tobytes(), heading)
+        if key not in self._full:
+            self._full[key] = path_cost(
+                wps,
+                self.cost.vehicle,
+                self.cost.speed_mps,
+                world=self.grid,
+                initial_heading_rad=heading,
+                turn=self.cost.turn,
+                ramps=self.cost.ramps,
+            )
+        return self._full[key]
+
+    def new_query(self) -> None:
+        """Forget the evaluations of the last query (:meth:`evaluate`)."""
+        self._full.clear()
+
+    def _refine_evaluate(self, heading: float | None) -> Callable[[FloatArray], PathCost] | None:
+        """The refinement's full evaluation: :meth:`evaluate` unless on an elevation map."""
+        if self.cost.elevation is not None:
+            return None  # the refinement's own, with the elevation
+
+        def full(w: FloatArray) -> PathCost:
+            return self.evaluate(w, heading)
+
+        return full
 
     def refine(
         self, wps: FloatArray, heading: float | None, deadline: Deadline, *, driven: bool
@@ -141,6 +166,7 @@ class RouteFinisher:
             return refine_waypoints(
                 wps, self.cost, self.grid, initial_heading_rad=heading,
                 options=self.refine_options, deadline=deadline,
+                evaluate=self._refine_evaluate(heading),
             )  # fmt: skip
         start = self.grid.terrain_names[int(self.grid.terrain_id_at(wps[:1])[0])]
         min_leg = float(controlled_turns(self.cost.params(start), self.ctrl).legs_m[0])
@@ -150,11 +176,15 @@ class RouteFinisher:
 
         merged = self.drop_short_legs(wps, min_leg)
         if float(np.hypot(*np.diff(merged[1:], axis=0).T).min(initial=math.inf)) < min_leg:
-            pc = path_cost(
-                merged, self.cost.vehicle, self.cost.speed_mps, world=self.grid,
-                initial_heading_rad=heading, turn=self.cost.turn, ramps=self.cost.ramps,
-                elevation=self.cost.elevation,
-            )  # fmt: skip
+            full = self._refine_evaluate(heading)
+            if full is not None:
+                pc = full(merged)
+            else:
+                pc = path_cost(
+                    merged, self.cost.vehicle, self.cost.speed_mps, world=self.grid,
+                    initial_heading_rad=heading, turn=self.cost.turn, ramps=self.cost.ramps,
+                    elevation=self.cost.elevation,
+                )  # fmt: skip
             return RefineResult(merged, pc, 0, merged.shape != wps.shape)
         many = None
         if self._drive is not None:
@@ -167,6 +197,7 @@ class RouteFinisher:
             merged, self.cost, self.grid, initial_heading_rad=heading,
             options=self.refine_options, deadline=deadline, driven=as_driven,
             driven_many=many, min_leg_m=min_leg, min_gain=_DRIVEN_GAIN,
+            evaluate=self._refine_evaluate(heading),
         )  # fmt: skip
         if res.improved or merged.shape == wps.shape:
             return res

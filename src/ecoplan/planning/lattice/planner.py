@@ -458,6 +458,7 @@ class LatticePlanner:
             No lattice path, or the time budget (``planner.time_s``) ran out.
         """
         deadline = Deadline(self.options.time_budget_s)
+        self._finish.new_query()
         s = self.grid.check_point(start, "start")
         g = self.grid.check_point(goal, "goal")
         if math.hypot(g[0] - s[0], g[1] - s[1]) < 1e-9:
