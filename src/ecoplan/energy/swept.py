@@ -325,6 +325,8 @@ def terrain_shift_j(
     out = dict.fromkeys(COMPONENTS, 0.0)
     if xy.shape[0] < 2 or float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) <= 0.0:
         return out
+    if isinstance(world, GridMap) and _one_label(world, np.concatenate([xy, wps])):
+        return out  # every piece on one terrain: nothing differs
     n = max(math.ceil(length / _SAMPLE_M), 1)
     piece = length / n
     for terrain, c in _piece_counts(world, _resample(xy, n), _resample(wps, n)):
@@ -332,6 +334,21 @@ def terrain_shift_j(
             for comp, e in per_m(terrain).items():
                 out[comp] += c * piece * e
     return out
+
+
+def _one_label(grid: GridMap, points: FloatArray) -> bool:
+    """True when the cells of the points' bounding box hold one label (the pieces' too).
+
+    The pieces' midpoints lie on the polylines, so in the box of their vertices; a point
+    outside the grid reads the border cell, which is in the box clipped to the grid.
+    """
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    (r0, r1), (c0, c1) = grid.cell_of([lo[0], hi[0]], [lo[1], hi[1]])
+    ny, nx = grid.shape
+    r0, r1 = min(max(int(r0), 0), ny - 1), min(max(int(r1), 0), ny - 1)
+    c0, c1 = min(max(int(c0), 0), nx - 1), min(max(int(c1), 0), nx - 1)
+    box = grid.labels[r0 : r1 + 1, c0 : c1 + 1]
+    return bool((box == box[0, 0]).all())
 
 
 def _piece_counts(
