@@ -35,7 +35,15 @@ energy / finer reference 1.0009 / 1.0016 / 1.0019 (the routes of before). The dr
 spread over the build of two lattices (static and driven, about 0.2 s), the refinements
 (0.3-0.5 s: the driven one costs its candidates from cached pieces,
 :class:`~ecoplan.energy.driven_path.DrivenPathCost`), the batched roll-out of the pick
-(about 0.1 s) and the searches.
+(about 0.1 s) and the searches.  After the speed work of the next session (segment
+checks that skip the fine samples of stretches the inflation's distance transform proves
+clear, the A* on the lattice's own arrays, cheaper swept corners, each route's full
+evaluation kept for the query; the same routes and energies on every site; commit
+94728f7, 05:56-05:59 UTC 24 Nov, load average 6.6-7.9 on the 2 cores, so wall clock was
+1.3-1.7 s): CPU (build + query) median 0.63 / 0.85 / 0.83 s, p95 0.83 / 1.03 / 0.91 s;
+energy / finer reference 1.0022 / 1.0022 / 0.9956.  Commit a816b45 of that session
+(before the kept evaluations; 05:38-05:40 UTC, load 1.6-3.7): CPU median 0.66 / 0.98 /
+0.78 s.  CPU time, too, varied with the load on this machine.
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
 of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and
