@@ -74,13 +74,17 @@ WINDOW_S = 5.0
 EXPLAIN_MIN = float(inspect.signature(attribute).parameters["explain_min"].default)
 
 
-def nameable(gap_w: float, floor_w: float, after_w: float) -> bool:
+def nameable(gap_w: float, floor_w: float, after_w: float, bar_w: float | None = None) -> bool:
     """Whether a correction leaving ``after_w`` of ``gap_w`` passes the naming rule's bar.
 
     The diagnosis names an effect only if it closes :data:`EXPLAIN_MIN` of the gap above the
     noise floor, or leaves no more than ``1 + GAP_OVER_FLOOR`` times the floor
-    (:mod:`ecoplan.diagnose.attribute`); significance aside.
+    (:mod:`ecoplan.diagnose.attribute`); significance aside.  ``terrain_change`` on known
+    terrains that state their held-out error ``bar_w`` (the true terrains' here) instead
+    needs ``after_w <= bar_w`` (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`).
     """
+    if bar_w is not None:
+        return after_w <= bar_w
     return (
         after_w <= gap_w - EXPLAIN_MIN * (gap_w - floor_w)
         or after_w <= (1.0 + GAP_OVER_FLOOR) * floor_w
@@ -121,12 +125,14 @@ def join(parts: list[Log], run_id: str) -> tuple[Log, list[float]]:
 
 def ceiling(
     mix: Log, switches: list[float], names: list[str], params: VehicleParams
-) -> tuple[float, float]:
+) -> tuple[float, float, float | None]:
     """Held-out MAE ratios (raw, windowed) of ``terrain_change`` on the *true* segments.
 
     The same split, calibration and fit as the diagnosis, with the segments and their known
     terrains given instead of detected and labelled: what the effect could reach on this mix
-    with perfect localisation and labels.
+    with perfect localisation and labels.  Third, the naming bar of that fit: the true
+    terrains' own held-out error over the held-out samples
+    (:meth:`~ecoplan.diagnose.effects.TerrainChange.terrain_error_w`) [W].
     """
     frame = build_frame([mix], params)
     train_m, test_m = split_masks(frame)
@@ -139,9 +145,14 @@ def ceiling(
         (0, a, b - 1e-6, n.lower())
         for (a, b), n in zip(itertools.pairwise(edges), names, strict=True)
     )
-    r_tc = test.p - TerrainChange(theta=spans).fit(train).predict(test)
+    tc = TerrainChange(theta=spans).fit(train)
+    r_tc = test.p - tc.predict(test)
     r_cal = test.p - NoEffect().fit(train).predict(test)
-    return _mae(r_tc) / _mae(r_cal), windowed_mae(test_f, r_tc) / windowed_mae(test_f, r_cal)
+    return (
+        _mae(r_tc) / _mae(r_cal),
+        windowed_mae(test_f, r_tc) / windowed_mae(test_f, r_cal),
+        tc.terrain_error_w(test),
+    )
 
 
 def own_ratio(d: Diagnosis) -> tuple[float, float]:
@@ -273,7 +284,7 @@ def main() -> int:
     t0 = time.perf_counter()
     rows: list[dict[str, float]] = []
     print(f"{'mix':6s} {'terrains':30s} {'switches':8s} {'verdict':14s} cal -> final W  "
-          f"ratio raw/{WINDOW_S:g}s  own  true flex floor W  labels")  # fmt: skip
+          f"ratio raw/{WINDOW_S:g}s  own  true flex floor W  bar W  labels")  # fmt: skip
     for m in range(args.mixes):
         k = int(g.integers(2, 4))
         names = [str(x) for x in g.choice(TERRAINS, size=k, replace=False)]
@@ -303,21 +314,22 @@ def main() -> int:
             dur = seg.t_end_s - seg.t_start_s
             n += dur
             ok_file += dur * (lab_f == truth_at(seg.t_start_s, seg.t_end_s, names, switches, end))
-        ceil, ceil_w = ceiling(mix, switches, names, params)
+        ceil, ceil_w, bar = ceiling(mix, switches, names, params)
         flex, flex_w = flexible_ceiling(mix, switches, params)
         rows.append(dict(found=hit, switches=len(switches), tc=float(d.verdict == "terrain_change"),
                          ratio=ratio, ratio_w=ratio_w, own=own, own_w=own_w, ceiling=ceil,
                          ceiling_w=ceil_w, flex=flex,
                          flex_w=flex_w, file_ok=ok_file, label_n=n,
                          reach=float(nameable(d.gap_calibrated_w, d.attribution.noise_floor_w,
-                                              flex * d.gap_calibrated_w)),
+                                              flex * d.gap_calibrated_w, bar)),
                          reach_true=float(nameable(d.gap_calibrated_w, d.attribution.noise_floor_w,
-                                                   ceil * d.gap_calibrated_w))))  # fmt: skip
+                                                   ceil * d.gap_calibrated_w, bar))))  # fmt: skip
         short = ",".join(lab[:2] if lab else "?" for lab, _ in from_file)
         print(
             f"mix{m:02d}  {'+'.join(names):30s} {hit}/{len(switches):<6d} {d.verdict:14s} "
             f"{d.gap_calibrated_w:6.1f} -> {d.gap_final_w:6.1f}  {ratio:4.2f}/{ratio_w:4.2f}  "
             f"{own:4.2f} {ceil:4.2f} {flex:4.2f} {d.attribution.noise_floor_w:5.1f}  "
+            f"{bar if bar is not None else float('nan'):5.1f}  "
             f"{short}"
         )
     tc_single = n_single = 0

@@ -22,10 +22,10 @@
   while under ``FAR_OVER_FLOOR`` times the floor.  A significant candidate is named only if the
   residual after it is near the noise: it closes 80 % of the gap above the floor, or it leaves
   no more than a clean log's gap (``1 + GAP_OVER_FLOOR`` times the floor) and reduces the gap
-  by twice the minimum gain.  Otherwise
-  ``none`` (unsure) when the gap is at the floor, ``unexplained`` when it is model error that
-  the library does not close.  ``ambiguous`` when the two best are tied and cannot be told
-  apart.
+  by twice the minimum gain.  Otherwise ``none`` (unsure) when the gap is at the floor,
+  ``unexplained`` when it is model error that the library does not close.  ``ambiguous`` when
+  the two best are tied and cannot be told apart.  Where a bar is stated
+  (:func:`~ecoplan.diagnose.naming.stated_bars`: known terrains' own error) it replaces these.
 """
 
 from __future__ import annotations
@@ -55,6 +55,7 @@ from ecoplan.diagnose.naming import (
     fit_alternatives,
     halves_rule,
     naming_rule,
+    stated_bars,
 )
 from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
 from ecoplan.diagnose.stats import (
@@ -143,8 +144,6 @@ class PairEffect(Effect):
 
 
 def _with_p(frame: Frame, p: FloatArray) -> Frame:
-    import dataclasses
-
     return dataclasses.replace(frame, p=p)
 
 
@@ -545,6 +544,7 @@ def attribute(
         material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
         phi,
         min_gain,
+        stated_bars(fitted, test),
     )
     alternatives = fit_alternatives(train, test, r0, rng)
     named = tied[0] if verdict == "ambiguous" and tied else verdict
@@ -629,8 +629,12 @@ def _power_verdict(
     material_w: float = 0.0,
     phi: float = 0.0,
     min_gain: float = 0.03,
+    bars: dict[str, float] | None = None,
 ) -> tuple[str, float, tuple[str, ...], float, float, FloatArray]:
-    """Verdict from the power channel alone (see the module docstring)."""
+    """Verdict from the power channel alone (see the module docstring).
+
+    ``bars``: per candidate, a stated error [W] to come within instead of the noise clauses.
+    """
     dec = _decimation(test.frame)
     run = test.frame.run.astype(np.float64)
     if before <= material_w:
@@ -664,7 +668,10 @@ def _power_verdict(
     near_noise = (
         best.after <= (1.0 + GAP_OVER_FLOOR) * floor and best.reduction >= 2.0 * min_gain * before
     )
-    if explained < explain_min and not near_noise:
+    # a stated error (known terrains: their own held-out error) replaces the noise clauses
+    bar = (bars or {}).get(best.name)
+    named = explained >= explain_min or near_noise if bar is None else best.after <= bar
+    if not named:
         if before < (1.0 + GAP_OVER_FLOOR) * floor:
             # a gap at the noise floor nudged by a candidate: no model error worth a name, and
             # `none` only as sure as the candidate's reduction is noise
