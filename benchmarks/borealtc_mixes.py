@@ -253,7 +253,10 @@ def _summary(label: str, rows: list[dict[str, float]]) -> None:
         f"true segments {med('ceiling')}, flexible per-terrain ceiling {med('flex')}); "
         f"{WINDOW_S:g} s windows {med('ratio_w')} (own fit {med('own_w')}, true segments "
         f"{med('ceiling_w')}, "
-        f"flexible ceiling {med('flex_w')})"
+        f"flexible ceiling {med('flex_w')})\n"
+        f"  {'':14s} judged on the raw samples (the held-out MAE of the issue, the diagnosis's "
+        f"gap); on {sum(r['floor_share'] > 0.7 for r in rows)}/{len(rows)} mixes the noise "
+        f"floor alone is above 0.7 x calibrated"
     )
 
 
@@ -265,7 +268,7 @@ def _share(rows: list[dict[str, float]], key: str) -> str:
 def _refused(switches: int) -> dict[str, float]:
     """A refused mix: nothing found, named or closed."""
     ratios = ("ratio", "ratio_w", "own", "own_w", "ceiling", "ceiling_w", "flex", "flex_w")
-    zeros = ("found", "tc", "file_ok", "label_n", "reach", "reach_true")
+    zeros = ("found", "tc", "file_ok", "label_n", "reach", "reach_true", "floor_share")
     return {"switches": float(switches), **dict.fromkeys(ratios, 1.0), **dict.fromkeys(zeros, 0.0)}
 
 
@@ -319,6 +322,7 @@ def main() -> int:
         rows.append(dict(found=hit, switches=len(switches), tc=float(d.verdict == "terrain_change"),
                          ratio=ratio, ratio_w=ratio_w, own=own, own_w=own_w, ceiling=ceil,
                          ceiling_w=ceil_w, flex=flex,
+                         floor_share=d.attribution.noise_floor_w / max(d.gap_calibrated_w, 1e-9),
                          flex_w=flex_w, file_ok=ok_file, label_n=n,
                          reach=float(nameable(d.gap_calibrated_w, d.attribution.noise_floor_w,
                                               flex * d.gap_calibrated_w, bar)),

@@ -52,6 +52,7 @@ from ecoplan.diagnose.effects.supply import saturation_speed_channel
 from ecoplan.diagnose.naming import (
     Alternative,
     HalvesCheck,
+    bar_reason,
     fit_alternatives,
     halves_rule,
     naming_rule,
@@ -129,7 +130,7 @@ class PairEffect(Effect):
     def fit(self, data: EffectData) -> Effect:  # noqa: D102
         self.first.fit(data)
         rest = data.p - self.first.effect_w(data)
-        shifted = dataclasses.replace(data, frame=_with_p(data.frame, rest))
+        shifted = dataclasses.replace(data, frame=dataclasses.replace(data.frame, p=rest))
         self.second.fit(shifted)
         self.coef_ = np.zeros(0)
         self.chi_ = self.second.chi_
@@ -141,10 +142,6 @@ class PairEffect(Effect):
 
     def predict(self, data: EffectData) -> FloatArray:  # noqa: D102
         return np.asarray(self.second.predict(data) + self.first.effect_w(data), dtype=np.float64)
-
-
-def _with_p(frame: Frame, p: FloatArray) -> Frame:
-    return dataclasses.replace(frame, p=p)
 
 
 def _signatures(data: EffectData, names: Sequence[str]) -> dict[str, FloatArray]:
@@ -530,6 +527,7 @@ def attribute(
             )
         )
         power_scores = [s for s in power_scores if s.name != "icr_asymmetry"]
+    bars = stated_bars(fitted, test)
     verdict, conf, tied, lb_p, explained, res_after = _power_verdict(
         power_scores,
         residuals,
@@ -544,7 +542,7 @@ def attribute(
         material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
         phi,
         min_gain,
-        stated_bars(fitted, test),
+        bars,
     )
     alternatives = fit_alternatives(train, test, r0, rng)
     named = tied[0] if verdict == "ambiguous" and tied else verdict
@@ -559,6 +557,8 @@ def attribute(
         level=level,
         min_gain=min_gain,
     )
+    best_sig = next(((sc.name, sc.after) for sc in power_scores if sc.significant), None)
+    reason = reason or bar_reason(verdict, best_sig, bars)
     halves = None
     if not reason and verdict in fitted and verdict != "none":
         verdict, conf, tied, reason, halves = halves_rule(

@@ -85,6 +85,7 @@ __all__ = [
     "Alternative",
     "HalvesCheck",
     "ParameterHalves",
+    "bar_reason",
     "fit_alternatives",
     "halves_check",
     "halves_rule",
@@ -189,6 +190,42 @@ def stated_bars(fitted: dict[str, Effect], test: EffectData) -> dict[str, float]
     tc = fitted.get("terrain_change")
     bar = tc.naming_bar_w(test) if isinstance(tc, TerrainChange) else None
     return {} if bar is None else {"terrain_change": bar}
+
+
+def bar_reason(verdict: str, best: tuple[str, float] | None, bars: dict[str, float]) -> str:
+    """Why the best candidate, held to a stated bar (:func:`stated_bars`), was not named.
+
+    Parameters
+    ----------
+    verdict : str
+        The verdict.
+    best : tuple of (str, float) or None
+        The best significant power candidate's name and held-out MAE [W].
+    bars : dict of str to float
+        The stated bars [W].
+
+    Returns
+    -------
+    str
+        One line, or empty when the candidate was named, has no bar or met it.
+
+    >>> bar_reason("unexplained", ("terrain_change", 52.9), {"terrain_change": 42.0})[:46]
+    'terrain_change leaves 52.9 W held out, more th'
+    >>> bar_reason("terrain_change", ("terrain_change", 37.7), {"terrain_change": 41.2})
+    ''
+    """
+    if best is None or best[0] == verdict or best[0] not in bars:
+        return ""
+    name, after_w = best
+    bar = bars[name]
+    if bar <= 0.0:
+        return f"{name} keeps level factors of one terrain: no move between the known terrains"
+    if after_w > bar:
+        return (
+            f"{name} leaves {after_w:.1f} W held out, more than the {bar:.1f} W its labelled "
+            "known terrains' models leave on runs they were not fitted on"
+        )
+    return ""
 
 
 def fit_alternatives(
