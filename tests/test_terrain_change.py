@@ -18,6 +18,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from ecoplan.diagnose.checks import check_logs
 from ecoplan.diagnose.effects import TerrainChange, make_effect, prepare
@@ -336,3 +338,26 @@ def _husky_drift_log(seed: int) -> Log:
 def test_one_terrain_drifting_slowly_is_not_named_terrain_change(seed: int) -> None:
     d = diagnose(_husky_drift_log(seed), HUSKY)
     assert d.verdict != "terrain_change", (d.verdict, d.where_time, d.attribution.reason)
+
+
+@settings(max_examples=15, deadline=None)
+@given(
+    pair=st.permutations(["asphalt", "flooring", "ice", "sandy_loam", "snow"]).map(lambda p: p[:2]),
+    share=st.floats(0.1, 0.9),
+)
+def test_the_naming_bar_weights_each_terrains_error_by_its_held_out_samples(
+    pair: list[str], share: float
+) -> None:
+    # any two known terrains and any switch time: the bar is the share-weighted mean of the
+    # two terrains' errors as the file states them, so it lies between them
+    log = _husky_log(1, True)
+    params = vehicle(HUSKY)
+    data = prepare(build_frame([log], params), params)
+    t0, t_end = float(log.t[0]), float(log.t[-1])
+    t_switch = t0 + share * (t_end - t0)
+    theta = ((0, t0, t_switch, pair[0]), (0, t_switch, t_end, pair[1]))
+    bar = TerrainChange(theta=theta).fit(data).naming_bar_w(data)
+    errors = _file_errors()
+    first = float(np.mean(log.t < t_switch))
+    assert bar == pytest.approx(first * errors[pair[0]] + (1 - first) * errors[pair[1]])
+    assert min(errors[p] for p in pair) - 1e-9 <= bar <= max(errors[p] for p in pair) + 1e-9
