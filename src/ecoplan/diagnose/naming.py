@@ -219,7 +219,10 @@ def bar_reason(verdict: str, best: tuple[str, float] | None, bars: dict[str, flo
     name, after_w = best
     bar = bars[name]
     if bar <= 0.0:
-        return f"{name} keeps level factors of one terrain: no move between the known terrains"
+        return (
+            f"{name} keeps level factors (its segments look like one known terrain, or are "
+            "predicted better so): no move between the known terrains"
+        )
     if after_w > bar:
         return (
             f"{name} leaves {after_w:.1f} W held out, more than the {bar:.1f} W its labelled "
