@@ -18,8 +18,14 @@ change-point penalty and shortest segment were chosen), the measured-only mixes 
   and labelling), and the best a per-terrain model of the mean power could do at all -- a
   flexible per-terrain regression on the motion (:func:`flexible_ceiling`) fitted on the
   held-out samples themselves, so an optimistic bound;
-* on how many mixes even the flexible ceiling would pass the naming rule's bar (80 % of the
-  held-out gap above the noise floor closed, or what is left near the floor: :func:`nameable`);
+* on how many mixes the flexible ceiling and the true segments would pass the naming rule's
+  bar (:func:`nameable`): with the Husky's known terrains, the true terrains' own held-out
+  error (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`), printed per mix as
+  ``bar W``.  Those errors are leave-one-run-out figures, but the mixes' runs are among those
+  the file's models were fitted on, so the bar is easier to meet here than on new runs;
+* which MAE the line is judged on -- the raw samples, the held-out MAE the issue names and the
+  diagnosis's own gap -- and on how many mixes the noise floor alone is above 0.7 times the
+  calibrated gap (no correction can meet the line on raw samples there);
 * the share of segment time whose terrain label
   (:func:`ecoplan.diagnose.where_time.label_segments`) is right, with the ``husky-a200``
   vehicle file's per-terrain models (identified on all BorealTC runs, so in-sample here).
@@ -34,13 +40,13 @@ terrain_change on mixes >= 80 % and on single-terrain stretches <= 10 %, MAE rat
 
     PYTHONPATH=src .venv/bin/python benchmarks/borealtc_mixes.py [--mixes 20] [--seed 0]
 
-Figures (2026-11-24, wip/mixes after merging main at a0444e1, defaults): switches 27/30 =
-90 % (tuning 16/18, measured 11/12); ``terrain_change`` on 6/20 mixes (3/10, 3/10) and on 3/20
-single-terrain stretches (two SNOW runs of changing depth, ASPHALT_01); held-out MAE after /
-calibrated, median, raw samples 1.00 (``terrain_change``'s own fit 0.87; true segments with
-true terrains 0.87; flexible per-terrain ceiling 0.65 -- 0.61 tuning, 0.82 measured), on 5 s
-windows 1.00 (own fit 0.68, true segments 0.72, flexible ceiling 0.49).  The diagnosis
-(stand-in, before this session): 25/30, 3/20, 0/19 (SNOW_19 refused), 1.00.
+Figures (2026-11-24, wip/mixes, defaults): switches 24/30 = 80 % (tuning 13/18, measured
+11/12); ``terrain_change`` on 5/20 mixes (tuning 4/10, measured 1/10) and on 0/20
+single-terrain stretches; held-out MAE after / calibrated, median, raw samples 1.00
+(``terrain_change``'s own fit 0.90 -- 0.79 tuning; true segments with true terrains 0.95;
+flexible per-terrain ceiling 0.65), on 5 s windows 1.00 (own fit 0.75, true segments 0.80,
+flexible ceiling 0.49); the noise floor alone above 0.7 x calibrated on 10/20 mixes.  Before
+the known terrains' bar (sensor-noise clauses, ac533e3): 24/30, 7/20, 3/20, 1.00.
 """
 
 from __future__ import annotations
@@ -74,13 +80,17 @@ WINDOW_S = 5.0
 EXPLAIN_MIN = float(inspect.signature(attribute).parameters["explain_min"].default)
 
 
-def nameable(gap_w: float, floor_w: float, after_w: float) -> bool:
+def nameable(gap_w: float, floor_w: float, after_w: float, bar_w: float | None = None) -> bool:
     """Whether a correction leaving ``after_w`` of ``gap_w`` passes the naming rule's bar.
 
     The diagnosis names an effect only if it closes :data:`EXPLAIN_MIN` of the gap above the
     noise floor, or leaves no more than ``1 + GAP_OVER_FLOOR`` times the floor
-    (:mod:`ecoplan.diagnose.attribute`); significance aside.
+    (:mod:`ecoplan.diagnose.attribute`); significance aside.  ``terrain_change`` on known
+    terrains that state their held-out error ``bar_w`` (the true terrains' here) instead
+    needs ``after_w <= bar_w`` (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`).
     """
+    if bar_w is not None:
+        return after_w <= bar_w
     return (
         after_w <= gap_w - EXPLAIN_MIN * (gap_w - floor_w)
         or after_w <= (1.0 + GAP_OVER_FLOOR) * floor_w
@@ -121,12 +131,14 @@ def join(parts: list[Log], run_id: str) -> tuple[Log, list[float]]:
 
 def ceiling(
     mix: Log, switches: list[float], names: list[str], params: VehicleParams
-) -> tuple[float, float]:
+) -> tuple[float, float, float | None]:
     """Held-out MAE ratios (raw, windowed) of ``terrain_change`` on the *true* segments.
 
     The same split, calibration and fit as the diagnosis, with the segments and their known
     terrains given instead of detected and labelled: what the effect could reach on this mix
-    with perfect localisation and labels.
+    with perfect localisation and labels.  Third, the naming bar of that fit: the true
+    terrains' own held-out error over the held-out samples
+    (:meth:`~ecoplan.diagnose.effects.TerrainChange.terrain_error_w`) [W].
     """
     frame = build_frame([mix], params)
     train_m, test_m = split_masks(frame)
@@ -139,9 +151,14 @@ def ceiling(
         (0, a, b - 1e-6, n.lower())
         for (a, b), n in zip(itertools.pairwise(edges), names, strict=True)
     )
-    r_tc = test.p - TerrainChange(theta=spans).fit(train).predict(test)
+    tc = TerrainChange(theta=spans).fit(train)
+    r_tc = test.p - tc.predict(test)
     r_cal = test.p - NoEffect().fit(train).predict(test)
-    return _mae(r_tc) / _mae(r_cal), windowed_mae(test_f, r_tc) / windowed_mae(test_f, r_cal)
+    return (
+        _mae(r_tc) / _mae(r_cal),
+        windowed_mae(test_f, r_tc) / windowed_mae(test_f, r_cal),
+        tc.terrain_error_w(test),
+    )
 
 
 def own_ratio(d: Diagnosis) -> tuple[float, float]:
@@ -242,7 +259,10 @@ def _summary(label: str, rows: list[dict[str, float]]) -> None:
         f"true segments {med('ceiling')}, flexible per-terrain ceiling {med('flex')}); "
         f"{WINDOW_S:g} s windows {med('ratio_w')} (own fit {med('own_w')}, true segments "
         f"{med('ceiling_w')}, "
-        f"flexible ceiling {med('flex_w')})"
+        f"flexible ceiling {med('flex_w')})\n"
+        f"  {'':14s} judged on the raw samples (the held-out MAE of the issue, the diagnosis's "
+        f"gap); on {sum(r['floor_share'] > 0.7 for r in rows)}/{len(rows)} mixes the noise "
+        f"floor alone is above 0.7 x calibrated"
     )
 
 
@@ -254,7 +274,7 @@ def _share(rows: list[dict[str, float]], key: str) -> str:
 def _refused(switches: int) -> dict[str, float]:
     """A refused mix: nothing found, named or closed."""
     ratios = ("ratio", "ratio_w", "own", "own_w", "ceiling", "ceiling_w", "flex", "flex_w")
-    zeros = ("found", "tc", "file_ok", "label_n", "reach", "reach_true")
+    zeros = ("found", "tc", "file_ok", "label_n", "reach", "reach_true", "floor_share")
     return {"switches": float(switches), **dict.fromkeys(ratios, 1.0), **dict.fromkeys(zeros, 0.0)}
 
 
@@ -273,7 +293,7 @@ def main() -> int:
     t0 = time.perf_counter()
     rows: list[dict[str, float]] = []
     print(f"{'mix':6s} {'terrains':30s} {'switches':8s} {'verdict':14s} cal -> final W  "
-          f"ratio raw/{WINDOW_S:g}s  own  true flex floor W  labels")  # fmt: skip
+          f"ratio raw/{WINDOW_S:g}s  own  true flex floor W  bar W  labels")  # fmt: skip
     for m in range(args.mixes):
         k = int(g.integers(2, 4))
         names = [str(x) for x in g.choice(TERRAINS, size=k, replace=False)]
@@ -303,21 +323,23 @@ def main() -> int:
             dur = seg.t_end_s - seg.t_start_s
             n += dur
             ok_file += dur * (lab_f == truth_at(seg.t_start_s, seg.t_end_s, names, switches, end))
-        ceil, ceil_w = ceiling(mix, switches, names, params)
+        ceil, ceil_w, bar = ceiling(mix, switches, names, params)
         flex, flex_w = flexible_ceiling(mix, switches, params)
         rows.append(dict(found=hit, switches=len(switches), tc=float(d.verdict == "terrain_change"),
                          ratio=ratio, ratio_w=ratio_w, own=own, own_w=own_w, ceiling=ceil,
                          ceiling_w=ceil_w, flex=flex,
+                         floor_share=d.attribution.noise_floor_w / max(d.gap_calibrated_w, 1e-9),
                          flex_w=flex_w, file_ok=ok_file, label_n=n,
                          reach=float(nameable(d.gap_calibrated_w, d.attribution.noise_floor_w,
-                                              flex * d.gap_calibrated_w)),
+                                              flex * d.gap_calibrated_w, bar)),
                          reach_true=float(nameable(d.gap_calibrated_w, d.attribution.noise_floor_w,
-                                                   ceil * d.gap_calibrated_w))))  # fmt: skip
+                                                   ceil * d.gap_calibrated_w, bar))))  # fmt: skip
         short = ",".join(lab[:2] if lab else "?" for lab, _ in from_file)
         print(
             f"mix{m:02d}  {'+'.join(names):30s} {hit}/{len(switches):<6d} {d.verdict:14s} "
             f"{d.gap_calibrated_w:6.1f} -> {d.gap_final_w:6.1f}  {ratio:4.2f}/{ratio_w:4.2f}  "
             f"{own:4.2f} {ceil:4.2f} {flex:4.2f} {d.attribution.noise_floor_w:5.1f}  "
+            f"{bar if bar is not None else float('nan'):5.1f}  "
             f"{short}"
         )
     tc_single = n_single = 0

@@ -22,10 +22,10 @@
   while under ``FAR_OVER_FLOOR`` times the floor.  A significant candidate is named only if the
   residual after it is near the noise: it closes 80 % of the gap above the floor, or it leaves
   no more than a clean log's gap (``1 + GAP_OVER_FLOOR`` times the floor) and reduces the gap
-  by twice the minimum gain.  Otherwise
-  ``none`` (unsure) when the gap is at the floor, ``unexplained`` when it is model error that
-  the library does not close.  ``ambiguous`` when the two best are tied and cannot be told
-  apart.
+  by twice the minimum gain.  Otherwise ``none`` (unsure) when the gap is at the floor,
+  ``unexplained`` when it is model error that the library does not close.  ``ambiguous`` when
+  the two best are tied and cannot be told apart.  Where a bar is stated
+  (:func:`~ecoplan.diagnose.naming.stated_bars`: known terrains' own error) it replaces these.
 """
 
 from __future__ import annotations
@@ -52,9 +52,11 @@ from ecoplan.diagnose.effects.supply import saturation_speed_channel
 from ecoplan.diagnose.naming import (
     Alternative,
     HalvesCheck,
+    bar_reason,
     fit_alternatives,
     halves_rule,
     naming_rule,
+    stated_bars,
 )
 from ecoplan.diagnose.replay import POSE_SMOOTH_S, Frame, smooth_derivative
 from ecoplan.diagnose.stats import (
@@ -128,7 +130,7 @@ class PairEffect(Effect):
     def fit(self, data: EffectData) -> Effect:  # noqa: D102
         self.first.fit(data)
         rest = data.p - self.first.effect_w(data)
-        shifted = dataclasses.replace(data, frame=_with_p(data.frame, rest))
+        shifted = dataclasses.replace(data, frame=dataclasses.replace(data.frame, p=rest))
         self.second.fit(shifted)
         self.coef_ = np.zeros(0)
         self.chi_ = self.second.chi_
@@ -140,12 +142,6 @@ class PairEffect(Effect):
 
     def predict(self, data: EffectData) -> FloatArray:  # noqa: D102
         return np.asarray(self.second.predict(data) + self.first.effect_w(data), dtype=np.float64)
-
-
-def _with_p(frame: Frame, p: FloatArray) -> Frame:
-    import dataclasses
-
-    return dataclasses.replace(frame, p=p)
 
 
 def _signatures(data: EffectData, names: Sequence[str]) -> dict[str, FloatArray]:
@@ -531,6 +527,7 @@ def attribute(
             )
         )
         power_scores = [s for s in power_scores if s.name != "icr_asymmetry"]
+    bars = stated_bars(fitted, test)
     verdict, conf, tied, lb_p, explained, res_after = _power_verdict(
         power_scores,
         residuals,
@@ -545,6 +542,7 @@ def attribute(
         material_share * float(np.mean(np.abs(test.p))) if test.p.size else 0.0,
         phi,
         min_gain,
+        bars,
     )
     alternatives = fit_alternatives(train, test, r0, rng)
     named = tied[0] if verdict == "ambiguous" and tied else verdict
@@ -559,6 +557,8 @@ def attribute(
         level=level,
         min_gain=min_gain,
     )
+    best_sig = next(((sc.name, sc.after) for sc in power_scores if sc.significant), None)
+    reason = reason or bar_reason(verdict, best_sig, bars)
     halves = None
     if not reason and verdict in fitted and verdict != "none":
         verdict, conf, tied, reason, halves = halves_rule(
@@ -629,8 +629,12 @@ def _power_verdict(
     material_w: float = 0.0,
     phi: float = 0.0,
     min_gain: float = 0.03,
+    bars: dict[str, float] | None = None,
 ) -> tuple[str, float, tuple[str, ...], float, float, FloatArray]:
-    """Verdict from the power channel alone (see the module docstring)."""
+    """Verdict from the power channel alone (see the module docstring).
+
+    ``bars``: per candidate, a stated error [W] to come within instead of the noise clauses.
+    """
     dec = _decimation(test.frame)
     run = test.frame.run.astype(np.float64)
     if before <= material_w:
@@ -664,7 +668,10 @@ def _power_verdict(
     near_noise = (
         best.after <= (1.0 + GAP_OVER_FLOOR) * floor and best.reduction >= 2.0 * min_gain * before
     )
-    if explained < explain_min and not near_noise:
+    # a stated error (known terrains: their own held-out error) replaces the noise clauses
+    bar = (bars or {}).get(best.name)
+    named = explained >= explain_min or near_noise if bar is None else best.after <= bar
+    if not named:
         if before < (1.0 + GAP_OVER_FLOOR) * floor:
             # a gap at the noise floor nudged by a candidate: no model error worth a name, and
             # `none` only as sure as the candidate's reduction is noise

@@ -64,7 +64,15 @@ from scipy.stats import norm
 
 from ecoplan._typing import FloatArray
 from ecoplan.diagnose.calibrate import calibrate
-from ecoplan.diagnose.effects import EFFECTS, Effect, EffectData, NoEffect, TimeStep, prepare
+from ecoplan.diagnose.effects import (
+    EFFECTS,
+    Effect,
+    EffectData,
+    NoEffect,
+    TerrainChange,
+    TimeStep,
+    prepare,
+)
 from ecoplan.diagnose.effects.data import segments
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.errors import InputError
@@ -77,11 +85,13 @@ __all__ = [
     "Alternative",
     "HalvesCheck",
     "ParameterHalves",
+    "bar_reason",
     "fit_alternatives",
     "halves_check",
     "halves_rule",
     "naming_rule",
     "parameter_intervals",
+    "stated_bars",
 ]
 
 #: Linear parameters the structural alternative refits like the candidates (not reported).
@@ -152,6 +162,73 @@ def _structural(train: EffectData, test: EffectData) -> tuple[FloatArray, dict[s
     refit = NoEffect().fit(tr)
     changed = {k: float(b) for k, (_, b) in cal.changed.items() if k not in _LINEAR}
     return te.p - refit.predict(te), {**changed, "chi": float(refit.chi_ or cal.params.chi)}
+
+
+def stated_bars(fitted: dict[str, Effect], test: EffectData) -> dict[str, float]:
+    """Held-out MAE [W] a fitted candidate must come within, where one is stated, by name.
+
+    The naming rule's noise clauses (:mod:`ecoplan.diagnose.attribute`) compare the residual
+    after a candidate with the sensor's noise; a real log's residual after any model is far
+    above it (BorealTC mixes: what the Husky's per-terrain models leave on runs they were not
+    fitted on is 21-103 W, the logs' noise floor 14-126 W).  Where the vehicle states the error
+    of its models, the bar is that error instead: ``terrain_change`` on a vehicle file's known
+    terrains (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`: a move between
+    them, within their own held-out error).
+
+    Parameters
+    ----------
+    fitted : dict of str to Effect
+        The candidates fitted on the training split, by name.
+    test : EffectData
+        The held-out split.
+
+    Returns
+    -------
+    dict of str to float
+        The bars, by candidate name; a candidate without one is left out.
+    """
+    tc = fitted.get("terrain_change")
+    bar = tc.naming_bar_w(test) if isinstance(tc, TerrainChange) else None
+    return {} if bar is None else {"terrain_change": bar}
+
+
+def bar_reason(verdict: str, best: tuple[str, float] | None, bars: dict[str, float]) -> str:
+    """Why the best candidate, held to a stated bar (:func:`stated_bars`), was not named.
+
+    Parameters
+    ----------
+    verdict : str
+        The verdict.
+    best : tuple of (str, float) or None
+        The best significant power candidate's name and held-out MAE [W].
+    bars : dict of str to float
+        The stated bars [W].
+
+    Returns
+    -------
+    str
+        One line, or empty when the candidate was named, has no bar or met it.
+
+    >>> bar_reason("unexplained", ("terrain_change", 52.9), {"terrain_change": 42.0})[:46]
+    'terrain_change leaves 52.9 W held out, more th'
+    >>> bar_reason("terrain_change", ("terrain_change", 37.7), {"terrain_change": 41.2})
+    ''
+    """
+    if best is None or best[0] == verdict or best[0] not in bars:
+        return ""
+    name, after_w = best
+    bar = bars[name]
+    if bar <= 0.0:
+        return (
+            f"{name} keeps level factors (its segments look like one known terrain, or are "
+            "predicted better so): no move between the known terrains"
+        )
+    if after_w > bar:
+        return (
+            f"{name} leaves {after_w:.1f} W held out, more than the {bar:.1f} W its labelled "
+            "known terrains' models leave on runs they were not fitted on"
+        )
+    return ""
 
 
 def fit_alternatives(

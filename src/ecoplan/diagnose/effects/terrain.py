@@ -48,6 +48,7 @@ __all__ = [
     "SpeedDependentResistance",
     "TerrainChange",
     "TerrainPatch",
+    "known_terrain_errors",
     "known_terrains",
     "segmentation_models",
 ]
@@ -218,6 +219,25 @@ def known_terrains(params: VehicleParams | None) -> dict[str, VehicleParams]:
     return {t: source.params(t) for t in source.terrains}
 
 
+def known_terrain_errors(params: VehicleParams | None) -> dict[str, float]:
+    """Held-out MAE of the vehicle file's model on each of its known terrains [W].
+
+    The file's ``heldout_mae_w`` per terrain: what the terrain's identified model misses, per
+    sample, on a run of that terrain it was not fitted on (``husky-a200``: leave-one-run-out
+    on the BorealTC runs, issue 13).  Only terrains that state it; ``{}`` without known
+    terrains (:func:`known_terrains`).
+
+    >>> from ecoplan.presets import vehicle
+    >>> round(known_terrain_errors(vehicle("husky-a200"))["ice"], 1)
+    21.3
+    """
+    source = getattr(params, "source", None)
+    if not known_terrains(params) or not isinstance(source, Vehicle):
+        return {}
+    errors = {t: source.terrain(t).heldout_mae_w for t in source.terrains}
+    return {t: float(e) for t, e in errors.items() if e is not None}
+
+
 def segmentation_models(params: VehicleParams | None) -> list[VehicleParams]:
     """Known terrains whose models :func:`~ecoplan.diagnose.where_time.where_time` segments on.
 
@@ -294,6 +314,8 @@ class TerrainChange(Effect):
         super().__init__(theta)
         self.terrains_: tuple[str, ...] = ()
         self._models: dict[str, VehicleParams] = {}
+        # every searched span (the reference included) with its most likely known terrain
+        self._span_labels: tuple[tuple[int, float, float, str], ...] = ()
 
     def fit(self, data: EffectData) -> Effect:  # noqa: D102
         # the known terrains of the data's vehicle file, before any refit of χ drops the file
@@ -404,6 +426,7 @@ class TerrainChange(Effect):
         from ecoplan.diagnose.where_time import where_time
 
         f = data.frame
+        self._span_labels = ()
         runs = [str(int(r)) for r in range(int(f.run.max()) + 1)] if f.n else []
         known = self._models or self._known(data)
         segs = where_time(f.t, data.p - data.base_w, f.run, runs, model_w=data.base_w)
@@ -416,6 +439,9 @@ class TerrainChange(Effect):
             return levels
         pieces = [TimeSegment(str(run), t0, t1, 0.0) for run, t0, t1 in spans]
         labels = label_segments(pieces, f.t, f.run.astype(str), f.vl, f.vr, f.p, known)
+        self._span_labels = tuple(
+            (run, t0, t1, lab) for (run, t0, t1), (lab, _) in zip(spans, labels, strict=True)
+        )
         labelled: list[tuple[int, float, float, str]] = []
         for (run, t0, t1), (lab, _) in zip(spans, labels, strict=True):
             if labelled and labelled[-1][0] == run and labelled[-1][3] == lab:
@@ -429,6 +455,68 @@ class TerrainChange(Effect):
         # a ground that is none of the known terrains keeps level factors: the one that
         # predicts better across the training split's own time blocks decides
         return min((tuple(labelled), levels), key=lambda th: self._inner_mae(data, th))
+
+    def terrain_error_w(self, data: EffectData) -> float | None:
+        """The known terrains' own held-out MAE over ``data``'s samples, as labelled [W].
+
+        Each sample takes the known terrain of the fitted span it falls in (the spans tile
+        their run as in the fit: a sample belongs to the span begun last), and that terrain's
+        leave-one-run-out error (:func:`known_terrain_errors`); the mean over the samples is
+        what models of those terrains miss on runs they were not fitted on.  The level-factor
+        fit uses the labels of the spans it searched (the reference's included).  None when
+        the vehicle file gives no error for a label, no span has a label, or samples fall in
+        runs without spans.
+
+        Parameters
+        ----------
+        data : EffectData
+            Samples (usually the held-out split) of the runs the effect was fitted on.
+
+        Returns
+        -------
+        float or None
+            Sample mean of the labelled terrains' held-out MAE [W].
+        """
+        theta = self.theta_
+        spans = tuple(theta) if theta and len(theta[0]) == 4 else self._span_labels
+        errors = known_terrain_errors(data.prior if data.prior is not None else data.params)
+        if not spans or not errors or any(sp[3] not in errors for sp in spans):
+            return None
+        tiles = self._tiles(data, spans)
+        if data.frame.n == 0 or np.any(tiles.sum(axis=1) == 0.0):
+            return None
+        per_span = np.array([errors[sp[3]] for sp in spans])
+        return float(np.mean(tiles @ per_span))
+
+    def naming_bar_w(self, data: EffectData) -> float | None:
+        """The held-out MAE this fit must come within to be named, with known terrains [W].
+
+        With known terrains that state their held-out error (:func:`known_terrain_errors`), a
+        terrain change is a move between them: the fit must label two known terrains or more,
+        each segment modelled by its terrain's model, and what it leaves on ``data`` must be
+        within those terrains' own error (:meth:`terrain_error_w`), the error their models
+        leave on runs of them they were not fitted on -- not the sensor's noise, which a real
+        log's residual after any model is far above.  A fit with level factors (the segments
+        look like one known terrain, or like none) is no move between known terrains: 0, which
+        nothing comes within.  None without such terrains (the noise clauses of
+        :mod:`ecoplan.diagnose.attribute` apply), or when a labelled terrain states none.
+
+        Parameters
+        ----------
+        data : EffectData
+            The held-out split.
+
+        Returns
+        -------
+        float or None
+            The bar [W], 0, or None.
+        """
+        if not known_terrain_errors(data.prior if data.prior is not None else data.params):
+            return None
+        theta = self.theta_
+        if not theta or len(theta[0]) != 4 or len({seg[3] for seg in theta}) < 2:
+            return 0.0
+        return self.terrain_error_w(data)
 
     def _inner_mae(self, data: EffectData, theta: Any) -> float:
         """MAE on the odd time blocks of ``data`` of the fit on the even ones [W]."""
