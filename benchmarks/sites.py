@@ -21,7 +21,15 @@ and flooring for the paved labels, sandy loam for grass, gravel and sand, snow f
 A site whose start or goal lies on a terrain where the vehicle cannot hold its speed is
 reported as failed with that reason (the Pioneer at 0.4 m/s on the assumed sand: its
 power limit).  Plan times are wall clock and the process's CPU time (the machine may be
-shared).
+shared).  The energy routes of a vehicle's sites are planned (and timed) one after the
+other first, as a planner process plans, and judged afterwards: judged in between (the
+other 44 plans and their simulations per site), each timed plan paid 0.2-0.6 s more
+system time on some sites -- page faults on memory the allocator had returned to the
+operating system in between (the plan's lattices and search arrays, a few hundred MB;
+numpy maps large arrays on huge pages), with the same user time (measured 24 Nov with
+``resource.getrusage`` around each plan and an immediate re-plan; with glibc's trimming
+turned off, ``mallopt``, the difference vanished).  The garbage collector was not it:
+under 2 ms per plan, the heap about 81 000 objects either way.
 
 Per site and vehicle, all on the same lattice (:mod:`ecoplan.planning.lattice`):
 
@@ -219,14 +227,39 @@ def warm_tables(veh: FieldVehicle, speed: float) -> None:
             corner_pairs(veh.on(terrain), ctrl)
 
 
-def run_site(name: str, veh: FieldVehicle, seed: int) -> dict[str, Any]:
-    speed = SPEEDS[name]
+def site_grid(seed: int) -> tuple[GridMap, tuple[float, float], tuple[float, float]]:
+    """The inflated grid of a site with its terrain layer, start and goal."""
     occ, labels, start, goal = make_site(seed)
     grid = GridMap(occ, RES_M, inflation_m=INFLATION_M, terrain=labels, terrain_names=NAMES)
+    return grid, start, goal
+
+
+def plan_energy(name: str, veh: FieldVehicle, seed: int) -> dict[str, Any]:
+    """The energy route of a site (build + query, timed): ``plan`` or ``error``, times."""
+    speed = SPEEDS[name]
+    grid, start, goal = site_grid(seed)
+    opts = LatticePlannerOptions(time_budget_s=30.0, controller=HeadingController(speed_mps=speed))
+    try:
+        t0, cpu0 = time.perf_counter(), time.process_time()
+        plan = LatticePlanner(grid, EnergyCost(veh, speed), opts).plan(start, goal).best
+        return {"plan": plan, "plan_s": time.perf_counter() - t0,
+                "plan_cpu_s": time.process_time() - cpu0}  # fmt: skip
+    except EcoplanError as exc:
+        return {"error": str(exc)}
+
+
+def run_site(name: str, veh: FieldVehicle, seed: int, timed: dict[str, Any]) -> dict[str, Any]:
+    """Judge a site's energy route (``timed``: :func:`plan_energy`) against the others."""
+    speed = SPEEDS[name]
+    grid, start, goal = site_grid(seed)
     ctrl = HeadingController(speed_mps=speed)
     opts = LatticePlannerOptions(time_budget_s=30.0)
-    driven_opts = LatticePlannerOptions(time_budget_s=30.0, controller=ctrl)
     row: dict[str, Any] = {"vehicle": name, "seed": seed}
+    if "error" in timed:
+        row["error"] = timed["error"]
+        return row
+    energy = timed["plan"]
+    row["plan_s"], row["plan_cpu_s"] = timed["plan_s"], timed["plan_cpu_s"]
 
     def driven(wps: np.ndarray) -> float:
         return path_cost(wps, veh, speed, world=grid, turn=ctrl).energy_j
@@ -240,10 +273,6 @@ def run_site(name: str, veh: FieldVehicle, seed: int) -> dict[str, Any]:
         return sims[key]
 
     try:
-        t0, cpu0 = time.perf_counter(), time.process_time()
-        energy = LatticePlanner(grid, EnergyCost(veh, speed), driven_opts).plan(start, goal).best
-        row["plan_s"] = time.perf_counter() - t0
-        row["plan_cpu_s"] = time.process_time() - cpu0
         static = LatticePlanner(grid, EnergyCost(veh, speed), opts).plan(start, goal).best
         row["static_route_j"] = static.energy_j
         row["static_route_driven_j"] = driven(static.waypoints)
@@ -325,8 +354,9 @@ def main(argv: list[str] | None = None) -> int:
     for name in names:
         veh = field_vehicle(name)
         warm_tables(veh, SPEEDS[name])
+        timed = [plan_energy(name, veh, seed) for seed in range(n_sites)]  # module doc
         for seed in range(n_sites):
-            rows.append(run_site(name, veh, seed))
+            rows.append(run_site(name, veh, seed, timed[seed]))
             print(f"  {name} site {seed}: {'ok' if 'error' not in rows[-1] else rows[-1]['error']}")
     keys = sorted({k for r in rows for k in r})
     with open(args.out / "sites.csv", "w", newline="") as fh:

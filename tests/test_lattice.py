@@ -265,3 +265,56 @@ def test_start_on_a_terrain_infeasible_at_the_speed_is_named() -> None:
     with pytest.raises(PlanningError, match=r"start \(2, 5\) is on heavy, where 0.4 m/s"):
         planner.plan((2.0, 5.0), (18.0, 5.0))
     assert planner.plan((6.0, 5.0), (18.0, 5.0)).best.cost.feasible
+
+
+@pytest.mark.parametrize(
+    ("name", "speed", "controller", "seed"),
+    [
+        ("pioneer-3at", 0.4, False, 1),
+        ("husky-a200", 0.5, True, 2),
+        ("auriga-beta-narrow", 0.5, True, 3),
+    ],
+)
+def test_search_returns_a_shortest_path_of_the_graph_with_a_sink(
+    name: str, speed: float, controller: bool, seed: int
+) -> None:
+    # the A* (reweighted, limited, the sink emulated) against a plain Dijkstra written
+    # here on the lattice's own graph with an explicit source row and sink column (the
+    # join costs as weights): the same optimal cost, and the route it returns is a path
+    # of that graph whose cost is that optimum
+    from scipy import sparse
+    from scipy.sparse import csgraph
+
+    grid = _random_grid(seed)
+    ctrl = HeadingController(speed_mps=speed) if controller else None
+    opts = LatticePlannerOptions(time_budget_s=30.0, controller=ctrl, refine=None)
+    planner = LatticePlanner(grid, EnergyCost(vehicle(name), speed), opts)
+    seen = []
+    astar = planner._astar
+
+    def spy(*args: object) -> tuple[np.ndarray, np.ndarray]:
+        out = astar(*args)  # type: ignore[arg-type]
+        seen.append((args, out))
+        return out
+
+    planner._astar = spy  # type: ignore[method-assign]
+    planner.plan((1.5, 1.5), (28.5, 28.5))
+    assert seen
+    for (g, _, (s_states, s_w), (g_states, g_w, _)), (dist, pred) in seen:
+        n = g.shape[0]
+        src, snk = n - 2, n - 1
+        ok_s, ok_g = np.isfinite(s_w), np.isfinite(g_w)
+        joins = sparse.csr_matrix(
+            (np.concatenate([s_w[ok_s], g_w[ok_g]]),
+             (np.concatenate([np.full(int(ok_s.sum()), src), g_states[ok_g]]),
+              np.concatenate([s_states[ok_s], np.full(int(ok_g.sum()), snk)]))),
+            shape=(n, n),
+        )  # fmt: skip
+        full = (g + joins).tocsr()
+        plain = csgraph.dijkstra(full, directed=True, indices=src)
+        assert dist[snk] == pytest.approx(plain[snk], rel=1e-9, abs=1e-6)
+        chain = [snk]
+        while chain[-1] != src:
+            chain.append(int(pred[chain[-1]]))
+        cost = sum(float(full[u, v]) for v, u in itertools.pairwise(chain))
+        assert cost == pytest.approx(plain[snk], rel=1e-9, abs=1e-6)

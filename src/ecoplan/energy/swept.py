@@ -37,6 +37,7 @@ import numpy as np
 from ecoplan._typing import FloatArray
 from ecoplan.dynamics.controller import HeadingController, power_limited_radius
 from ecoplan.energy.primitives import Vehicle, VehicleParams, WorldLike, params_on
+from ecoplan.geometry.maps import GridMap
 from ecoplan.models.power import COMPONENTS
 
 __all__ = [
@@ -140,19 +141,21 @@ def swept_track(
     length = float(np.sum(np.hypot(*np.diff(wps, axis=0).T)))
     t_max = 3.0 * length / v_sp + 60.0
 
+    lever_left, lever_right = -icr.y_right_m, icr.y_left_m  # eq. (5)'s lever per side
+    atan2, cos, sin, pi, tau = math.atan2, math.cos, math.sin, math.pi, 2.0 * math.pi
+
     def rates(x: float, y: float, yaw: float, gx: float, gy: float) -> tuple[float, float, float]:
-        phi = (math.atan2(gy - y, gx - x) - yaw + math.pi) % (2.0 * math.pi) - math.pi
+        phi = (atan2(gy - y, gx - x) - yaw + pi) % tau - pi
         w = min(max(g * phi, -w_top), w_top)
         v = v_sp
         if r_min > 0.0:
             w = min(max(w, -v / r_min), v / r_min)
         elif inv_cos_s:
-            v *= min(max(math.cos(phi) * inv_cos_s, 0.0), 1.0)
-        lever = -icr.y_right_m if w > 0.0 else icr.y_left_m
-        v = min(v, v_top - lever * abs(w))
+            v *= min(max(cos(phi) * inv_cos_s, 0.0), 1.0)
+        v = min(v, v_top - (lever_left if w > 0.0 else lever_right) * abs(w))
         if r_min > 0.0:
             w = min(max(w, -v / r_min), v / r_min)
-        return v * math.cos(yaw), v * math.sin(yaw), w
+        return v * cos(yaw), v * sin(yaw), w
 
     x, y = float(wps[0, 0]), float(wps[0, 1])
     d0 = wps[1] - wps[0]
@@ -160,10 +163,13 @@ def swept_track(
     t = 0.0
     xs, ys, ts = [x], [y], [t]
     switch = np.full(max(len(wps) - 2, 0), np.nan)
+    goals = wps.tolist()
     k, last = 1, len(wps) - 1
     completed = True
+    v_straight = min(v_sp, v_top)
+    half = 0.5 * dt
     while True:
-        gx, gy = float(wps[k, 0]), float(wps[k, 1])
+        gx, gy = goals[k]
         dist = math.hypot(gx - x, gy - y)
         if dist < d_sw:
             if k == last:
@@ -174,18 +180,18 @@ def swept_track(
         if t > t_max:
             completed = False
             break
-        bearing = math.atan2(gy - y, gx - x)
-        if abs((bearing - yaw + math.pi) % (2.0 * math.pi) - math.pi) < _CONVERGED_RAD:
+        bearing = atan2(gy - y, gx - x)
+        if abs((bearing - yaw + pi) % tau - pi) < _CONVERGED_RAD:
             # straight at the goal: the heading error stays zero up to the switching circle
             s = dist - d_sw * (1.0 - 1e-9)
-            x, y, yaw = x + s * math.cos(bearing), y + s * math.sin(bearing), bearing
-            t += s / min(v_sp, v_top)
+            x, y, yaw = x + s * cos(bearing), y + s * sin(bearing), bearing
+            t += s / v_straight
         else:
-            a = rates(x, y, yaw, gx, gy)
-            b = rates(x + dt * a[0], y + dt * a[1], yaw + dt * a[2], gx, gy)
-            x += 0.5 * dt * (a[0] + b[0])
-            y += 0.5 * dt * (a[1] + b[1])
-            yaw += 0.5 * dt * (a[2] + b[2])
+            ax, ay, aw = rates(x, y, yaw, gx, gy)
+            bx, by, bw = rates(x + dt * ax, y + dt * ay, yaw + dt * aw, gx, gy)
+            x += half * (ax + bx)
+            y += half * (ay + by)
+            yaw += half * (aw + bw)
             t += dt
         xs.append(x)
         ys.append(y)
@@ -320,19 +326,42 @@ def terrain_shift_j(
     if xy.shape[0] < 2 or float(np.sum(np.hypot(*np.diff(xy, axis=0).T))) <= 0.0:
         return out
     n = max(math.ceil(length / _SAMPLE_M), 1)
-    on_track = world.terrain_at(_resample(xy, n))
-    on_path = world.terrain_at(_resample(wps, n))
-    count: dict[str | None, int] = {}
-    for a, b in zip(on_track, on_path, strict=True):
-        if a != b:
-            count[a] = count.get(a, 0) + 1
-            count[b] = count.get(b, 0) - 1
     piece = length / n
-    for terrain, c in count.items():
+    for terrain, c in _piece_counts(world, _resample(xy, n), _resample(wps, n)):
         if c:
             for comp, e in per_m(terrain).items():
                 out[comp] += c * piece * e
     return out
+
+
+def _piece_counts(
+    world: WorldLike, on_track: FloatArray, on_path: FloatArray
+) -> list[tuple[str | None, int]]:
+    """Per terrain, pieces of the track on it minus pieces of the polyline, where they differ.
+
+    In the order the terrains first appear among the differing pairs (track's, then
+    path's); on a :class:`~ecoplan.geometry.maps.GridMap` from its labels in one read
+    (labels naming the same terrain counted as one).
+    """
+    if not isinstance(world, GridMap):
+        count: dict[str | None, int] = {}
+        for a, b in zip(world.terrain_at(on_track), world.terrain_at(on_path), strict=True):
+            if a != b:
+                count[a] = count.get(a, 0) + 1
+                count[b] = count.get(b, 0) - 1
+        return list(count.items())
+    names = world.terrain_names
+    n = len(on_track)
+    label = np.array([names.index(t) for t in names])[
+        world.terrain_id_at(np.concatenate([on_track, on_path]))
+    ]
+    diff = label[:n] != label[n:]
+    if not diff.any():
+        return []
+    a, b = label[:n][diff], label[n:][diff]
+    seen, first = np.unique(np.column_stack([a, b]).ravel(), return_index=True)
+    c = np.bincount(a, minlength=len(names)) - np.bincount(b, minlength=len(names))
+    return [(names[t], int(c[t])) for t in seen[np.argsort(first)].tolist()]
 
 
 def steady_per_m(vehicle: Vehicle, speed_mps: float) -> Callable[[str | None], dict[str, float]]:

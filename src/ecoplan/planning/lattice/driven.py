@@ -130,10 +130,14 @@ class RouteFinisher:
         """:func:`refine_waypoints` of the route, as the controller drives it if ``driven``.
 
         As driven, legs (after the first) shorter than the corner tables reach are merged
-        first (:meth:`drop_short_legs`).  A route that keeps such a leg is returned
-        unrefined (changed if merging changed it, for :meth:`pick` to judge): the
-        refinement tries no candidate with such a leg, so it could only move that leg's
-        ends, against a start value that needs a roll-out of its own (0.04 s steps,
+        first (:meth:`drop_short_legs`).  When only the last leg stays short (the goal
+        close behind a building's corner: it cannot be dropped), the route up to its last
+        corner is refined and the last leg appended unchanged; the refinement does not
+        see how the last corner's angle changes, so the result is a candidate for
+        :meth:`pick` to judge by roll-out.  A route that keeps another short leg is
+        returned unrefined (changed if merging changed it, for :meth:`pick` to judge):
+        the refinement tries no candidate with such a leg, so it could only move that
+        leg's ends, against a start value that needs a roll-out of its own (0.04 s steps,
         about 0.35 s on a 200 m site); on the 18 sites of ``benchmarks/lattice_scale.py``
         it kept none of those moves.
         """
@@ -149,13 +153,13 @@ class RouteFinisher:
             return self.driven(w, heading)
 
         merged = self.drop_short_legs(wps, min_leg)
-        if float(np.hypot(*np.diff(merged[1:], axis=0).T).min(initial=math.inf)) < min_leg:
-            pc = path_cost(
-                merged, self.cost.vehicle, self.cost.speed_mps, world=self.grid,
-                initial_heading_rad=heading, turn=self.cost.turn, ramps=self.cost.ramps,
-                elevation=self.cost.elevation,
-            )  # fmt: skip
-            return RefineResult(merged, pc, 0, merged.shape != wps.shape)
+        changed = merged.shape != wps.shape or not np.array_equal(merged, wps)
+        legs = np.hypot(*np.diff(merged, axis=0).T)
+        body = merged  # the part refined: all of it, or up to a short last leg
+        if len(merged) > 3 and legs[-1] < min_leg <= float(legs[1:-1].min()):
+            body = merged[:-1]
+        if float(np.hypot(*np.diff(body[1:], axis=0).T).min(initial=math.inf)) < min_leg:
+            return RefineResult(merged, self.evaluate(merged, heading), 0, changed)
         many = None
         if self._drive is not None:
             drive = self._drive
@@ -164,22 +168,31 @@ class RouteFinisher:
                 return drive.many(ws, heading)
 
         res = refine_waypoints(
-            merged, self.cost, self.grid, initial_heading_rad=heading,
+            body, self.cost, self.grid, initial_heading_rad=heading,
             options=self.refine_options, deadline=deadline, driven=as_driven,
             driven_many=many, min_leg_m=min_leg, min_gain=_DRIVEN_GAIN,
         )  # fmt: skip
-        if res.improved or merged.shape == wps.shape:
+        if body is not merged:  # the short last leg, appended again
+            out = np.vstack([res.waypoints, merged[-1:]]) if res.improved else merged
+            return RefineResult(
+                out, self.evaluate(out, heading), res.evaluations, res.improved or changed
+            )
+        if res.improved or not changed:
             return res
         return RefineResult(merged, res.cost, res.evaluations, True)  # judged by pick
 
     def drop_short_legs(self, wps: FloatArray, min_leg_m: float) -> FloatArray:
-        """Drop waypoints of legs (after the first) shorter than ``min_leg_m`` where free.
+        """Merge or lengthen legs (after the first) shorter than ``min_leg_m`` where free.
 
         The controller switches to the next way point ``d_th`` early and cannot follow
         such legs; the driven refinement tries no candidate with one
         (:func:`~ecoplan.planning.refine.refine_waypoints` ``min_leg_m``), so a route
-        with two of them could not be refined.  Shortest leg first, its end (or else its
-        start) is dropped when the segment that replaces it is free on the grid.
+        that keeps one is not refined as driven.  Shortest leg first, its end (or else
+        its start) is dropped when the segment that replaces it is free on the grid;
+        where neither is, its two corners merge into one where their outer legs meet
+        (:meth:`merge_corners`), or else one of its ends slides along its other leg
+        until the short leg is ``min_leg_m`` long (:meth:`slide_short_leg`).  Each step
+        removes a way point or a short leg, so the loop ends.
         """
         w = wps
         while len(w) > 2:
@@ -191,9 +204,79 @@ class RouteFinisher:
                 if i > 0:
                     w = np.delete(w, i, axis=0)
                     break
+                fixed = self.merge_corners(w, int(k), min_leg_m)
+                if fixed is None:
+                    fixed = self.slide_short_leg(w, int(k), min_leg_m)
+                if fixed is not None:
+                    w = fixed
+                    break
             else:
                 return w
         return w
+
+    def merge_corners(self, wps: FloatArray, k: int, reach_m: float) -> FloatArray | None:
+        """Replace the two corners of leg ``k`` by one where legs ``k - 1`` and ``k + 1`` meet.
+
+        With way points ``a, b, c, d`` at ``k - 1 .. k + 2``, the point ``x = a + t (b - a)
+        = c + s (d - c)`` with ``t >= 1`` and ``s <= 0`` lies beyond ``b`` on the incoming
+        leg and before ``c`` on the outgoing one: the two corners of a route hugging a
+        convex obstacle corner (which the lattice turns in heading steps), blunted into
+        one on their outer side.  Only the extensions ``b -> x`` and ``x -> c`` are new
+        ground; they must be free and each at most ``reach_m`` long.  The legs to ``x``
+        are longer than those they replace, so no leg becomes short.  ``None``: the legs
+        do not meet there (parallel, or an S-bend), or the extensions are blocked.
+        """
+        if not 1 <= k < len(wps) - 2:
+            return None
+        a, b, c, d = wps[k - 1 : k + 3]
+        u, v, r = b - a, d - c, c - a
+        den = float(u[0] * v[1] - u[1] * v[0])
+        if abs(den) < 1e-12:
+            return None
+        t = float(r[0] * v[1] - r[1] * v[0]) / den
+        s = float(r[0] * u[1] - r[1] * u[0]) / den
+        x = a + t * u
+        if t < 1.0 or s > 0.0 or max(np.hypot(*(x - b)), np.hypot(*(x - c))) > reach_m:
+            return None
+        if not (self.grid.segment_free(b, x) and self.grid.segment_free(x, c)):
+            return None
+        return np.vstack([wps[:k], x, wps[k + 2 :]])
+
+    def slide_short_leg(self, wps: FloatArray, k: int, min_leg_m: float) -> FloatArray | None:
+        """Lengthen leg ``k`` (way points ``k -> k + 1``) to ``min_leg_m`` by sliding one end.
+
+        Way point ``k`` moves back along leg ``k - 1``, or way point ``k + 1`` on along
+        leg ``k + 1`` (never the start or the goal), by the smallest multiple of the grid
+        resolution that makes leg ``k`` at least ``min_leg_m`` long on a free segment
+        while the leg it shortens keeps ``min_leg_m`` (the first leg: one resolution).
+        The moved point stays on its leg, so only the new leg ``k`` needs the collision
+        check; no leg becomes short, so :meth:`drop_short_legs` ends.  At a building's
+        corner, where the lattice leaves a short leg and neither of its ends can be
+        dropped, this blunts the two corners into a driveable pair.  ``None``: no slide
+        fits.
+        """
+        res, n = self.grid.resolution_m, len(wps)
+        best: tuple[float, FloatArray] | None = None
+        for moved, anchor, toward in ((k, k + 1, k - 1), (k + 1, k, k + 2)):
+            if not (0 < moved < n - 1 and 0 <= toward < n):
+                continue
+            p, q = wps[moved], wps[toward]
+            length = float(np.hypot(*(q - p)))
+            keep = res if min(moved, toward) == 0 else min_leg_m  # the leg it shortens
+            s = res * np.arange(1, math.floor((length - keep) / res) + 1)
+            if s.size == 0:
+                continue
+            pts = p + s[:, None] * ((q - p) / length)
+            ok = np.hypot(*(pts - wps[anchor]).T) >= min_leg_m
+            for j in np.flatnonzero(ok):
+                if best is not None and s[j] >= best[0]:
+                    break
+                if self.grid.segment_free(pts[j], wps[anchor]):
+                    w = wps.copy()
+                    w[moved] = pts[j]
+                    best = (float(s[j]), w)
+                    break
+        return None if best is None else best[1]
 
     def polish(
         self, raw: FloatArray, heading: float | None, deadline: Deadline, *, driven: bool

@@ -21,7 +21,6 @@ from ecoplan.planning.base import Deadline, Plan, PlanResult, check_budget
 from ecoplan.planning.lattice.driven import Candidate, RouteFinisher
 from ecoplan.planning.lattice.primitives import (
     EPS,
-    LatticeGraph,
     PenaltyWeights,
     build_lattice,
     driven_turn_costs,
@@ -197,11 +196,11 @@ class LatticePlanner:
             cost, grid.terrain_names, self.dirs_, self.cell_m_, self.options.turn_room_m, weights
         )
         self._ctrl: HeadingController | None = None
-        self._static: tuple[sparse.csr_matrix, tuple[IntArray, IntArray]] | None = None
+        self._static: sparse.csr_matrix | None = None
         if self.options.controller is not None and weights is None:
             self._ctrl = dataclasses.replace(self.options.controller, speed_mps=cost.speed_mps)
             static = build_lattice(grid, costs, self.dirs_, self.k_)
-            self._static = (static.graph, self._edge_nodes(static))
+            self._static = static.graph
             costs = driven_turn_costs(costs, cost, grid.terrain_names, self.dirs_, self._ctrl)
             for t, name in enumerate(grid.terrain_names):  # for the evaluations as driven
                 if np.isfinite(costs.per_m[t]):
@@ -212,20 +211,12 @@ class LatticePlanner:
         self.n_states_ = self.lattice_.n_states
         self.n_edges_ = self.lattice_.n_edges
         self._per_m = costs.per_m
-        self._edges = self._edge_nodes(self.lattice_)
         smoother = Smoother(grid, cost, costs.per_m, self.cell_m_, weights)
         opts = self.options
         self._finish = RouteFinisher(
             grid, cost, smoother, opts.smoothing_passes, opts.refine, self._ctrl, weights
         )
         self.build_time_s_ = deadline.elapsed_s
-
-    def _edge_nodes(self, lattice: LatticeGraph) -> tuple[IntArray, IntArray]:
-        """The nodes each transition leaves and reaches (for the A* reweighting)."""
-        g, n_h = lattice.graph, len(self.dirs_)
-        layer = lattice.shape[0] * lattice.shape[1] * n_h  # states per layer
-        rows = np.repeat(np.arange(g.shape[0]), np.diff(g.indptr))
-        return (rows % layer) // n_h, (g.indices % layer) // n_h
 
     # ------------------------------------------------------------------ query
     def _joins(self, p: tuple[float, float], name: str, *, into: bool) -> FloatArray:
@@ -328,7 +319,7 @@ class LatticePlanner:
 
     def _static_candidates(
         self,
-        static: tuple[sparse.csr_matrix, tuple[IntArray, IntArray]],
+        static: sparse.csr_matrix,
         query: tuple[FloatArray, _Starts, _Goals],
         ends: tuple[dict[int, int], tuple[float, float], tuple[float, float]],
         heading: float | None,
@@ -340,7 +331,7 @@ class LatticePlanner:
         as driven; while the budget lasts (see :meth:`RouteFinisher.pick`).
         """
         h, starts, goals = query
-        dist, pred = self._astar(static[0], static[1], h, starts, goals)
+        dist, pred = self._astar(static, h, starts, goals)
         if not math.isfinite(float(dist[-1])) or deadline.expired:
             return []
         out, _, _ = self._finish.polish(self._route(pred, *ends), heading, deadline, driven=False)
@@ -367,12 +358,7 @@ class LatticePlanner:
         return np.asarray(h[:n], dtype=np.float64)
 
     def _astar(
-        self,
-        g: sparse.csr_matrix,
-        edges: tuple[IntArray, IntArray],
-        h: FloatArray,
-        starts: _Starts,
-        goals: _Goals,
+        self, g: sparse.csr_matrix, h: FloatArray, starts: _Starts, goals: _Goals
     ) -> tuple[FloatArray, IntArray]:
         """A* from the source to the sink: Dijkstra on the reweighted graph, limited.
 
@@ -383,38 +369,54 @@ class LatticePlanner:
         ``f`` of a start state until the sink is reached (then the path is optimal: every
         state on it has ``f`` at most the cost).  Returns distances and predecessors as
         :func:`scipy.sparse.csgraph.dijkstra`.
+
+        The graph searched is the lattice's own arrays with the source's row appended
+        (the source and sink are its last two, empty, rows), not a sparse sum: one new
+        array of weights and one of columns per query.  The sink is not stored: its
+        distance is the least ``dist(goal state) + join`` (reached when that is within
+        ``L``), and its predecessor the goal state Dijkstra relaxes it from first (the
+        least total, then the least distance), as a sink column would give.
         """
-        n = g.shape[0]
+        n, nnz = g.shape[0], g.nnz
         src, snk = n - 2, n - 1
-        with np.errstate(invalid="ignore"):
-            w = g.data - h[edges[0]] + h[edges[1]]
-        # > 0: scipy drops explicit zeros when adding sparse matrices (lost transitions)
-        w = np.where(np.isfinite(w), np.maximum(w, _TINY), _FAR)
+        n_h = len(self.dirs_)
+        layer = self.shape_[0] * self.shape_[1] * n_h  # states per layer
+        h_state = h[(np.arange(n) % layer) // n_h]  # the heuristic of each state's node
         s_states, s_w = starts
         g_states, g_w, g_nodes = goals
-        s_f = s_w + h[s_states // len(self.dirs_)]
+        s_f = s_w + h[s_states // n_h]
         g_f = np.maximum(g_w - h[g_nodes], _TINY)
         s_ok, g_ok = np.isfinite(s_f), np.isfinite(g_f)
-        joins = sparse.csr_matrix(
-            (
-                np.concatenate([s_f[s_ok], g_f[g_ok]]),
-                (np.concatenate([np.full(int(s_ok.sum()), src), g_states[g_ok]]),
-                 np.concatenate([s_states[s_ok], np.full(int(g_ok.sum()), snk)])),
-            ),
-            shape=(n, n),
-        )  # fmt: skip
-        graph = sparse.csr_matrix((w, g.indices, g.indptr), shape=g.shape) + joins
-        f0 = float(s_f[s_ok].min()) if s_ok.any() else math.inf
+        order = np.argsort(s_states[s_ok], kind="stable")  # the source row, sorted
+        s_to, s_cost = s_states[s_ok][order], s_f[s_ok][order]
+        data = np.empty(nnz + len(s_to))
+        w = data[:nnz]
+        with np.errstate(invalid="ignore"):
+            np.subtract(g.data, np.repeat(h_state, np.diff(g.indptr)), out=w)
+            w += h_state[g.indices]
+        # > 0: a transition of weight 0 would tie with "no edge" in a sparse sum
+        np.nan_to_num(w, copy=False, nan=_FAR, posinf=_FAR, neginf=_FAR)
+        np.maximum(w, _TINY, out=w)
+        data[nnz:] = s_cost
+        indices = np.concatenate([g.indices, s_to.astype(g.indices.dtype)])
+        indptr = g.indptr.copy()
+        indptr[src + 1 :] += len(s_to)
+        graph = sparse.csr_matrix((data, indices, indptr), shape=(n, n))
+        f0 = float(s_cost.min()) if len(s_cost) else math.inf
         dist = np.full(n, np.inf)
         pred = np.full(n, -9999, dtype=np.int32)
         if not math.isfinite(f0) or f0 >= _FAR:
             return dist, pred
+        gs, gf = g_states[g_ok], g_f[g_ok]
         for grow in (1.01, 1.03, 1.06, 1.12, 1.25, 1.5, 2.0, math.inf):
             limit = f0 * grow + EPS
             dist, pred = csgraph.dijkstra(
                 graph, directed=True, indices=src, return_predecessors=True, limit=limit
             )
-            if dist[snk] < _FAR:
+            total = dist[gs] + gf
+            best = int(np.lexsort((dist[gs], total))[0]) if len(gs) else -1
+            if best >= 0 and total[best] <= limit and total[best] < _FAR:
+                dist[snk], pred[snk] = total[best], gs[best]
                 break
         dist = np.where(dist < _FAR, dist, np.inf)
         return dist, pred
@@ -482,7 +484,7 @@ class LatticePlanner:
         h = self._heuristic(g_nodes, np.min(g_join[:, 1:], axis=1))
         starts = (s_states[s_ok], s_w[s_ok])
         goals = (g_states[g_ok], g_w[g_ok], g_nodes.repeat(n_h)[g_ok])
-        dist, pred = self._astar(self.lattice_.graph, self._edges, h, starts, goals)
+        dist, pred = self._astar(self.lattice_.graph, h, starts, goals)
         t_search = deadline.elapsed_s - t_join
         total = float(dist[-1])
         if not math.isfinite(total):
