@@ -41,12 +41,15 @@ terrain_change on mixes >= 80 % and on single-terrain stretches <= 10 %, MAE rat
     PYTHONPATH=src .venv/bin/python benchmarks/borealtc_mixes.py [--mixes 20] [--seed 0]
 
 Figures (2026-11-24, wip/mixes, defaults): switches 24/30 = 80 % (tuning 13/18, measured
-11/12); ``terrain_change`` on 5/20 mixes (tuning 4/10, measured 1/10) and on 0/20
-single-terrain stretches; held-out MAE after / calibrated, median, raw samples 1.00
-(``terrain_change``'s own fit 0.90 -- 0.79 tuning; true segments with true terrains 0.95;
-flexible per-terrain ceiling 0.65), on 5 s windows 1.00 (own fit 0.75, true segments 0.80,
-flexible ceiling 0.49); the noise floor alone above 0.7 x calibrated on 10/20 mixes.  Before
-the known terrains' bar (sensor-noise clauses, ac533e3): 24/30, 7/20, 3/20, 1.00.
+11/12); ``terrain_change`` on 9/20 mixes (tuning 6/10, measured 3/10) and on 1/20
+single-terrain stretches (SNOW_04, labelled sandy loam and flooring); held-out MAE after /
+calibrated, median, raw samples 1.00 (tuning 0.87; ``terrain_change``'s own fit 0.90; true
+segments with true terrains 0.95; flexible per-terrain ceiling 0.65), on 5 s windows 1.00
+(own fit 0.75, true segments 0.80, flexible ceiling 0.49); the noise floor alone above 0.7 x
+calibrated on 10/20 mixes.  ``--seed 1`` (another draw, never tuned on): 24/28, 2/20, 0/20.
+Before the known terrains' bar (ac533e3): 24/30, 7/20, 3/20, 1.00; ``--seed 1``: 24/28,
+2/20, 0/20.  The bar ignores significance, so with snow's 103 W error it passes easily: the
+"naming bar passed by" lines are an upper bound.
 """
 
 from __future__ import annotations
@@ -86,15 +89,15 @@ def nameable(gap_w: float, floor_w: float, after_w: float, bar_w: float | None =
     The diagnosis names an effect only if it closes :data:`EXPLAIN_MIN` of the gap above the
     noise floor, or leaves no more than ``1 + GAP_OVER_FLOOR`` times the floor
     (:mod:`ecoplan.diagnose.attribute`); significance aside.  ``terrain_change`` on known
-    terrains that state their held-out error ``bar_w`` (the true terrains' here) instead
-    needs ``after_w <= bar_w`` (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`).
+    terrains that state their held-out error ``bar_w`` (the true terrains' here) passes as
+    well with ``after_w <= bar_w``, and not at all with a bar of 0
+    (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`).
     """
-    if bar_w is not None:
-        return after_w <= bar_w
-    return (
+    near = (
         after_w <= gap_w - EXPLAIN_MIN * (gap_w - floor_w)
         or after_w <= (1.0 + GAP_OVER_FLOOR) * floor_w
     )
+    return near if bar_w is None else bar_w > 0.0 and (near or after_w <= bar_w)
 
 
 def _chunk(lg: Log, g: np.random.Generator, lo_s: float, hi_s: float) -> Log:

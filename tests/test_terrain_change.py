@@ -361,3 +361,38 @@ def test_the_naming_bar_weights_each_terrains_error_by_its_held_out_samples(
     first = float(np.mean(log.t < t_switch))
     assert bar == pytest.approx(first * errors[pair[0]] + (1 - first) * errors[pair[1]])
     assert min(errors[p] for p in pair) - 1e-9 <= bar <= max(errors[p] for p in pair) + 1e-9
+
+
+def _verdict_with_bar(after_w: float, bar_w: float | None) -> str:
+    """The power verdict on a 60 W gap over a 20 W floor, the best candidate leaving ``after_w``."""
+    from ecoplan.diagnose.attribute import EffectScore, _power_verdict
+
+    log = _husky_log(0, False)
+    params = vehicle(HUSKY)
+    test = prepare(build_frame([log], params), params)
+    before, floor = 60.0, 20.0
+    score = EffectScore(
+        "terrain_change", "power_w", before, after_w, before - after_w, 1.0, 2.0, 1e-6,
+        (before - after_w) / (before - floor), True, before, after_w, {},
+    )  # fmt: skip
+    residual = np.full(test.frame.n, after_w)
+    bars = {} if bar_w is None else {"terrain_change": bar_w}
+    verdict, *_ = _power_verdict(
+        [score], {"terrain_change": residual}, np.full(test.frame.n, before), before, floor,
+        [], test, np.random.default_rng(0), 0.8, 1, bars=bars,
+    )  # fmt: skip
+    return verdict
+
+
+def test_a_residual_within_the_known_terrains_error_is_near_enough_and_level_factors_never() -> (
+    None
+):
+    # 45 W left of a 60 W gap over a 20 W floor closes 37.5 % of it and is not near the floor
+    # (25 W): unexplained without a bar, named within a 50 W bar, not under a 40 W one
+    assert _verdict_with_bar(45.0, None) == "unexplained"
+    assert _verdict_with_bar(45.0, 50.0) == "terrain_change"
+    assert _verdict_with_bar(45.0, 40.0) == "unexplained"
+    # 22 W left is near the floor: named without a bar or within any, never with a bar of 0
+    assert _verdict_with_bar(22.0, None) == "terrain_change"
+    assert _verdict_with_bar(22.0, 10.0) == "terrain_change"
+    assert _verdict_with_bar(22.0, 0.0) != "terrain_change"

@@ -24,8 +24,8 @@
   no more than a clean log's gap (``1 + GAP_OVER_FLOOR`` times the floor) and reduces the gap
   by twice the minimum gain.  Otherwise ``none`` (unsure) when the gap is at the floor,
   ``unexplained`` when it is model error that the library does not close.  ``ambiguous`` when
-  the two best are tied and cannot be told apart.  Where a bar is stated
-  (:func:`~ecoplan.diagnose.naming.stated_bars`: known terrains' own error) it replaces these.
+  the two best are tied and cannot be told apart.  A stated bar
+  (:func:`~ecoplan.diagnose.naming.stated_bars`) is near enough too; 0 makes it ineligible.
 """
 
 from __future__ import annotations
@@ -631,10 +631,7 @@ def _power_verdict(
     min_gain: float = 0.03,
     bars: dict[str, float] | None = None,
 ) -> tuple[str, float, tuple[str, ...], float, float, FloatArray]:
-    """Verdict from the power channel alone (see the module docstring).
-
-    ``bars``: per candidate, a stated error [W] to come within instead of the noise clauses.
-    """
+    """Verdict from the power channel alone (module docstring; ``bars``: stated bars [W])."""
     dec = _decimation(test.frame)
     run = test.frame.run.astype(np.float64)
     if before <= material_w:
@@ -668,9 +665,11 @@ def _power_verdict(
     near_noise = (
         best.after <= (1.0 + GAP_OVER_FLOOR) * floor and best.reduction >= 2.0 * min_gain * before
     )
-    # a stated error (known terrains: their own held-out error) replaces the noise clauses
+    # a stated error (known terrains' own held-out error; 0: not eligible) is near enough too
     bar = (bars or {}).get(best.name)
-    named = explained >= explain_min or near_noise if bar is None else best.after <= bar
+    named = explained >= explain_min or near_noise
+    if bar is not None:
+        named = bar > 0.0 and (named or best.after <= bar)
     if not named:
         if before < (1.0 + GAP_OVER_FLOOR) * floor:
             # a gap at the noise floor nudged by a candidate: no model error worth a name, and

@@ -165,15 +165,16 @@ def _structural(train: EffectData, test: EffectData) -> tuple[FloatArray, dict[s
 
 
 def stated_bars(fitted: dict[str, Effect], test: EffectData) -> dict[str, float]:
-    """Held-out MAE [W] a fitted candidate must come within, where one is stated, by name.
+    """Held-out MAE [W] within which a fitted candidate is near enough, where one is stated.
 
-    The naming rule's noise clauses (:mod:`ecoplan.diagnose.attribute`) compare the residual
-    after a candidate with the sensor's noise; a real log's residual after any model is far
-    above it (BorealTC mixes: what the Husky's per-terrain models leave on runs they were not
-    fitted on is 21-103 W, the logs' noise floor 14-126 W).  Where the vehicle states the error
-    of its models, the bar is that error instead: ``terrain_change`` on a vehicle file's known
-    terrains (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`: a move between
-    them, within their own held-out error).
+    The naming rule's clauses (:mod:`ecoplan.diagnose.attribute`) compare the residual after a
+    candidate with the sensor's noise (80 % of the gap above it closed, or what is left near
+    it); a real log's residual after any model is far above that noise (BorealTC mixes: what
+    the Husky's per-terrain models leave on runs they were not fitted on is 21-103 W).  Where
+    the vehicle states the error of its models, a residual within that error is near enough
+    too, and a bar of 0 makes the candidate ineligible: ``terrain_change`` on a vehicle file's
+    known terrains (:meth:`~ecoplan.diagnose.effects.TerrainChange.naming_bar_w`: only a move
+    between them, within their own held-out error).
 
     Parameters
     ----------
@@ -207,7 +208,8 @@ def bar_reason(verdict: str, best: tuple[str, float] | None, bars: dict[str, flo
     Returns
     -------
     str
-        One line, or empty when the candidate was named, has no bar or met it.
+        One line, or empty when the candidate was named, has no bar or met it (a candidate
+        within its bar that is not named lost on another clause).
 
     >>> bar_reason("unexplained", ("terrain_change", 52.9), {"terrain_change": 42.0})[:46]
     'terrain_change leaves 52.9 W held out, more th'
@@ -226,7 +228,8 @@ def bar_reason(verdict: str, best: tuple[str, float] | None, bars: dict[str, flo
     if after_w > bar:
         return (
             f"{name} leaves {after_w:.1f} W held out, more than the {bar:.1f} W its labelled "
-            "known terrains' models leave on runs they were not fitted on"
+            "known terrains' models leave on runs they were not fitted on (and not near the "
+            "noise)"
         )
     return ""
 

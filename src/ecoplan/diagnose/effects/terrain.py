@@ -489,17 +489,19 @@ class TerrainChange(Effect):
         return float(np.mean(tiles @ per_span))
 
     def naming_bar_w(self, data: EffectData) -> float | None:
-        """The held-out MAE this fit must come within to be named, with known terrains [W].
+        """The held-out MAE within which this fit is near enough, with known terrains [W].
 
         With known terrains that state their held-out error (:func:`known_terrain_errors`), a
         terrain change is a move between them: the fit must label two known terrains or more,
-        each segment modelled by its terrain's model, and what it leaves on ``data`` must be
-        within those terrains' own error (:meth:`terrain_error_w`), the error their models
-        leave on runs of them they were not fitted on -- not the sensor's noise, which a real
-        log's residual after any model is far above.  A fit with level factors (the segments
-        look like one known terrain, or like none) is no move between known terrains: 0, which
-        nothing comes within.  None without such terrains (the noise clauses of
-        :mod:`ecoplan.diagnose.attribute` apply), or when a labelled terrain states none.
+        each segment modelled by its terrain's model.  Such a fit is near enough when what it
+        leaves on ``data`` is within those terrains' own error (:meth:`terrain_error_w`), the
+        error their models leave on runs of them they were not fitted on, as well as when the
+        noise clauses of :mod:`ecoplan.diagnose.attribute` hold (a real log's residual after
+        any model is far above its sensor noise, and a log may be noisier than the runs the
+        errors came from).  A fit with level factors (the segments look like one known
+        terrain, or like none) is no move between known terrains: 0, not eligible.  None
+        without such terrains (the noise clauses alone), or when a labelled terrain states
+        none.
 
         Parameters
         ----------
