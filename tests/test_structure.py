@@ -14,7 +14,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from ecoplan.diagnose.replay import build_frame
@@ -137,6 +137,9 @@ def test_tracked_structural_calibration_reports_the_onset_and_its_held_out_gap()
     b_in=st.floats(1.0, 11.0),
     seed=st.integers(0, 10_000),
 )
+# found by a random run: the inner a_alpha landed on 0 in one pass of the linear fit and the
+# next pass, bounded by that 0, flipped a(r)'s direction
+@example(a_in=1.7263926897737973, a_out=3.037211670081394, b_in=3.135695117277961, seed=533)
 def test_every_structurally_calibrated_wheeled_model_stays_physical(
     a_in: float, a_out: float, b_in: float, seed: int
 ) -> None:

@@ -289,9 +289,13 @@ def fit_linear_at_chi(
     else:
         prior, envelope = _wheeled_theta(p), _envelope_design(p)
         fit = frame.subset(radius_resolved(frame.vl, frame.vr) & ~settling(frame))
+        # the bounds keep the signs of ``params``' alphas on every pass: read from the pass
+        # before, an alpha that landed on 0 would let the next pass flip a(r)'s direction
+        ref = p
+        lower, upper = wheeled_bounds(ref)
         for _ in range(3):
-            d = base_design(fit, p)
-            p = with_linear_params(p, d.names, _solve(d, fit.p, prior, envelope, WHEELED_RIDGE))
+            d = dataclasses.replace(base_design(fit, p), lower=lower, upper=upper)
+            p = with_linear_params(ref, d.names, _solve(d, fit.p, prior, envelope, WHEELED_RIDGE))
     pred = p.power(frame.vl, frame.vr).total_w
     return p, float(np.mean((frame.p - pred) ** 2))
 
