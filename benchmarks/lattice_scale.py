@@ -43,7 +43,10 @@ evaluation kept for the query; the same routes and energies on every site; commi
 1.3-1.7 s): CPU (build + query) median 0.63 / 0.85 / 0.83 s, p95 0.83 / 1.03 / 0.91 s;
 energy / finer reference 1.0022 / 1.0022 / 0.9956.  Commit a816b45 of that session
 (before the kept evaluations; 05:38-05:40 UTC, load 1.6-3.7): CPU median 0.66 / 0.98 /
-0.78 s.  CPU time, too, varied with the load on this machine.
+0.78 s.  CPU time, too, varied with the load on this machine.  On main 7a3cf2c (with the
+short-leg refinement of the driven route, 06:59-07:04 UTC, quiet machine): median 0.81 /
+0.84 / 0.83 s (wall and CPU alike), p95 0.93 / 0.97 / 0.88 s; energy / finer reference
+1.0044 / 1.0023 / 1.0096.
 
 Per run: map preparation (inflation) time, lattice build time (costing every primitive
 of every node), query time (A* + smoothing + full evaluation), energy, feasibility, and
