@@ -68,12 +68,14 @@ from ecoplan.diagnose.calibrate import (
     structural_onset,
 )
 from ecoplan.diagnose.replay import Frame, LogLike, build_frame
+from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 
 __all__ = [
+    "ALIGN_LEVEL",
     "ALIGN_SHIFTS",
     "BETA_BOUNDS",
     "BETA_MAX_LOG_HALF_WIDTH",
@@ -385,6 +387,8 @@ def structural_calibration(
 #: sample periods: 0 (power read at the instant it is stamped) or a half (the power is the mean
 #: of the period that ends at its stamp) [-].
 ALIGN_SHIFTS: tuple[float, ...] = (0.0, 0.5)
+#: One-sided level at which a shift must lower the training residual (:func:`power_alignment`).
+ALIGN_LEVEL = 0.05
 #: Columns of the log format read at an instant (the power is the one that may be averaged).
 INSTANT_COLUMNS: tuple[str, ...] = (
     "v_left",
@@ -453,14 +457,12 @@ def power_alignment(
     parameters (:func:`~ecoplan.diagnose.calibrate.base_design` at the preset's χ, which only
     scales the tracked friction power) are fitted on the training samples together with the
     kinetic-energy rates ``v_x a_x`` and ``w_z alpha`` (non-negative: a mass and a moment of
-    inertia), by bounded least squares.  A shift is taken only when it lowers both the
-    training residual's mean square and its mean absolute value against the stamps' timing: a
-    timing the log was made with shows in every acceleration, and lowers both (plant-zoo
-    tracked logs, 20 Hz: the mean square by 1-5 %, the mean absolute value by 0.5-2 %); an
-    effect the base model lacks also moves the fit a little with the timing, but trades one
-    loss against the other (a power cap, a slope on ecoplan's own instantaneous-power logs:
-    the mean square 0.05-0.5 % lower, the mean absolute value higher), and a tie is left at
-    the stamps.  The inertial columns are there because
+    inertia), by bounded least squares.  A shift is taken only when it lowers the training
+    residual's mean absolute value significantly against the stamps' timing (one-sided block
+    bootstrap over the frame's time blocks, :func:`~ecoplan.diagnose.stats.block_bootstrap`,
+    p < :data:`ALIGN_LEVEL`): an effect the base model lacks also moves the fit a little with
+    the timing (a power cap on ecoplan's own instantaneous-power logs: 0.05 % of the MSE), and
+    a timing the log cannot tell is left at the stamps.  The inertial columns are there because
     a mass and a timing both put power where the robot accelerates: without them a log with
     inertia keeps the shift that mimics part of it (plant-zoo variant a, inertia seed 0).
     Tracked vehicles only (the wheeled model is left at 0: its logs were not checked); a log
@@ -485,6 +487,7 @@ def power_alignment(
     if not isinstance(params, TrackedParams) or np.count_nonzero(train_mask) < 20:
         return 0.0
     resid: dict[float, FloatArray] = {}
+    block = np.zeros(0)
     for shift in ALIGN_SHIFTS:
         frame = build_frame(
             aligned_logs(logs, shift), params, block_s, snap_mps=params.case_tol_mps
@@ -497,9 +500,11 @@ def power_alignment(
         upper = np.concatenate([d.upper, [np.inf, np.inf]]) * scale
         fit = lsq_linear(X / scale, tr.p, bounds=(lower, upper), method="bvls")
         resid[shift] = tr.p - (X / scale) @ fit.x
+        block = tr.block.astype(np.float64)
     best = 0.0
+    rng = np.random.default_rng(0)  # a reproducible choice
     for shift in ALIGN_SHIFTS[1:]:
-        r0, r1 = resid[best], resid[shift]
-        if np.mean(r1**2) < np.mean(r0**2) and np.mean(np.abs(r1)) < np.mean(np.abs(r0)):
+        red, _, _, p = block_bootstrap(resid[best], resid[shift], block, rng)
+        if red > 0.0 and p < ALIGN_LEVEL:
             best = shift
     return best
