@@ -409,9 +409,9 @@ def attribute(
         min_gain,
         bars,
     )
-    alternatives = fit_alternatives(train, test, r0, rng)
     named = tied[0] if verdict == "ambiguous" and tied else verdict
     named_after = next((sc.after for sc in power_scores if sc.name == named), None)
+    alternatives = fit_alternatives(train, test, r0, rng, shape=named_after is not None)
     verdict, conf, tied, res_after, reason = naming_rule(
         (verdict, conf, tied, res_after),
         named_after,
@@ -514,7 +514,7 @@ def _power_verdict(
         over = before / max(floor, 1e-12)
         gap_sig = over > 1.0 + GAP_OVER_FLOOR and (lb_p < 0.01 or over > FAR_OVER_FLOOR)
         if gap_sig:
-            return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0
+            return "unexplained", _unexplained_confidence(lb_p, best), (), lb_p, 0.0, r0
         # the chance that the best candidate's reduction is noise (Bonferroni): a suggestive
         # but insignificant reduction leaves `none` unsure
         conf = 1.0 if best is None else min(best.p_value * n_cand, 1.0)
@@ -556,6 +556,21 @@ def _power_verdict(
             if diff[1] <= 0.0:
                 return "ambiguous", conf, (best.name, second.name), lb_p, explained, r_best
     return best.name, conf, (), lb_p, explained, r_best
+
+
+def _unexplained_confidence(lb_p: float, best: EffectScore | None) -> float:
+    """Confidence of ``unexplained`` when no candidate is significant (:class:`Attribution`).
+
+    ``unexplained`` claims two things: there is model error (the residual is not white:
+    ``1 -`` the Ljung-Box p-value ``lb_p``), and no effect of the library closes it (``1 -``
+    the share of the gap above the noise floor the best candidate closes, significant or
+    not).  The confidence is the weaker of the two: a candidate that closes two thirds of the
+    gap but misses the corrected level leaves "no effect explains it" a third sure, however
+    coloured the residual (the plant zoo's wheeled variant: a power limit whose candidate
+    closed 67 % at p = 0.02 was called ``unexplained`` with confidence 1.0).
+    """
+    shared = best.explained if best is not None else 0.0
+    return float(min(1.0 - lb_p, 1.0 - shared))
 
 
 def _decimation(frame: Frame) -> int:
