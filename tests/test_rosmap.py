@@ -323,3 +323,21 @@ def test_vectorised_segment_checks_match_a_loop(seed: int, n_seg: int) -> None:
         all(_segment_free_by_loop(g, p, q) for p, q in itertools.pairwise(ln)) for ln in lines
     ]
     assert g.polylines_free(lines).tolist() == want_lines
+
+
+@given(x=st.floats(-3.0, 3.0, allow_nan=False), y=st.floats(-3.0, 3.0, allow_nan=False))
+@settings(max_examples=60, deadline=None)
+def test_terrain_outside_the_grid_reads_the_nearest_border_cell(x: float, y: float) -> None:
+    """A 3 x 4 grid at 0.5 m from (-1, -0.5): the label of the cell nearest the point, by hand."""
+    labels = np.arange(12, dtype=np.uint8).reshape(3, 4)
+    g = GridMap(
+        np.zeros((3, 4), dtype=np.int8),
+        0.5,
+        origin_xy_m=(-1.0, -0.5),
+        terrain=labels,
+        terrain_names=tuple(f"t{i}" for i in range(12)),
+    )
+    col = min(max(math.floor((x + 1.0) / 0.5), 0), 3)
+    row = min(max(math.floor((y + 0.5) / 0.5), 0), 2)
+    assert int(g.terrain_id_at([[x, y]])[0]) == 4 * row + col
+    assert bool(g.is_free(x, y)) == (-1.0 <= x < 1.0 and -0.5 <= y < 1.0)

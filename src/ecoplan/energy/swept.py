@@ -343,10 +343,7 @@ def _one_label(grid: GridMap, points: FloatArray) -> bool:
     outside the grid reads the border cell, which is in the box clipped to the grid.
     """
     lo, hi = points.min(axis=0), points.max(axis=0)
-    (r0, r1), (c0, c1) = grid.cell_of([lo[0], hi[0]], [lo[1], hi[1]])
-    ny, nx = grid.shape
-    r0, r1 = min(max(int(r0), 0), ny - 1), min(max(int(r1), 0), ny - 1)
-    c0, c1 = min(max(int(c0), 0), nx - 1), min(max(int(c1), 0), nx - 1)
+    (r0, r1), (c0, c1) = grid.clamp_cells(*grid.cell_of([lo[0], hi[0]], [lo[1], hi[1]]))
     box = grid.labels[r0 : r1 + 1, c0 : c1 + 1]
     return bool((box == box[0, 0]).all())
 

@@ -280,6 +280,13 @@ class GridMap:
         y = self.origin_xy_m[1] + (np.asarray(row, dtype=np.float64) + 0.5) * r
         return x, y
 
+    def clamp_cells(self, row: ArrayLike, col: ArrayLike) -> tuple[IntArray, IntArray]:
+        """Cell indices clamped to the grid: a cell outside reads the nearest border cell."""
+        ny, nx = self.shape
+        rc = np.clip(np.asarray(row, dtype=np.int64), 0, ny - 1)
+        cc = np.clip(np.asarray(col, dtype=np.int64), 0, nx - 1)
+        return rc, cc
+
     def _inside(self, row: IntArray, col: IntArray) -> BoolArray:
         ny, nx = self.shape
         return np.asarray((row >= 0) & (row < ny) & (col >= 0) & (col < nx), dtype=np.bool_)
@@ -289,8 +296,7 @@ class GridMap:
         """True where the robot centre at ``(x, y)`` is in a free cell (vectorised)."""
         row, col = self.cell_of(x, y)
         inside = self._inside(row, col)
-        ny, nx = self.shape
-        free = ~self.blocked[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)]
+        free = ~self.blocked[self.clamp_cells(row, col)]
         return np.asarray(inside & free, dtype=np.bool_)
 
     def segment_samples(
@@ -332,8 +338,7 @@ class GridMap:
         t = idx / n[seg]
         pts = a[seg] + t[:, None] * d[seg]
         row, col = self.cell_of(pts[:, 0], pts[:, 1])
-        ny, nx = self.shape
-        rc, cc = np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)
+        rc, cc = self.clamp_cells(row, col)
         ok = (row == rc) & (col == cc) & ~self.blocked[rc, cc]
         return ok, rc, cc
 
@@ -416,10 +421,8 @@ class GridMap:
     def terrain_id_at(self, points: ArrayLike) -> IntArray:
         """Terrain label at each of ``(n, 2)`` points (outside: clamped to the border)."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-        row, col = self.cell_of(pts[:, 0], pts[:, 1])
-        ny, nx = self.shape
         return np.asarray(
-            self.labels[np.clip(row, 0, ny - 1), np.clip(col, 0, nx - 1)], dtype=np.int64
+            self.labels[self.clamp_cells(*self.cell_of(pts[:, 0], pts[:, 1]))], dtype=np.int64
         )
 
     def terrain_at(self, points: ArrayLike) -> list[str | None]:

@@ -15,6 +15,8 @@ convergence at a fixed scale the IRLS reaches ``least_squares``' Huber minimiser
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from scipy.optimize import lsq_linear
 from scipy.stats import median_abs_deviation
@@ -26,6 +28,8 @@ from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
+    "COMPASS_FIRST_STEP",
+    "COMPASS_LAST_STEP",
     "EFFECT_RIDGE",
     "NONREGEN_COLUMN",
     "NONREGEN_FLOOR_SHARE",
@@ -33,6 +37,7 @@ __all__ = [
     "Bounds",
     "base_bounds",
     "bounded_lstsq",
+    "compass_refine",
     "fit_linear",
     "huber_loss",
     "huber_weights",
@@ -300,3 +305,68 @@ def huber_weights(residual: FloatArray, k: float = 3.0, scale: float | None = No
         return np.ones_like(r)
     a = np.abs(r)
     return np.asarray(np.where(a > k * s, k * s / np.maximum(a, 1e-300), 1.0), dtype=np.float64)
+
+
+#: First step of :func:`compass_refine`'s centre moves, as a share of the visited span [-].
+COMPASS_FIRST_STEP = 1.0 / 15.0
+#: :func:`compass_refine` stops when its centre step falls below this share of the span [-].
+COMPASS_LAST_STEP = 1.0 / 500.0
+
+
+def compass_refine(
+    sse: Callable[[tuple[float, float, float]], float],
+    start: tuple[float, float, float],
+    start_sse: float,
+    span_m: float,
+) -> tuple[tuple[float, float, float], float]:
+    """Refine a disc ``(c_x, c_y, R)`` by compass (pattern) search on ``sse``.
+
+    From ``start``, the six moves -- the centre ``± h`` along x and along y, the radius times
+    ``1 + q`` or divided by it -- are tried; the best that lowers ``sse`` is taken, and when
+    none does, ``h`` and ``q`` are halved.  It starts at ``h = span_m``
+    :data:`COMPASS_FIRST_STEP`, ``q = 0.2`` and stops below ``span_m``
+    :data:`COMPASS_LAST_STEP`.  An objective that counts samples inside a disc is piecewise
+    constant, so the search needs no derivative; it ends at a disc none of whose six
+    neighbours at the last step is better (a local minimum at that resolution).
+
+    Parameters
+    ----------
+    sse : callable
+        Objective of a disc (``inf`` for a disc that is not allowed).
+    start : tuple of float
+        Starting disc ``(c_x [m], c_y [m], R [m])``.
+    start_sse : float
+        ``sse(start)``.
+    span_m : float
+        Size of the visited area [m] (the scale of the centre steps).
+
+    Returns
+    -------
+    tuple
+        The refined disc and its objective.
+
+    >>> best, val = compass_refine(
+    ...     lambda d: (d[0] - 1.0) ** 2 + (d[1] + 2.0) ** 2 + (d[2] - 3.0) ** 2,
+    ...     (0.0, 0.0, 1.0), 14.0, 10.0)
+    >>> [round(v, 1) for v in best], val < 0.01
+    ([1.0, -2.0, 3.0], True)
+    """
+    cur, cur_sse = start, start_sse
+    h, q = span_m * COMPASS_FIRST_STEP, 0.2
+    while h > span_m * COMPASS_LAST_STEP:
+        cx, cy, r = cur
+        moves = [
+            (cx + h, cy, r),
+            (cx - h, cy, r),
+            (cx, cy + h, r),
+            (cx, cy - h, r),
+            (cx, cy, r * (1.0 + q)),
+            (cx, cy, r / (1.0 + q)),
+        ]
+        vals = [sse(m) for m in moves]
+        i = int(np.argmin(vals))
+        if vals[i] < cur_sse:
+            cur, cur_sse = moves[i], vals[i]
+        else:
+            h, q = 0.5 * h, 0.5 * q
+    return cur, cur_sse

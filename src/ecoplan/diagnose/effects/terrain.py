@@ -31,7 +31,7 @@ from ecoplan.diagnose.effects.base import (
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData
-from ecoplan.diagnose.effects.fitting import fit_linear
+from ecoplan.diagnose.effects.fitting import compass_refine, fit_linear
 from ecoplan.diagnose.replay import Frame
 from ecoplan.diagnose.where_time import TimeSegment, label_segments
 from ecoplan.errors import InputError
@@ -140,10 +140,15 @@ class TerrainPatch(Effect):
         return np.column_stack([ins * data.friction_w, ins * data.resistance_w])
 
     def _search(self, data: EffectData) -> Any:
-        """Search the disc: centres and radii on a grid, then a local refinement.
+        """Search the disc: centres and radii on a grid, then a compass search from the best.
 
         Centres lie on a grid over the visited box and on visited points, radii at quantiles
-        of the distance to the samples.
+        of the distance to the samples.  The :data:`TERRAIN_STARTS` best grid discs are then
+        refined by :func:`~ecoplan.diagnose.effects.fitting.compass_refine` (the training SSE
+        is piecewise constant in the disc, so a derivative-free pattern search, not a
+        gradient): a fixed 3 x 3 x 3 neighbourhood of one step left the grid's disc wherever
+        the patch's edge fell between grid radii (plant-zoo variant a, seed 3: training SSE
+        7.05e5 for the grid's disc against 6.84e5 for the zoo's own disc).
         """
         f = data.frame
         assert f.x is not None and f.y is not None
@@ -158,29 +163,25 @@ class TerrainPatch(Effect):
         best: tuple[float, Any] = (self._sse(data, None), None)
         scored: list[tuple[float, tuple[float, float, float]]] = []
 
-        def trial(disc: tuple[float, float, float]) -> None:
+        def trial(disc: tuple[float, float, float]) -> float:
             nonlocal best
             n_in = float(self._inside(data, disc).sum())
             if n_in < 20 or n_in > 0.9 * f.n:
-                return
+                return math.inf
             sse = self._sse(data, disc)
             scored.append((sse, disc))
             if sse < best[0]:
                 best = (sse, disc)
+            return sse
 
         for cx, cy in centres:
             dist = np.hypot(f.x - cx, f.y - cy)
             for r in np.quantile(dist, [0.1, 0.2, 0.3, 0.45]):
                 trial((cx, cy, float(max(r, 1e-3))))
         # refine the best few discs of the grid (distinct discs can cover the same turns)
-        starts = [d for _, d in sorted(scored, key=lambda sd: sd[0])[:TERRAIN_STARTS]]
-        for start in starts:
-            cx, cy, r = start
-            h = span / 30.0
-            for dx in (-h, 0.0, h):
-                for dy in (-h, 0.0, h):
-                    for rf in (0.85, 1.0, 1.15):
-                        trial((cx + dx, cy + dy, r * rf))
+        starts = sorted(scored, key=lambda sd: sd[0])[:TERRAIN_STARTS]
+        for sse, start in starts:
+            compass_refine(trial, start, sse, span)
         return best[1]
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
