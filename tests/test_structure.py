@@ -17,7 +17,9 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from ecoplan.diagnose.calibrate import Calibration
+from ecoplan.diagnose.calibrate import Calibration, calibrate
+from ecoplan.diagnose.effects import NoEffect, prepare
+from ecoplan.diagnose.naming import fit_alternatives
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.structure import (
     BETA_BOUNDS,
@@ -218,3 +220,22 @@ def test_a_log_without_tight_turns_offers_no_structural_rival() -> None:
     train = build_frame([_wheeled_log((20.0, 40.0, 80.0), TRUE_BETAS, 5)], PIONEER, smooth_s=0.0)
     test = build_frame([_wheeled_log((20.0, 40.0, 80.0), TRUE_BETAS, 6)], PIONEER, smooth_s=0.0)
     assert wheeled_structural_alternative(train, test, PIONEER) is None
+
+
+def test_the_naming_rule_scores_the_shared_shape_as_its_structural_rival() -> None:
+    # no effect, only Table I's slope exponents changed: the structural alternative with the
+    # shape closes the gap to the generator's noise, 0.3 W sqrt(2/pi) = 0.239 W MAE
+    radii = (0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 8.0)
+    train_f = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=3)], PIONEER, smooth_s=0.0)
+    test_f = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=4)], PIONEER, smooth_s=0.0)
+    cal = calibrate(train_f, PIONEER).params
+    train, test = prepare(train_f, cal, prior=PIONEER), prepare(test_f, cal, prior=PIONEER)
+    r0 = test.p - NoEffect().fit(train).predict(test)
+    rng = np.random.default_rng(0)
+    (plain,) = fit_alternatives(train, test, r0, rng, ("structural",))
+    (shaped,) = fit_alternatives(train, test, r0, rng, ("structural",), shape=True)
+    assert "inner.a_beta" not in plain.params
+    assert shaped.params["inner.a_beta"] == pytest.approx(TRUE_BETAS["inner.a_beta"], rel=0.02)
+    noise_mae = 0.3 * np.sqrt(2.0 / np.pi)
+    assert shaped.after_w == pytest.approx(noise_mae, rel=0.1)
+    assert plain.after_w > 1.5 * noise_mae  # the preset's shape cannot
