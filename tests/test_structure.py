@@ -89,6 +89,7 @@ TRUE_BETAS = {
 }
 
 
+@pytest.mark.slow
 def test_a_slope_shape_the_log_was_made_with_is_recovered_within_its_interval() -> None:
     log = _wheeled_log((0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 8.0), TRUE_BETAS, seed=1)
     frame = build_frame([log], PIONEER, smooth_s=0.0)
@@ -136,7 +137,9 @@ def test_tracked_structural_calibration_reports_the_onset_and_its_held_out_gap()
     assert sc.heldout_mae_w == pytest.approx(floor, rel=0.1)
 
 
-@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# each example searches the shape from a grid (about 4 s): five random draws and the pinned ones
+@pytest.mark.slow
+@settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     a_in=st.floats(0.6, 8.0),
     a_out=st.floats(0.6, 8.0),
@@ -192,6 +195,7 @@ def test_the_halves_of_the_shape_disagree_only_when_their_intervals_are_disjoint
     assert shape_halves_disagree(train, _calibration_with({})) == ()
 
 
+@pytest.mark.slow
 def test_a_shape_both_halves_share_is_the_structural_rival_of_the_naming_rule() -> None:
     radii = (0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 8.0)
     train = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=3)], PIONEER, smooth_s=0.0)
@@ -206,6 +210,7 @@ def test_a_shape_both_halves_share_is_the_structural_rival_of_the_naming_rule() 
         assert sc.value[name] == pytest.approx(TRUE_BETAS[name], rel=0.02)
 
 
+@pytest.mark.slow
 def test_a_shape_the_held_out_half_does_not_share_is_no_rival() -> None:
     # the held-out half made with other slope exponents (a shape bent in some blocks only,
     # as a time-varying effect would bend it): the structure is not the vehicle's
@@ -222,6 +227,7 @@ def test_a_log_without_tight_turns_offers_no_structural_rival() -> None:
     assert wheeled_structural_alternative(train, test, PIONEER) is None
 
 
+@pytest.mark.slow
 def test_the_naming_rule_scores_the_shared_shape_as_its_structural_rival() -> None:
     # no effect, only Table I's slope exponents changed: the structural alternative with the
     # shape closes the gap to the generator's noise, 0.3 W sqrt(2/pi) = 0.239 W MAE
