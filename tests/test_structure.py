@@ -17,11 +17,17 @@ import pytest
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
+from ecoplan.diagnose.calibrate import Calibration, calibrate
+from ecoplan.diagnose.effects import NoEffect, prepare
+from ecoplan.diagnose.naming import fit_alternatives
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.structure import (
     BETA_BOUNDS,
+    StructuralCalibration,
+    shape_halves_disagree,
     structural_calibration,
     wheeled_shape,
+    wheeled_structural_alternative,
 )
 from ecoplan.dynamics.log import Log
 from ecoplan.models.tracked import TrackedParams
@@ -83,6 +89,7 @@ TRUE_BETAS = {
 }
 
 
+@pytest.mark.slow
 def test_a_slope_shape_the_log_was_made_with_is_recovered_within_its_interval() -> None:
     log = _wheeled_log((0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 8.0), TRUE_BETAS, seed=1)
     frame = build_frame([log], PIONEER, smooth_s=0.0)
@@ -130,7 +137,9 @@ def test_tracked_structural_calibration_reports_the_onset_and_its_held_out_gap()
     assert sc.heldout_mae_w == pytest.approx(floor, rel=0.1)
 
 
-@settings(max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+# each example searches the shape from a grid (about 4 s): five random draws and the pinned ones
+@pytest.mark.slow
+@settings(max_examples=5, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(
     a_in=st.floats(0.6, 8.0),
     a_out=st.floats(0.6, 8.0),
@@ -140,6 +149,8 @@ def test_tracked_structural_calibration_reports_the_onset_and_its_held_out_gap()
 # found by a random run: the inner a_alpha landed on 0 in one pass of the linear fit and the
 # next pass, bounded by that 0, flipped a(r)'s direction
 @example(a_in=1.7263926897737973, a_out=3.037211670081394, b_in=3.135695117277961, seed=533)
+# found by a random run: a start of the exponents' grid made scipy's BVLS divide by a zero step
+@example(a_in=1.6778014849724014, a_out=0.8101807719532119, b_in=1.1, seed=223)
 def test_every_structurally_calibrated_wheeled_model_stays_physical(
     a_in: float, a_out: float, b_in: float, seed: int
 ) -> None:
@@ -163,3 +174,74 @@ def test_every_structurally_calibrated_wheeled_model_stays_physical(
     v = np.linspace(0.0, p.top_track_speed_mps, 30)
     straight = np.asarray(p.power(v, v).total_w)
     assert np.all(np.diff(straight) >= -1e-9)
+
+
+def _calibration_with(interval: dict[str, tuple[float, float]]) -> StructuralCalibration:
+    """A structure whose exponents in ``interval`` count as identified (no fit needed)."""
+    dummy = Calibration(PIONEER, {}, 0.0, 0.0)
+    names = tuple(interval)
+    value = {n: 0.5 * (lo + hi) for n, (lo, hi) in interval.items()}
+    return StructuralCalibration(dummy, float("nan"), names, (), value, interval)
+
+
+def test_the_halves_of_the_shape_disagree_only_when_their_intervals_are_disjoint() -> None:
+    # item 2's halves clause on the structure: overlap of 95 % intervals, by definition
+    train = _calibration_with({"inner.a_beta": (2.0, 3.0), "outer.a_beta": (1.5, 2.0)})
+    overlapping = _calibration_with({"inner.a_beta": (2.9, 4.0), "outer.a_beta": (1.0, 1.6)})
+    disjoint = _calibration_with({"inner.a_beta": (3.1, 4.0), "outer.a_beta": (1.0, 1.6)})
+    assert shape_halves_disagree(train, overlapping) == ()
+    assert shape_halves_disagree(train, disjoint) == ("inner.a_beta",)
+    # an exponent the held-out half gives no interval for cannot disagree
+    assert shape_halves_disagree(train, _calibration_with({})) == ()
+
+
+@pytest.mark.slow
+def test_a_shape_both_halves_share_is_the_structural_rival_of_the_naming_rule() -> None:
+    radii = (0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 8.0)
+    train = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=3)], PIONEER, smooth_s=0.0)
+    test = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=4)], PIONEER, smooth_s=0.0)
+    sc = wheeled_structural_alternative(train, test, PIONEER)
+    assert sc is not None
+    for name in ("inner.a_beta", "outer.a_beta"):
+        assert name in sc.identified
+        # the exponents the log was made with, within 2 %: the profile intervals are
+        # conditional on χ and on the coefficients' pull, and come out a little narrow
+        # (3.393 for 3.4, interval up to 3.393, on this seed)
+        assert sc.value[name] == pytest.approx(TRUE_BETAS[name], rel=0.02)
+
+
+@pytest.mark.slow
+def test_a_shape_the_held_out_half_does_not_share_is_no_rival() -> None:
+    # the held-out half made with other slope exponents (a shape bent in some blocks only,
+    # as a time-varying effect would bend it): the structure is not the vehicle's
+    radii = (0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 8.0)
+    other = {**TRUE_BETAS, "inner.a_beta": 1.6, "outer.a_beta": 3.4}
+    train = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=3)], PIONEER, smooth_s=0.0)
+    test = build_frame([_wheeled_log(radii, other, seed=4)], PIONEER, smooth_s=0.0)
+    assert wheeled_structural_alternative(train, test, PIONEER) is None
+
+
+def test_a_log_without_tight_turns_offers_no_structural_rival() -> None:
+    train = build_frame([_wheeled_log((20.0, 40.0, 80.0), TRUE_BETAS, 5)], PIONEER, smooth_s=0.0)
+    test = build_frame([_wheeled_log((20.0, 40.0, 80.0), TRUE_BETAS, 6)], PIONEER, smooth_s=0.0)
+    assert wheeled_structural_alternative(train, test, PIONEER) is None
+
+
+@pytest.mark.slow
+def test_the_naming_rule_scores_the_shared_shape_as_its_structural_rival() -> None:
+    # no effect, only Table I's slope exponents changed: the structural alternative with the
+    # shape closes the gap to the generator's noise, 0.3 W sqrt(2/pi) = 0.239 W MAE
+    radii = (0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 8.0)
+    train_f = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=3)], PIONEER, smooth_s=0.0)
+    test_f = build_frame([_wheeled_log(radii, TRUE_BETAS, seed=4)], PIONEER, smooth_s=0.0)
+    cal = calibrate(train_f, PIONEER).params
+    train, test = prepare(train_f, cal, prior=PIONEER), prepare(test_f, cal, prior=PIONEER)
+    r0 = test.p - NoEffect().fit(train).predict(test)
+    rng = np.random.default_rng(0)
+    (plain,) = fit_alternatives(train, test, r0, rng, ("structural",))
+    (shaped,) = fit_alternatives(train, test, r0, rng, ("structural",), shape=True)
+    assert "inner.a_beta" not in plain.params
+    assert shaped.params["inner.a_beta"] == pytest.approx(TRUE_BETAS["inner.a_beta"], rel=0.02)
+    noise_mae = 0.3 * np.sqrt(2.0 / np.pi)
+    assert shaped.after_w == pytest.approx(noise_mae, rel=0.1)
+    assert plain.after_w > 1.5 * noise_mae  # the preset's shape cannot

@@ -157,9 +157,10 @@ class Attribution:
     confidence : float
         In [0, 1]: ``1 - p`` (Bonferroni) of the winner times its margin over the runner-up
         (``min(1, 2 (1 - runner-up reduction / winner's))``: a name is sure only when no other
-        candidate closes much of the same gap); for ``none`` the chance (Bonferroni p) that the
-        best candidate's reduction is noise; for ``unexplained`` ``1 -`` the share the best
-        explains.
+        candidate closes much of the same gap; a kinematic winner against the power
+        candidates' relative reductions); for ``none`` the chance (Bonferroni p) that the
+        best candidate's reduction, in any channel, is noise; for ``unexplained`` ``1 -`` the
+        share the best explains (and no more than ``1 -`` the residual's Ljung-Box p).
     tied : tuple of str
         Names tied in an ambiguous verdict.
     indistinguishable : list of (str, str, float, str)
@@ -409,9 +410,9 @@ def attribute(
         min_gain,
         bars,
     )
-    alternatives = fit_alternatives(train, test, r0, rng)
     named = tied[0] if verdict == "ambiguous" and tied else verdict
     named_after = next((sc.after for sc in power_scores if sc.name == named), None)
+    alternatives = fit_alternatives(train, test, r0, rng, shape=named_after is not None)
     verdict, conf, tied, res_after, reason = naming_rule(
         (verdict, conf, tied, res_after),
         named_after,
@@ -439,10 +440,12 @@ def attribute(
             top_power is not None and k.reduction_pct > top_power.reduction_pct
         ):
             verdict, tied = k.name, ()
-            conf = float(1.0 - min(k.p_value * alpha / level, 1.0))
+            conf = _kinematic_confidence(k, power_scores, alpha / level)
             if k.name in residuals:
                 res_after = residuals[k.name]
             _, lb_p = ljung_box(res_after, decimate=_decimation(test.frame))
+    if verdict == "none":
+        conf = _none_confidence(conf, kin_scores, alpha / level)
     scores = power_scores + kin_scores
     scores.sort(
         key=lambda s: (s.name != verdict and s.name not in tied, -s.significant, -s.reduction_pct)
@@ -514,7 +517,7 @@ def _power_verdict(
         over = before / max(floor, 1e-12)
         gap_sig = over > 1.0 + GAP_OVER_FLOOR and (lb_p < 0.01 or over > FAR_OVER_FLOOR)
         if gap_sig:
-            return "unexplained", 1.0 - lb_p, (), lb_p, 0.0, r0
+            return "unexplained", _unexplained_confidence(lb_p, best), (), lb_p, 0.0, r0
         # the chance that the best candidate's reduction is noise (Bonferroni): a suggestive
         # but insignificant reduction leaves `none` unsure
         conf = 1.0 if best is None else min(best.p_value * n_cand, 1.0)
@@ -556,6 +559,64 @@ def _power_verdict(
             if diff[1] <= 0.0:
                 return "ambiguous", conf, (best.name, second.name), lb_p, explained, r_best
     return best.name, conf, (), lb_p, explained, r_best
+
+
+def _kinematic_confidence(k: EffectScore, power: list[EffectScore], n_tests: float) -> float:
+    """Confidence of a kinematic verdict: ``1 -`` its Bonferroni p times its margin.
+
+    As for a power-channel name (:class:`Attribution`): sure of the name only when no other
+    candidate closes much of the same gap.  The kinematic candidate's relative reduction of
+    its channel is set against the largest relative reduction of the power candidates (the
+    comparison that let it win): ``margin = min(1, 2 (1 - power % / kinematic %))``.  A lag
+    that closes 45 % of the speed gap over a power candidate closing 40 % of the power gap
+    is a name, but not a sure one.
+
+    Parameters
+    ----------
+    k : EffectScore
+        The kinematic winner.
+    power : list of EffectScore
+        The power-channel candidates.
+    n_tests : float
+        The Bonferroni factor (``alpha / level``).
+
+    Returns
+    -------
+    float
+        The confidence, in [0, 1].
+    """
+    sure = 1.0 - min(k.p_value * n_tests, 1.0)
+    rival = max((max(s.reduction_pct, 0.0) for s in power), default=0.0)
+    margin = min(1.0, 2.0 * (1.0 - rival / max(k.reduction_pct, 1e-12)))
+    return float(sure * max(margin, 0.0))
+
+
+def _none_confidence(power_conf: float, kinematic: list[EffectScore], n_tests: float) -> float:
+    """Confidence of ``none``: the chance that the best candidate of *any* channel is noise.
+
+    ``power_conf`` is that chance over the power candidates (their Bonferroni p); the
+    kinematic candidates (``actuator_lag`` on the speeds, ``icr_asymmetry`` on the pose)
+    belong to the same family of tests (:class:`Attribution`), so their Bonferroni p-values
+    bound it too: a drive lag significant on the speeds, named or not, leaves "no effect"
+    unsure.
+    """
+    ps = [min(k.p_value * n_tests, 1.0) for k in kinematic]
+    return float(min([power_conf, *ps]))
+
+
+def _unexplained_confidence(lb_p: float, best: EffectScore | None) -> float:
+    """Confidence of ``unexplained`` when no candidate is significant (:class:`Attribution`).
+
+    ``unexplained`` claims two things: there is model error (the residual is not white:
+    ``1 -`` the Ljung-Box p-value ``lb_p``), and no effect of the library closes it (``1 -``
+    the share of the gap above the noise floor the best candidate closes, significant or
+    not).  The confidence is the weaker of the two: a candidate that closes two thirds of the
+    gap but misses the corrected level leaves "no effect explains it" a third sure, however
+    coloured the residual (the plant zoo's wheeled variant: a power limit whose candidate
+    closed 67 % at p = 0.02 was called ``unexplained`` with confidence 1.0).
+    """
+    shared = best.explained if best is not None else 0.0
+    return float(min(1.0 - lb_p, 1.0 - shared))
 
 
 def _decimation(frame: Frame) -> int:

@@ -6,9 +6,13 @@ training split and scored on the held-out one like the candidates:
 
 * ``structural`` -- the base model re-identified with its structure free
   (:func:`~ecoplan.diagnose.calibrate.calibrate` with ``structural=True``: the
-  non-regenerated term's onset and whatever else calibration learns to identify).  When it
-  closes the gap as well as the best effect, the gap is the base model's convention, not an
-  effect: the verdict is ``none`` with the structure reported by calibration.
+  non-regenerated term's onset and whatever else calibration learns to identify; wheeled,
+  when an effect would be named, the small-radius shape of ``a(r)``, ``b(r)``,
+  :func:`~ecoplan.diagnose.structure.wheeled_structural_alternative`, admitted only when
+  the two halves of the split agree on its exponents: a shape that a time-varying effect
+  bent is not the vehicle's).  When it closes the gap as well as the best effect, the gap
+  is the base model's convention, not an effect: the verdict is ``none`` with the structure
+  reported by calibration.
 * ``time_step`` -- a change *in time* (:class:`~ecoplan.diagnose.effects.TimeStep`: from one
   instant on, friction and the rest of the power scaled), as a payload loaded or a meter's gain
   changed mid-run.  A place-bound effect (``terrain_patch``) or a drift that a single step in
@@ -75,7 +79,9 @@ from ecoplan.diagnose.effects import (
 )
 from ecoplan.diagnose.effects.data import segments
 from ecoplan.diagnose.stats import block_bootstrap
+from ecoplan.diagnose.structure import wheeled_structural_alternative
 from ecoplan.errors import InputError
+from ecoplan.models.wheeled import WheeledParams
 
 __all__ = [
     "ALTERNATIVES",
@@ -148,14 +154,26 @@ class Alternative:
         return ALTERNATIVES[self.name]
 
 
-def _structural(train: EffectData, test: EffectData) -> tuple[FloatArray, dict[str, float]]:
+def _structural(
+    train: EffectData, test: EffectData, shape: bool = False
+) -> tuple[FloatArray, dict[str, float]]:
     """The base model at the structure calibration identifies, refitted like every candidate.
 
     The linear parameters are refitted as the candidates' are (:func:`fit_linear`, with its
     floor on ``k_nr``): a structure that only lowers ``k_nr`` below the floor is the
-    ``regeneration`` effect, not a structure.
+    ``regeneration`` effect, not a structure.  Wheeled, with ``shape``: the small-radius
+    shape of ``a(r)``, ``b(r)`` (:func:`~ecoplan.diagnose.structure.wheeled_structural_alternative`:
+    identified on the training half and agreeing with the held-out half), when admitted.
     """
     prior = train.prior if train.prior is not None else train.params
+    if shape and isinstance(prior, WheeledParams):
+        sc = wheeled_structural_alternative(train.frame, test.frame, prior)
+        if sc is not None:
+            tr = prepare(train.frame, sc.params, train.t_rel, prior=train.prior)
+            te = prepare(test.frame, sc.params, test.t_rel, prior=test.prior)
+            refit = NoEffect().fit(tr)
+            moved = {k: float(sc.value[k]) for k in sc.identified}
+            return te.p - refit.predict(te), {**moved, "chi": float(refit.chi_ or 0.0)}
     cal = calibrate(train.frame, prior, structural=True)
     tr = prepare(train.frame, cal.params, train.t_rel, prior=train.prior)
     te = prepare(test.frame, cal.params, test.t_rel, prior=test.prior)
@@ -240,6 +258,8 @@ def fit_alternatives(
     r0: FloatArray,
     rng: np.random.Generator,
     names: tuple[str, ...] = tuple(ALTERNATIVES),
+    *,
+    shape: bool = False,
 ) -> list[Alternative]:
     """Fit the alternatives on ``train`` and score them on ``test``.
 
@@ -253,6 +273,9 @@ def fit_alternatives(
         For the block bootstrap.
     names : tuple of str
         Which alternatives (default all of :data:`ALTERNATIVES`).
+    shape : bool
+        Wheeled: let the structural alternative re-identify the small-radius shape too
+        (:func:`_structural`; a few seconds, so only when an effect would be named).
 
     Returns
     -------
@@ -263,7 +286,7 @@ def fit_alternatives(
     block = test.frame.block.astype(np.float64)
     for name in names:
         if name == "structural":
-            r1, params = _structural(train, test)
+            r1, params = _structural(train, test, shape)
         elif name == "time_step":
             step = TimeStep().fit(train)
             r1 = test.p - step.predict(test)
