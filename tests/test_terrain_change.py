@@ -396,3 +396,24 @@ def test_a_residual_within_the_known_terrains_error_is_near_enough_and_level_fac
     assert _verdict_with_bar(22.0, None) == "terrain_change"
     assert _verdict_with_bar(22.0, 10.0) == "terrain_change"
     assert _verdict_with_bar(22.0, 0.0) != "terrain_change"
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_a_switch_inside_a_held_out_block_is_placed_halfway_across_it(seed: int) -> None:
+    # the generator's ice gives way to snow 0.4 s into a held-out block of the diagnosis's
+    # split (blocks of the log's duration / 40, at least 5 s, alternating from training on
+    # the first run: attribute.split_masks), so the training split sees no sample of the
+    # switch.  Its first snow sample comes a block later; the fit's snow span must start
+    # halfway across the gap (within half a block of the true switch, plus a sample), not at
+    # the end of it, where held-out ice would be predicted with snow's model
+    block_s = max(DURATION_S / 40.0, 5.0)
+    switch_s = 19 * block_s + 0.4  # block 19: odd, so held out
+    rng = np.random.default_rng(seed)
+    t = 50.0 + np.arange(0.0, DURATION_S, 1.0 / RATE_HZ)
+    vl, vr = _drive(rng, t)
+    ice, snow = _husky_signal(vl, vr, ICE), _husky_signal(vl, vr, SNOW)
+    p = np.where(t - t[0] < switch_s, ice, snow) + _ar1(rng, t.size)
+    d = diagnose(Log(t=t, v_left=vl, v_right=vr, p_total=p, run_id=f"m{seed}"), HUSKY)
+    theta = d.attribution.fitted["terrain_change"].theta_
+    assert [seg[3] for seg in theta] == ["ice", "snow"], theta
+    assert abs(theta[1][1] - (t[0] + switch_s)) <= 0.5 * block_s + 1.0 / RATE_HZ, theta
