@@ -61,7 +61,6 @@ from ecoplan.diagnose.replay import (
 )
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import block_bootstrap
-from ecoplan.diagnose.structure import aligned_logs, power_alignment
 from ecoplan.diagnose.where_time import TimeSegment, label_segments, where_time
 from ecoplan.errors import InputError
 from ecoplan.models.logged_power import logged_power_w
@@ -156,12 +155,6 @@ def diagnose(
     train_m, test_m = split_masks(frame)
     if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
         raise InputError("log too short to diagnose: need at least 40 samples after the split")
-    # the power timed against the speeds (a meter's averaging period): structure, item 1
-    align = power_alignment(log_list, params, train_m, block_s)
-    if align:
-        frame = build_frame(
-            aligned_logs(log_list, align), params, block_s, snap_mps=params.case_tol_mps
-        )
     replay = replay_residuals(
         frame, params.power(frame.vl, frame.vr).total_w, params.accel_max_mps2
     )

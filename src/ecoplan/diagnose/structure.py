@@ -16,17 +16,6 @@ preset's where it does not, says which, and scores the result on the held-out sp
   identified only when the log holds enough samples at resolved radii below 5 m and its
   interval is narrow (:data:`BETA_MAX_LOG_HALF_WIDTH`); otherwise it stays at the preset's.
 
-* **Both vehicles' logs**: when the power is timed against the speeds
-  (:func:`power_alignment`).  A meter that reports the energy of each sample period (a
-  watt-hour counter, an averaging ADC) stamps it at the period's end, while encoders and
-  commands are read at that instant: the power then stands for the speeds half a period
-  earlier.  Read at the stamps, the model runs half a sample ahead of the power in every
-  acceleration (plant-zoo tracked logs, 20 Hz: 1.2-1.5 W of the calibrated model's 9.6-10.7 W
-  error against the noise-free power of clean logs).  The instantaneous columns are read half
-  a period earlier when that fits the training split better (:data:`ALIGN_SHIFTS`); the
-  relative timing of speeds, commands and pose is kept, so the kinematic channels do not see
-  a lag that is not there.
-
 Every calibrated model stays physical: the exponents are bounded in :data:`BETA_BOUNDS`
 (``a(r)``, ``b(r)`` then stay monotone in ``r``, their sign of ``alpha`` being the preset's,
 :func:`ecoplan.diagnose.calibrate.wheeled_bounds`), the straight-line slope ``a_inf >= 0``, the
@@ -57,20 +46,18 @@ verdict: 62.5 / 75 / 100 / 70.1 % right / none / unexplained / reduction before 
 
 from __future__ import annotations
 
-import copy
 import dataclasses
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import lsq_linear, minimize
+from scipy.optimize import minimize
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.calibrate import (
     CAL_SEARCH_SAMPLES,
     ONSET_MIN_INFORMATIVE,
     Calibration,
-    base_design,
     calibrate,
     fit_linear_at_chi,
     onset_informative_samples,
@@ -78,8 +65,7 @@ from ecoplan.diagnose.calibrate import (
     settling,
     structural_onset,
 )
-from ecoplan.diagnose.replay import Frame, LogLike, build_frame
-from ecoplan.diagnose.stats import block_bootstrap
+from ecoplan.diagnose.replay import Frame
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.tracked import TrackedParams
@@ -87,17 +73,12 @@ from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 
 __all__ = [
-    "ALIGN_LEVEL",
-    "ALIGN_SHIFTS",
     "BETA_BOUNDS",
     "BETA_MAX_LOG_HALF_WIDTH",
-    "INSTANT_COLUMNS",
     "MIN_SMALL_RADIUS_SAMPLES",
     "SMALL_RADIUS_M",
     "ShapeFit",
     "StructuralCalibration",
-    "aligned_logs",
-    "power_alignment",
     "shape_halves_disagree",
     "structural_calibration",
     "wheeled_shape",
@@ -458,133 +439,6 @@ def structural_calibration(
         value=value,
         interval=interval,
     )
-
-
-#: Shifts of the instantaneous columns against the power that :func:`power_alignment` tries, in
-#: sample periods: 0 (power read at the instant it is stamped) or a half (the power is the mean
-#: of the period that ends at its stamp) [-].
-ALIGN_SHIFTS: tuple[float, ...] = (0.0, 0.5)
-#: One-sided level at which a shift must lower the training residual (:func:`power_alignment`).
-ALIGN_LEVEL = 0.05
-#: Columns of the log format read at an instant (the power is the one that may be averaged).
-INSTANT_COLUMNS: tuple[str, ...] = (
-    "v_left",
-    "v_right",
-    "v_left_cmd",
-    "v_right_cmd",
-    "x",
-    "y",
-    "wz",
-)
-
-
-def aligned_logs(logs: Sequence[LogLike], shift_periods: float) -> list[LogLike]:
-    """The logs with their instantaneous columns read ``shift_periods`` sample periods earlier.
-
-    Each of :data:`INSTANT_COLUMNS` and the heading (unwrapped first) is interpolated linearly at
-    ``t - shift_periods * dt`` (``dt`` the run's median step; the first samples hold the first
-    value); time and power are kept.  A shift of 0 returns the logs themselves.
-
-    Parameters
-    ----------
-    logs : sequence of LogLike
-        Runs.
-    shift_periods : float
-        Shift in sample periods [-].
-
-    Returns
-    -------
-    list of LogLike
-        Copies (the same type) with the shifted columns.
-    """
-    if shift_periods == 0.0:
-        return list(logs)
-    out: list[LogLike] = []
-    for log in logs:
-        t = np.asarray(log.t, dtype=np.float64)
-        h = shift_periods * float(np.median(np.diff(t)))
-        cols: dict[str, FloatArray] = {}
-        for name in INSTANT_COLUMNS:
-            val = getattr(log, name, None)
-            if val is not None:
-                cols[name] = np.interp(t - h, t, np.asarray(val, dtype=np.float64))
-        yaw = getattr(log, "yaw", None)
-        if yaw is not None:
-            unwrapped = np.unwrap(np.asarray(yaw, dtype=np.float64))
-            cols["yaw"] = np.angle(np.exp(1j * np.interp(t - h, t, unwrapped)))
-        if dataclasses.is_dataclass(log) and not isinstance(log, type):
-            out.append(dataclasses.replace(log, **cols))
-        else:
-            other = copy.copy(log)
-            for name, arr in cols.items():
-                setattr(other, name, arr)
-            out.append(other)
-    return out
-
-
-def power_alignment(
-    logs: Sequence[LogLike],
-    params: VehicleParams,
-    train_mask: BoolArray,
-    block_s: float | None = None,
-) -> float:
-    """How the power is timed against the speeds: the shift of :data:`ALIGN_SHIFTS` that fits.
-
-    For each shift the frame is built from :func:`aligned_logs` and the base model's linear
-    parameters (:func:`~ecoplan.diagnose.calibrate.base_design` at the preset's χ, which only
-    scales the tracked friction power) are fitted on the training samples together with the
-    kinetic-energy rates ``v_x a_x`` and ``w_z alpha`` (non-negative: a mass and a moment of
-    inertia), by bounded least squares.  A shift is taken only when it lowers the training
-    residual's mean absolute value significantly against the stamps' timing (one-sided block
-    bootstrap over the frame's time blocks, :func:`~ecoplan.diagnose.stats.block_bootstrap`,
-    p < :data:`ALIGN_LEVEL`): an effect the base model lacks also moves the fit a little with
-    the timing (a power cap on ecoplan's own instantaneous-power logs: 0.05 % of the MSE), and
-    a timing the log cannot tell is left at the stamps.  The inertial columns are there because
-    a mass and a timing both put power where the robot accelerates: without them a log with
-    inertia keeps the shift that mimics part of it (plant-zoo variant a, inertia seed 0).
-    Tracked vehicles only (the wheeled model is left at 0: its logs were not checked); a log
-    too short for the fit keeps 0.
-
-    Parameters
-    ----------
-    logs : sequence of LogLike
-        Runs.
-    params : TrackedParams or WheeledParams
-        Preset parameters (with the case tolerance the pipeline chose).
-    train_mask : ndarray of bool
-        Training samples of the frame (the shift does not move the samples).
-    block_s : float, optional
-        Time-block length of the frame [s].
-
-    Returns
-    -------
-    float
-        The shift, in sample periods.
-    """
-    if not isinstance(params, TrackedParams) or np.count_nonzero(train_mask) < 20:
-        return 0.0
-    resid: dict[float, FloatArray] = {}
-    block = np.zeros(0)
-    for shift in ALIGN_SHIFTS:
-        frame = build_frame(
-            aligned_logs(logs, shift), params, block_s, snap_mps=params.case_tol_mps
-        )
-        tr = frame.subset(train_mask)
-        d = base_design(tr, params)
-        X = np.column_stack([d.X, tr.vx * tr.ax, tr.wz * tr.alpha])
-        scale = np.maximum(np.sqrt(np.mean(X**2, axis=0)), 1e-12)
-        lower = np.concatenate([d.lower, [0.0, 0.0]]) * scale
-        upper = np.concatenate([d.upper, [np.inf, np.inf]]) * scale
-        fit = lsq_linear(X / scale, tr.p, bounds=(lower, upper), method="bvls")
-        resid[shift] = tr.p - (X / scale) @ fit.x
-        block = tr.block.astype(np.float64)
-    best = 0.0
-    rng = np.random.default_rng(0)  # a reproducible choice
-    for shift in ALIGN_SHIFTS[1:]:
-        red, _, _, p = block_bootstrap(resid[best], resid[shift], block, rng)
-        if red > 0.0 and p < ALIGN_LEVEL:
-            best = shift
-    return best
 
 
 def shape_halves_disagree(
