@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ecoplan.diagnose.attribute import SEPARATING_MANOEUVRES
+from ecoplan.diagnose.distinguish import SEPARATING_MANOEUVRES
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import summary
 from ecoplan.dynamics.drive import follow_commands

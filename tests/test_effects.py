@@ -187,7 +187,7 @@ def test_one_way_straight_runs_cannot_identify_a_slope() -> None:
     # Straight out-bound runs only: vx cos(yaw) is the speed itself, i.e. the resistance
     # column K(|vl|+|vr|) of eq. (18): a grade is indistinguishable from K.  The check runs
     # before any fit and names the candidate as not excited.
-    from ecoplan.diagnose.attribute import distinguishability
+    from ecoplan.diagnose.distinguish import distinguishability
 
     t = np.arange(0, 120, 0.05)
     v = 0.3 + 0.2 * (np.sin(t / 7.0) > 0)

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ecoplan._typing import BoolArray, FloatArray
-from ecoplan.diagnose.distinguish import SEPARATING_MANOEUVRES, PairEffect, distinguishability
+from ecoplan.diagnose.distinguish import PairEffect, distinguishability
 from ecoplan.diagnose.effects import (
     EFFECTS,
     Effect,
@@ -64,12 +64,9 @@ from ecoplan.diagnose.stats import (
 )
 
 __all__ = [
-    "SEPARATING_MANOEUVRES",
     "Attribution",
     "EffectScore",
-    "PairEffect",
     "attribute",
-    "distinguishability",
     "split_masks",
 ]
 
