@@ -32,55 +32,37 @@ from ecoplan.diagnose.stats import coloured_noise_floor
 from ecoplan.diagnose.where_time import TimeSegment, label_segments
 from ecoplan.dynamics.log import Log
 from ecoplan.presets import vehicle
+from terrain_logs import (
+    DURATION_S,
+    HUSKY,
+    ICE,
+    NOISE_PHI,
+    NOISE_W,
+    RATE_HZ,
+    SNOW,
+    SWITCH_S,
+    ar1_noise,
+    drive,
+    husky_drift_log,
+    husky_log,
+    husky_signal,
+)
 
-RATE_HZ = 6.5
-DURATION_S = 240.0
-SWITCH_S = 118.0
 #: Resistance of the second terrain over the first's [-].
 RESISTANCE_RATIO = 1.8
-#: AR(1) noise: lag-one correlation and innovation standard deviation [W].
-NOISE_PHI, NOISE_W = 0.6, 12.0
 VEHICLE, TERRAIN = "auriga-beta-wide", "asphalt"
-
-
-def _drive(rng: np.random.Generator, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Side speeds: 4-9 s legs (straight, or a turn of either direction) through a 0.4 s lag."""
-    vl_cmd, vr_cmd = np.empty(t.size), np.empty(t.size)
-    i = 0
-    while i < t.size:
-        n = int(rng.uniform(4.0, 9.0) * RATE_HZ)
-        v = rng.uniform(0.15, 0.5)
-        turn = rng.choice([0.0, 0.0, -1.0, 1.0]) * rng.uniform(0.1, 0.3)
-        vl_cmd[i : i + n], vr_cmd[i : i + n] = v - turn, v + turn
-        i += n
-    a = 1.0 - np.exp(-1.0 / (RATE_HZ * 0.4))
-    vl, vr = np.empty(t.size), np.empty(t.size)
-    vl[0] = vr[0] = 0.0
-    for k in range(1, t.size):
-        vl[k] = vl[k - 1] + a * (vl_cmd[k] - vl[k - 1])
-        vr[k] = vr[k - 1] + a * (vr_cmd[k] - vr[k - 1])
-    return vl, vr
-
-
-def _ar1(rng: np.random.Generator, n: int) -> np.ndarray:
-    e = np.empty(n)
-    w = rng.normal(0.0, NOISE_W, n)
-    e[0] = w[0] / np.sqrt(1.0 - NOISE_PHI**2)
-    for k in range(1, n):
-        e[k] = NOISE_PHI * e[k - 1] + w[k]
-    return e
 
 
 def _log(seed: int, switch: bool) -> Log:
     rng = np.random.default_rng(seed)
     params = vehicle(VEHICLE, TERRAIN)
     t = 1000.0 + np.arange(0.0, DURATION_S, 1.0 / RATE_HZ)  # the log's own clock
-    vl, vr = _drive(rng, t)
+    vl, vr = drive(rng, t)
     p = np.asarray(params.power(vl, vr).total_w, dtype=np.float64)
     if switch:
         dk_n = (RESISTANCE_RATIO - 1.0) * params.k_resistance_n
         p = p + np.where(t - t[0] >= SWITCH_S, dk_n * (np.abs(vl) + np.abs(vr)) / params.eta, 0.0)
-    return Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id=f"s{seed}")
+    return Log(t=t, v_left=vl, v_right=vr, p_total=p + ar1_noise(rng, t.size), run_id=f"s{seed}")
 
 
 @cache
@@ -114,7 +96,7 @@ def test_segments_are_labelled_with_the_terrain_whose_model_drew_them() -> None:
     # preset tables), plus white noise; the labeller sees the five terrain models
     rng = np.random.default_rng(5)
     t = np.arange(0.0, 200.0, 1.0 / RATE_HZ)
-    vl, vr = _drive(rng, t)
+    vl, vr = drive(rng, t)
     first, second = vehicle(VEHICLE, "asphalt"), vehicle(VEHICLE, "sand")
     p = np.where(t < 100.0, first.power(vl, vr).total_w, second.power(vl, vr).total_w)
     p = p + rng.normal(0.0, 10.0, t.size)
@@ -129,7 +111,7 @@ def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_
     rng = np.random.default_rng(7)
     n = 6000
     # AR(1) noise alone: MAE of a Gaussian of variance σ_w² / (1 - φ²) is σ √(2/π)
-    e = _ar1(rng, n)
+    e = ar1_noise(rng, n)
     true_mae = NOISE_W / np.sqrt(1.0 - NOISE_PHI**2) * np.sqrt(2.0 / np.pi)
     floor, phi = coloured_noise_floor(e, dt_s=1.0 / RATE_HZ)
     assert floor == pytest.approx(true_mae, rel=0.1)
@@ -157,11 +139,11 @@ def test_terrain_factors_stay_in_their_physical_range(with_file: bool) -> None:
     base = vehicle("pioneer-3at", "asphalt")
     base = base if with_file else dataclasses.replace(base)
     t = np.arange(0.0, 240.0, 1.0 / RATE_HZ)
-    vl, vr = _drive(rng, t)
+    vl, vr = drive(rng, t)
     straight = t >= 120.0
     vr = np.where(straight, vl, vr)
     p = np.asarray(base.power(vl, vr).total_w)
-    p = p + np.where(straight, 0.5 * p, 0.0) + _ar1(rng, t.size)
+    p = p + np.where(straight, 0.5 * p, 0.0) + ar1_noise(rng, t.size)
     frame = build_frame([Log(t=t, v_left=vl, v_right=vr, p_total=p, run_id="r")], base)
     fitted = make_effect("terrain_change").fit(prepare(frame, base)).params_
     lo, hi = TERRAIN_FACTOR_RANGE
@@ -175,10 +157,10 @@ def test_the_diagnosis_labels_each_stretch_with_the_preset_terrain_that_drew_it(
     # preset's own tables), AR(1) noise; diagnosed against asphalt
     rng = np.random.default_rng(3)
     t = np.arange(0.0, 230.0, 1.0 / RATE_HZ)
-    vl, vr = _drive(rng, t)
+    vl, vr = drive(rng, t)
     first, second = vehicle(VEHICLE, "asphalt"), vehicle(VEHICLE, "sand")
     p = np.where(t < 110.0, first.power(vl, vr).total_w, second.power(vl, vr).total_w)
-    log = Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id="r")
+    log = Log(t=t, v_left=vl, v_right=vr, p_total=p + ar1_noise(rng, t.size), run_id="r")
     d = diagnose(log, VEHICLE, "asphalt")
     assert len(d.where_time_terrain) == len(d.where_time)
     for seg, lab in zip(d.where_time, d.where_time_terrain, strict=True):
@@ -189,49 +171,9 @@ def test_the_diagnosis_labels_each_stretch_with_the_preset_terrain_that_drew_it(
     assert to_json_dict(d)["where_time_terrain"] == list(d.where_time_terrain)
 
 
-# -- a motor-current robot with known terrains (issue 12, items 1 and 5) ------------------------
-# An independent generator of what a Husky's motor-current log shows, written here from the
-# definition of a brushed motor's current (I = I0 + c max(F sigma, 0): only the motoring force
-# draws current) with forces of its own: per side a rolling resistance K against the motion
-# and a turning pair µ (m g / 4) tanh(λ / λ0) (the Coulomb force of one wheel's load,
-# saturating over the wheels' lateral slip λ = |ω| a / sqrt(v² + (ω a)²)); the library's model
-# takes its turning force from the tracked paper's contact layout instead.  The terrains'
-# K, µ, λ0 and I0 are the husky-a200 file's ice and snow values (identified on BorealTC).
-HUSKY = "husky-a200"
-ICE = {"k_n": 49.982, "mu": 0.15308, "slip0": 0.0049109, "i0_a": 0.53564}
-SNOW = {"k_n": 102.32, "mu": 0.40235, "slip0": 0.077692, "i0_a": 0.0}
-BUS_V, AMPS_PER_N, MASS_KG, GAUGE_M, HALF_BASE_M = 24.0, 0.0375, 70.0, 0.555, 0.256
-
-
-def _husky_signal(vl: np.ndarray, vr: np.ndarray, ground: dict[str, float]) -> np.ndarray:
-    """``V (I_l + I_r)`` [W] of the generator above, at the side speeds."""
-    w = (vr - vl) / GAUGE_M
-    v = 0.5 * (vl + vr)
-    wa = np.abs(w) * HALF_BASE_M
-    slip = np.divide(wa, np.hypot(v, wa), out=np.zeros_like(v), where=np.hypot(v, wa) > 0)
-    f_turn = ground["mu"] * MASS_KG * 9.81 / 4.0 * np.tanh(slip / ground["slip0"])
-    f_turn = f_turn * np.sign(vr - vl)
-    current = np.zeros_like(v)
-    for speed, pair in ((vl, -f_turn), (vr, f_turn)):
-        sigma = np.where(speed < 0.0, -1.0, 1.0)
-        force = ground["k_n"] * np.sign(speed) + pair  # forward-positive traction force
-        current += ground["i0_a"] + AMPS_PER_N * np.maximum(force * sigma, 0.0)
-    return BUS_V * current
-
-
-def _husky_log(seed: int, switch: bool) -> Log:
-    rng = np.random.default_rng(seed)
-    t = 50.0 + np.arange(0.0, DURATION_S, 1.0 / RATE_HZ)
-    vl, vr = _drive(rng, t)
-    p = _husky_signal(vl, vr, SNOW)
-    if switch:
-        p = np.where(t - t[0] < SWITCH_S, _husky_signal(vl, vr, ICE), p)
-    return Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id=f"h{seed}")
-
-
 @pytest.mark.parametrize("seed", [0, 1])
 def test_a_motor_current_log_switching_terrain_is_split_named_and_labelled(seed: int) -> None:
-    d = diagnose(_husky_log(seed, True), HUSKY)
+    d = diagnose(husky_log(seed, True), HUSKY)
     t_switch = 50.0 + SWITCH_S
     bounds = [s.t_end_s for s in d.where_time[:-1]]
     assert bounds and min(abs(b - t_switch) for b in bounds) <= 5.0, d.where_time
@@ -249,7 +191,7 @@ def test_a_motor_current_log_switching_terrain_is_split_named_and_labelled(seed:
 
 @pytest.mark.parametrize("seed", [0, 1])
 def test_a_single_terrain_motor_current_log_is_not_named_terrain_change(seed: int) -> None:
-    d = diagnose(_husky_log(seed, False), HUSKY)
+    d = diagnose(husky_log(seed, False), HUSKY)
     assert d.verdict != "terrain_change", d.where_time
 
 
@@ -258,9 +200,9 @@ def test_the_input_check_compares_a_motor_current_log_with_what_such_a_log_shows
     # *logged* quantity (default terrain asphalt), not over its battery power: the generator
     # above with the file's asphalt values gives the expected ratio (its turning force differs
     # from the library's, hence 25 %); over the battery power the ratio would be about 2.1
-    log = _husky_log(0, False)
+    log = husky_log(0, False)
     asphalt = {"k_n": 21.359, "mu": 1.0532, "slip0": 0.058147, "i0_a": 1.4494}
-    expected = np.sum(log.p_total) / np.sum(_husky_signal(log.v_left, log.v_right, asphalt))
+    expected = np.sum(log.p_total) / np.sum(husky_signal(log.v_left, log.v_right, asphalt))
     ratio = check_logs([log], vehicle(HUSKY)).energy_ratio
     assert ratio == pytest.approx(expected, rel=0.25)
     battery = np.sum(log.p_total) / np.sum(vehicle(HUSKY).power(log.v_left, log.v_right).total_w)
@@ -271,7 +213,7 @@ def test_noisy_speeds_widen_the_case_tolerance_without_losing_the_known_terrains
     # 2 cm/s of white encoder noise on the side speeds: the motion-case tolerance widens past
     # the file's 1 mm/s (replay.case_tolerance), and the widened parameters must still carry
     # the vehicle file, its five terrains and their labels (dataclasses.replace would drop it)
-    log = _husky_log(0, True)
+    log = husky_log(0, True)
     rng = np.random.default_rng(11)
     noisy = Log(
         t=log.t,
@@ -298,7 +240,7 @@ def _file_errors() -> dict[str, float]:
 
 
 def test_the_naming_bar_is_the_labelled_terrains_own_held_out_error() -> None:
-    log = _husky_log(0, True)
+    log = husky_log(0, True)
     params = vehicle(HUSKY)
     data = prepare(build_frame([log], params), params)
     t0, t_switch, t_end = float(log.t[0]), float(log.t[0]) + SWITCH_S, float(log.t[-1])
@@ -316,27 +258,9 @@ def test_the_naming_bar_is_the_labelled_terrains_own_held_out_error() -> None:
     assert TerrainChange(theta=((0, t_switch, t_end),)).fit(plain).naming_bar_w(plain) is None
 
 
-def _husky_drift_log(seed: int) -> Log:
-    """Snow whose rolling resistance grows steadily by half over the run (deepening snow)."""
-    rng = np.random.default_rng(seed)
-    t = 50.0 + np.arange(0.0, DURATION_S, 1.0 / RATE_HZ)
-    vl, vr = _drive(rng, t)
-    share = (t - t[0]) / DURATION_S
-    # the generator's current is piecewise linear in K: evaluate it per sample's own K
-    p = np.array(
-        [
-            _husky_signal(
-                vl[i : i + 1], vr[i : i + 1], {**SNOW, "k_n": SNOW["k_n"] * (1 + 0.5 * s)}
-            )[0]
-            for i, s in enumerate(share)
-        ]
-    )
-    return Log(t=t, v_left=vl, v_right=vr, p_total=p + _ar1(rng, t.size), run_id=f"d{seed}")
-
-
 @pytest.mark.parametrize("seed", [0, 1])
 def test_one_terrain_drifting_slowly_is_not_named_terrain_change(seed: int) -> None:
-    d = diagnose(_husky_drift_log(seed), HUSKY)
+    d = diagnose(husky_drift_log(seed), HUSKY)
     assert d.verdict != "terrain_change", (d.verdict, d.where_time, d.attribution.reason)
 
 
@@ -350,7 +274,7 @@ def test_the_naming_bar_weights_each_terrains_error_by_its_held_out_samples(
 ) -> None:
     # any two known terrains and any switch time: the bar is the share-weighted mean of the
     # two terrains' errors as the file states them, so it lies between them
-    log = _husky_log(1, True)
+    log = husky_log(1, True)
     params = vehicle(HUSKY)
     data = prepare(build_frame([log], params), params)
     t0, t_end = float(log.t[0]), float(log.t[-1])
@@ -367,7 +291,7 @@ def _verdict_with_bar(after_w: float, bar_w: float | None) -> str:
     """The power verdict on a 60 W gap over a 20 W floor, the best candidate leaving ``after_w``."""
     from ecoplan.diagnose.attribute import EffectScore, _power_verdict
 
-    log = _husky_log(0, False)
+    log = husky_log(0, False)
     params = vehicle(HUSKY)
     test = prepare(build_frame([log], params), params)
     before, floor = 60.0, 20.0
@@ -410,9 +334,9 @@ def test_a_switch_inside_a_held_out_block_is_placed_halfway_across_it(seed: int)
     switch_s = 19 * block_s + 0.4  # block 19: odd, so held out
     rng = np.random.default_rng(seed)
     t = 50.0 + np.arange(0.0, DURATION_S, 1.0 / RATE_HZ)
-    vl, vr = _drive(rng, t)
-    ice, snow = _husky_signal(vl, vr, ICE), _husky_signal(vl, vr, SNOW)
-    p = np.where(t - t[0] < switch_s, ice, snow) + _ar1(rng, t.size)
+    vl, vr = drive(rng, t)
+    ice, snow = husky_signal(vl, vr, ICE), husky_signal(vl, vr, SNOW)
+    p = np.where(t - t[0] < switch_s, ice, snow) + ar1_noise(rng, t.size)
     d = diagnose(Log(t=t, v_left=vl, v_right=vr, p_total=p, run_id=f"m{seed}"), HUSKY)
     theta = d.attribution.fitted["terrain_change"].theta_
     assert [seg[3] for seg in theta] == ["ice", "snow"], theta

@@ -3,7 +3,7 @@
 :func:`ecoplan.diagnose.where_time.known_terrain_path` segments and labels at once.  The logs
 are made here: either by two "terrain models" that are arrays drawn in the test (a level each,
 Laplace noise of the stated scale), or by the independent motor-current generator of
-``tests/test_terrain_change.py`` (a brushed motor's current from forces of its own, with the
+``tests/terrain_logs.py`` (a brushed motor's current from forces of its own, with the
 husky-a200 file's ice and snow values), whose switch time is the one built in.
 """
 
@@ -19,7 +19,7 @@ from ecoplan.diagnose.where_time import known_terrain_path
 from ecoplan.errors import InputError
 from ecoplan.models.logged_power import logged_power_w
 from ecoplan.presets import vehicle
-from test_terrain_change import SWITCH_S, _husky_drift_log, _husky_log
+from terrain_logs import SWITCH_S, husky_drift_log, husky_log
 
 HUSKY = "husky-a200"
 RATE_HZ = 5.0
@@ -96,7 +96,7 @@ def test_the_independent_motor_current_generator_switches_from_ice_to_snow_where
     # the husky-a200 file's ice and snow models (the library's side forces, with the run's
     # clock: start-up and mass terms) on a log of the test's own generator, which draws ice up
     # to SWITCH_S and snow after; the stated errors are the file's leave-one-run-out MAE
-    log = _husky_log(seed, True)
+    log = husky_log(seed, True)
     errors = known_terrain_errors(vehicle(HUSKY))
     preds = {
         k: logged_power_w(vehicle(HUSKY, k), log.v_left, log.v_right, log.t)
@@ -111,7 +111,7 @@ def test_the_independent_motor_current_generator_switches_from_ice_to_snow_where
 def test_snow_alone_or_deepening_slowly_stays_one_known_terrain(drift: bool) -> None:
     # one terrain throughout (or its rolling resistance growing by half over the run): no
     # stretch that the other known model describes better, so no switch
-    log = _husky_drift_log(0) if drift else _husky_log(0, False)
+    log = husky_drift_log(0) if drift else husky_log(0, False)
     errors = known_terrain_errors(vehicle(HUSKY))
     preds = {
         k: logged_power_w(vehicle(HUSKY, k), log.v_left, log.v_right, log.t)
