@@ -21,7 +21,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ecoplan.diagnose.attribute import split_masks
-from ecoplan.diagnose.calibrate import calibrate, structural_friction
+from ecoplan.diagnose.calibrate import calibrate
+from ecoplan.diagnose.friction_law import calibrate_with_law, structural_friction
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.structure import structural_calibration
 from ecoplan.models.tracked import TrackedParams, dynamic_friction_views
@@ -136,13 +137,13 @@ def test_friction_that_grows_with_slip_speed_is_identified_and_closes_the_gap() 
     log, truth = _log(n=0.3, seed=1)
     prior = _prior()
     frame, train, test = _split(log, prior)
-    chi = calibrate(frame.subset(train), prior, friction_law=False).params.chi
+    chi = calibrate(frame.subset(train), prior).params.chi
     law = structural_friction(frame.subset(train), prior, chi)
     assert law.identified and law.excited
     assert law.exponent == pytest.approx(0.3, abs=0.05)
     assert law.interval[0] <= 0.3 <= law.interval[1]
-    cal = calibrate(frame.subset(train), prior)
-    coulomb = calibrate(frame.subset(train), prior, friction_law=False)
+    cal = calibrate_with_law(frame.subset(train), prior)
+    coulomb = calibrate(frame.subset(train), prior)
     assert cal.params.slip_exponent == pytest.approx(0.3, abs=0.05)  # type: ignore[union-attr]
     assert "slip_exponent" in cal.changed  # reported as structure
     te = frame.subset(test)
@@ -158,7 +159,7 @@ def test_coulomb_logs_stay_coulomb(seed: int) -> None:
     log, _ = _log(n=0.0, seed=seed)
     prior = _prior()
     frame, train, _test = _split(log, prior)
-    cal = calibrate(frame.subset(train), prior)
+    cal = calibrate_with_law(frame.subset(train), prior)
     assert cal.params.slip_exponent == 0.0  # type: ignore[union-attr]
     assert "slip_exponent" not in cal.changed
 
@@ -176,7 +177,7 @@ def test_a_log_turning_at_one_yaw_rate_cannot_show_the_law() -> None:
     assert q3 / q1 < 1.5
     law = structural_friction(sub, prior, prior.chi)
     assert not law.excited and not law.identified
-    assert calibrate(sub, prior).params.slip_exponent == 0.0  # type: ignore[union-attr]
+    assert calibrate_with_law(sub, prior).params.slip_exponent == 0.0  # type: ignore[union-attr]
 
 
 @pytest.mark.parametrize(("n", "identified"), [(0.3, True), (0.0, False)])

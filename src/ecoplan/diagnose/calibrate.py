@@ -23,10 +23,9 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
   (:func:`radius_resolved`), without the second after each stop (:func:`settling`).
 * **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
   accelerations while a side is far from its command (saturated).
-* **Friction law** (tracked, structure): Coulomb (eq. 8) unless the log rejects it
-  (:func:`structural_friction`): friction that grows with the slip speed,
-  :attr:`~ecoplan.models.tracked.TrackedParams.slip_exponent`, identified only where the
-  log turns at several yaw rates and a likelihood-ratio test against Coulomb says so.
+
+The friction law (Coulomb, or growing with the slip speed) is identified from the log by
+:mod:`ecoplan.diagnose.friction_law` on top of this calibration.
 """
 
 from __future__ import annotations
@@ -35,12 +34,10 @@ import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
 from typing import Any
 
 import numpy as np
-from scipy.optimize import brentq, lsq_linear, minimize_scalar
-from scipy.stats import chi2
+from scipy.optimize import lsq_linear, minimize_scalar
 
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.replay import Frame, smooth_derivative
@@ -52,7 +49,6 @@ from ecoplan.presets import VehicleParams
 __all__ = [
     "BaseDesign",
     "Calibration",
-    "FrictionLawFit",
     "base_design",
     "calibrate",
     "fit_accel_limit",
@@ -62,8 +58,6 @@ __all__ = [
     "onset_informative_samples",
     "radius_resolved",
     "settling",
-    "slip_excited",
-    "structural_friction",
     "structural_onset",
     "wheeled_bounds",
     "wheeled_prior",
@@ -493,188 +487,12 @@ def structural_onset(frame: Frame, params: VehicleParams) -> VehicleParams:
     return best[1]
 
 
-#: Exponents of the slip-speed friction law tried first by :func:`structural_friction` [-]
-#: (0: Coulomb, eq. 8; 1: viscous); the best is refined by a bounded scalar search.
-SLIP_EXPONENT_GRID: tuple[float, ...] = (0.0, 0.1, 0.2, 0.3, 0.45, 0.6, 0.8, 1.0)
-#: Turning samples (``|V_r - V_l|`` above :data:`SLIP_TURNING_MPS`) needed to try the law.
-SLIP_MIN_TURNING = 100
-#: Speed difference above which a sample turns for :func:`structural_friction` [m/s].
-SLIP_TURNING_MPS = 0.05
-#: Spread of the turning samples' yaw rates needed (upper over lower quartile of
-#: ``|V_r - V_l|``) [-]: the law is a shape in the slip speed, which one yaw rate cannot show
-#: (the ramps into and out of a turn pass through every smaller one, hence quartiles).
-SLIP_MIN_SPREAD = 1.5
-#: Significance of the likelihood-ratio test against Coulomb friction [-].
-SLIP_LEVEL = 0.01
-
-
-@dataclass(frozen=True, slots=True)
-class FrictionLawFit:
-    """The friction law identified from a log (:func:`structural_friction`).
-
-    Attributes
-    ----------
-    params : TrackedParams
-        The parameters with the law (``slip_exponent``; Coulomb when not identified), χ
-        searched again with it, and the linear terms refitted there.
-    exponent : float
-        Best exponent on the log [-] (reported even when not identified).
-    interval : tuple of float
-        95 % profile-likelihood interval of the exponent within [0, 1], at the χ found with
-        it [-] (an empty tuple when the log does not excite the law).
-    lr_stat : float
-        Likelihood-ratio statistic against Coulomb, ``n_eff ln(mse_0 / mse_n)`` [-].
-    identified : bool
-        The log excites the law and rejects Coulomb at :data:`SLIP_LEVEL`.
-    excited : bool
-        Enough turning samples at several yaw rates (:data:`SLIP_MIN_TURNING`,
-        :data:`SLIP_MIN_SPREAD`).
-    """
-
-    params: TrackedParams
-    exponent: float
-    interval: tuple[float, ...]
-    lr_stat: float
-    identified: bool
-    excited: bool
-
-
-def _effective_samples(resid: FloatArray) -> float:
-    """Samples worth of independent information in a residual with lag-1 correlation ``ρ``.
-
-    ``n (1 - ρ) / (1 + ρ)`` (an AR(1) residual's variance of the mean), ``ρ`` clipped to
-    [0, 0.99].
-    """
-    if resid.size < 4:
-        return float(resid.size)
-    rho = float(np.clip(np.corrcoef(resid[:-1], resid[1:])[0, 1], 0.0, 0.99))
-    return resid.size * (1.0 - rho) / (1.0 + rho)
-
-
-def slip_excited(frame: Frame) -> bool:
-    """Whether a log can show the slip-speed friction law (:func:`structural_friction`).
-
-    At least :data:`SLIP_MIN_TURNING` samples turning (``|V_r - V_l| >``
-    :data:`SLIP_TURNING_MPS`) whose yaw rates spread by :data:`SLIP_MIN_SPREAD` (upper over
-    lower quartile of ``|V_r - V_l|``, proportional to the slip speed at fixed χ, eq. 3).
-    """
-    d = np.abs(frame.vr - frame.vl)
-    turning = d[d > SLIP_TURNING_MPS]
-    if turning.size < SLIP_MIN_TURNING:
-        return False
-    lo, hi = np.quantile(turning, [0.25, 0.75])
-    return bool(hi >= SLIP_MIN_SPREAD * lo)
-
-
-def structural_friction(frame: Frame, params: TrackedParams, chi: float) -> FrictionLawFit:
-    """Identify the friction law: Coulomb, or a coefficient that grows with the slip speed.
-
-    Morales et al. 2009 take dynamic friction Coulomb (eq. 8): the friction power is
-    proportional to ``|wz|``, whatever the slip speed.  Tracks and soils show a shear stress
-    that rises with the slip velocity (Wong, *Theory of Ground Vehicles*), i.e. friction power
-    growing as ``|wz|^(1+n)`` (:attr:`~ecoplan.models.tracked.TrackedParams.slip_exponent`).
-    The exponent is searched in [0, 1] (:data:`SLIP_EXPONENT_GRID`, then a bounded scalar
-    search), the linear terms refitted at χ for each trial (:func:`fit_linear_at_chi`), and
-    χ searched again at the exponent (:data:`SLIP_ALTERNATIONS` rounds).  It is
-    **identified** only when
-
-    * the log excites it: it turns at several yaw rates (:func:`slip_excited`), and
-    * the data reject Coulomb: the likelihood-ratio statistic ``n_eff ln(mse_0 / mse_n)``
-      exceeds the chi-square (1 degree of freedom) quantile at :data:`SLIP_LEVEL`, with
-      ``n_eff`` the residual's sample count shrunk by its lag-1 autocorrelation (a coloured
-      residual carries fewer independent samples).
-
-    Otherwise the law stays Coulomb (``slip_exponent`` 0), the preset's convention.
-
-    Parameters
-    ----------
-    frame : Frame
-        Training split.
-    params : TrackedParams
-        Parameters (structure and prior of the linear terms), with Coulomb friction.
-    chi : float
-        χ calibrated with Coulomb friction [-] (the first trials' χ and the null model's).
-
-    Returns
-    -------
-    FrictionLawFit
-        The law, its interval and test.
-    """
-    base = dataclasses.replace(params, slip_exponent=0.0, chi=chi)
-    if not slip_excited(frame):
-        return FrictionLawFit(base, 0.0, (), 0.0, False, False)
-
-    mse0 = fit_linear_at_chi(frame, base, chi)[1]
-    best_n, at_chi = 0.0, chi
-    for _ in range(SLIP_ALTERNATIONS):  # the exponent at χ, then χ at the exponent
-        best_n = _best_exponent(frame, base, at_chi)
-        at_chi = grid_then_bounded(partial(_exponent_mse, frame, base, n=best_n), *CHI_BOUNDS)
-    fitted, best_mse = fit_linear_at_chi(
-        frame, dataclasses.replace(base, slip_exponent=best_n), at_chi
-    )
-    resid = frame.p - np.asarray(fitted.power(frame.vl, frame.vr).total_w)
-    n_eff = _effective_samples(resid)
-    lr = float(n_eff * np.log(max(mse0, 1e-300) / max(best_mse, 1e-300)))
-    interval = _profile_interval(frame, base, at_chi, best_n, n_eff * np.log(best_mse), n_eff)
-    identified = lr > float(chi2.ppf(1.0 - SLIP_LEVEL, 1)) and best_n > 0.0
-    out = fitted if identified else base
-    assert isinstance(out, TrackedParams)
-    return FrictionLawFit(out, best_n, interval, lr, identified, True)
-
-
-#: Alternations of the exponent's and χ's searches in :func:`structural_friction`: under
-#: Coulomb, χ bends towards the law's shape (0.85 -> 0.996 on the test's plant with n = 0.3,
-#: where the exponent at that χ came out 0.26 with an interval excluding the truth).
-SLIP_ALTERNATIONS = 2
-
-
-def _exponent_mse(frame: Frame, base: TrackedParams, chi: float, *, n: float) -> float:
-    return fit_linear_at_chi(frame, dataclasses.replace(base, slip_exponent=n), chi)[1]
-
-
-def _best_exponent(frame: Frame, base: TrackedParams, chi: float) -> float:
-    """The exponent of least mean square error at χ: grid, then a bounded scalar search."""
-    grid = np.asarray(SLIP_EXPONENT_GRID)
-    vals = np.array([_exponent_mse(frame, base, chi, n=float(n)) for n in grid])
-    i = int(np.argmin(vals))
-    best_n, best_mse = float(grid[i]), float(vals[i])
-    lo, hi = float(grid[max(i - 1, 0)]), float(grid[min(i + 1, grid.size - 1)])
-    res = minimize_scalar(
-        lambda n: _exponent_mse(frame, base, chi, n=float(n)),
-        bounds=(lo, hi),
-        method="bounded",
-        options={"xatol": 2e-3},
-    )
-    return float(res.x) if float(res.fun) < best_mse else best_n
-
-
-def _profile_interval(
-    frame: Frame, base: TrackedParams, chi: float, best_n: float, best_nll: float, n_eff: float
-) -> tuple[float, float]:
-    """95 % profile-likelihood interval of the exponent in [0, 1] (χ and the rest held).
-
-    The exponents where ``n_eff ln(mse)`` rises by at most the chi-square (1 degree of
-    freedom) 95 % quantile over its least value ``best_nll``; the bounds are found by
-    ``scipy.optimize.brentq`` on each side of ``best_n``.
-    """
-    level = float(chi2.ppf(0.95, 1))
-
-    def excess(n: float) -> float:
-        return float(n_eff * np.log(_exponent_mse(frame, base, chi, n=n)) - best_nll - level)
-
-    ends = []
-    for edge in (0.0, 1.0):
-        if excess(edge) <= 0.0:
-            ends.append(edge)
-        else:
-            ends.append(float(brentq(excess, min(edge, best_n), max(edge, best_n), xtol=1e-3)))
-    return ends[0], ends[1]
-
-
-def calibrate(
-    frame: Frame, params: VehicleParams, *, structural: bool = False, friction_law: bool = True
-) -> Calibration:
+def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) -> Calibration:
     """Re-identify µ, K, χ, driver terms (or the wheeled coefficients) and the acceleration limit.
+
+    The friction law (Coulomb, or growing with the slip speed) stays ``params``';
+    :func:`ecoplan.diagnose.friction_law.calibrate_with_law` identifies it too.  ``changed``
+    compares with ``params`` as given (a structure identified here is listed too).
 
     Parameters
     ----------
@@ -689,10 +507,6 @@ def calibrate(
         in the pipeline it took ``benchmarks/blind_diagnosis.py`` from 97.8 % to 93.3 % right
         on in-library effects (the onset absorbed part of regeneration, power saturation and
         terrain-patch effects), below the 95 % the diagnosis must keep.
-    friction_law : bool
-        Tracked: identify the friction law (:func:`structural_friction`: Coulomb unless the
-        log turns at several yaw rates and rejects it), then search χ again with it.  On by
-        default: the test leaves Coulomb logs at Coulomb.
 
     Returns
     -------
@@ -712,11 +526,6 @@ def calibrate(
         chi = chi_kin
     else:
         chi = grid_then_bounded(lambda c: fit_linear_at_chi(sub, params, c)[1], *CHI_BOUNDS)
-    if friction_law and isinstance(params, TrackedParams) and params.slip_exponent == 0.0:
-        law = structural_friction(sub, params, chi)
-        if law.identified:  # the law and the χ searched with it
-            params = dataclasses.replace(params, slip_exponent=law.exponent)
-            chi = law.params.chi
     best, _ = fit_linear_at_chi(frame, params, chi)
     accel = fit_accel_limit(frame)
     if accel is not None and accel > 0.0:

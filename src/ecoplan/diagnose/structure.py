@@ -9,7 +9,7 @@ preset's where it does not, says which, and scores the result on the held-out sp
 * **Tracked** (Morales et al. 2009 §III-C): the onset of the non-regenerated term, the paper's
   step or a ramp of some width (:func:`ecoplan.diagnose.calibrate.structural_onset`), and the
   friction law, Coulomb (eq. 8) or a coefficient growing with the slip speed
-  (:func:`ecoplan.diagnose.calibrate.structural_friction`, part of every calibration).
+  (:func:`ecoplan.diagnose.friction_law.structural_friction`).
 * **Wheeled** (Chuy et al. 2009, eqs. 14-15): the shape of ``a(r)`` and ``b(r)`` at small
   radii, i.e. the decay exponents ``a_beta`` and ``b_beta`` of each side
   (:func:`wheeled_shape`).  Table I's fits come from radii of 5 m and more
@@ -67,6 +67,7 @@ from ecoplan.diagnose.calibrate import (
     settling,
     structural_onset,
 )
+from ecoplan.diagnose.friction_law import calibrate_with_law
 from ecoplan.diagnose.replay import Frame
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import tracks_to_twist
@@ -394,7 +395,7 @@ def structural_calibration(
     (:func:`ecoplan.diagnose.calibrate.structural_onset`) where the log holds case-2 samples
     inside the searched onsets, then the usual calibration with that onset (which takes the
     friction law from the log when the log rejects Coulomb's,
-    :func:`ecoplan.diagnose.calibrate.structural_friction`).
+    :func:`ecoplan.diagnose.friction_law.calibrate_with_law`).
     Wheeled: χ and the coefficients (:func:`ecoplan.diagnose.calibrate.calibrate`), then the
     small-radius shape (:func:`wheeled_shape`) at that χ, then the coefficients again with the
     identified shape (pulled towards the preset's coefficients).
@@ -420,7 +421,7 @@ def structural_calibration(
         onset = structural_onset(train, dataclasses.replace(params, chi=chi))
         assert isinstance(onset, TrackedParams)
         trial = dataclasses.replace(params, nonregen_onset_mps=onset.nonregen_onset_mps)
-        cal = calibrate(train, trial)
+        cal = calibrate_with_law(train, trial)
         name = "nonregen_onset_mps"
         assert isinstance(cal.params, TrackedParams)
         ident: tuple[str, ...] = (name,) if n_inf >= ONSET_MIN_INFORMATIVE else ()
