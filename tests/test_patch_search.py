@@ -23,6 +23,7 @@ from ecoplan.diagnose.effects.fitting import (
     compass_refine,
     disc_correlation,
 )
+from ecoplan.diagnose.naming import halves_rule
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.presets import vehicle
@@ -127,6 +128,12 @@ def test_disc_correlation_is_the_phi_coefficient_of_the_points_inside(
     ib = np.hypot(x - b[0], y - b[1]) <= b[2]
     assert disc_correlation(a, b, x, y) == pytest.approx(_phi(ia, ib), abs=1e-9)
     assert disc_correlation(a, b, x, y) == pytest.approx(disc_correlation(b, a, x, y), abs=1e-12)
+    # weighted: the weighted Pearson correlation, from numpy's weighted covariance
+    w = rng.uniform(0.0, 3.0, x.size) ** 2
+    if 0 < ia.sum() < ia.size and 0 < ib.sum() < ib.size:
+        c = np.cov(np.vstack([ia, ib]).astype(float), aweights=w)
+        expected = c[0, 1] / np.sqrt(c[0, 0] * c[1, 1])
+        assert disc_correlation(a, b, x, y, w) == pytest.approx(expected, abs=1e-9)
 
 
 def test_a_disc_and_its_outside_with_opposite_signs_are_one_place() -> None:
@@ -154,7 +161,7 @@ def test_a_patch_is_found_at_the_same_place_from_both_halves() -> None:
     # the logs of the search test above: a real patch is crossed in both halves' time blocks,
     # so the disc searched on the held-out half alone is the training half's place, and the
     # place the log was made with (φ with the true disc from the 2 x 2 counts, in this test).
-    # Measured: 7 of 8 agree (seed 3: the held-out half's disc is shifted by half a radius).
+    # Measured: 7 of 8 agree (seed 3, ρ 0.67: the held-out half's disc is shifted by half a radius).
     agree = 0
     for seed in range(8):
         true, factor = _made_with(seed)
@@ -174,8 +181,8 @@ def test_a_patch_is_found_at_the_same_place_from_both_halves() -> None:
 @pytest.mark.slow
 def test_without_a_patch_the_halves_find_their_discs_at_different_places() -> None:
     # the same drives with no patch (factor 1): any disc is the search fitting the noise,
-    # which differs between the halves.  Measured: 1 of 8 agree, with 0.7 and 1.3 W inside
-    # against 5 W of noise (a place no held-out score would call significant)
+    # which differs between the halves.  Measured: 1 of 8 agree (seed 4, ρ 0.77), with 0.7 and
+    # 1.3 W inside against 5 W of noise (a place no held-out score would call significant)
     agree = 0
     for seed in range(8):
         log, _ = _patch_log(seed, (0.0, 0.0, 1.0), 1.0)
@@ -183,3 +190,22 @@ def test_without_a_patch_the_halves_find_their_discs_at_different_places() -> No
         place = TerrainPatch().fit(train).place_halves(train, test)
         agree += place.agree
     assert agree <= 2
+
+
+@pytest.mark.slow
+def test_the_halves_rule_keeps_a_patch_and_drops_a_disc_fitted_to_noise() -> None:
+    # seed 1's drive, with the patch the log was made with and without one (the generator
+    # above): named `terrain_patch`, the first stands, the second becomes `unexplained` with
+    # confidence 1 - max(ρ, 0)², ρ the place correlation the rule reports
+    named = ("terrain_patch", 0.99, ())
+    true, factor = _made_with(1)
+    train, test, _ = _halves(_patch_log(1, true, factor)[0])
+    verdict, conf, _, reason, check = halves_rule(TerrainPatch().fit(train), train, test, named)
+    assert (verdict, conf, reason) == ("terrain_patch", 0.99, "")
+    assert check.place is not None and check.place.agree and check.agree and check.note
+    train, test, _ = _halves(_patch_log(1, true, 1.0)[0])
+    verdict, conf, _, reason, check = halves_rule(TerrainPatch().fit(train), train, test, named)
+    assert check.place is not None and not check.agree
+    assert verdict == "unexplained"
+    assert conf == pytest.approx(1.0 - max(check.place.rho, 0.0) ** 2)
+    assert reason.startswith("terrain_patch is not found at the same place from both halves")

@@ -384,14 +384,19 @@ PLACE_AGREEMENT = 1.0 / math.sqrt(2.0)
 
 
 def disc_correlation(
-    a: tuple[float, float, float], b: tuple[float, float, float], x: FloatArray, y: FloatArray
+    a: tuple[float, float, float],
+    b: tuple[float, float, float],
+    x: FloatArray,
+    y: FloatArray,
+    weight: FloatArray | None = None,
 ) -> float:
     """Correlation (φ coefficient) of "inside disc ``a``" and "inside disc ``b``" over points.
 
-    ``φ = (n₁₁ n₀₀ - n₁₀ n₀₁) / sqrt(n₁. n₀. n.₁ n.₀)`` over the points ``(x, y)``: 1 when the
-    discs hold the same points, -1 when each holds the other's outside, about 0 when where
-    one lies says nothing about where the other does (chance-corrected, unlike the share of
-    points they classify alike).  0 when either disc holds all points or none.
+    The weighted Pearson correlation of the two 0/1 indicators over the points ``(x, y)``:
+    with equal weights ``φ = (n₁₁ n₀₀ - n₁₀ n₀₁) / sqrt(n₁. n₀. n.₁ n.₀)``, 1 when the discs
+    hold the same points, -1 when each holds the other's outside, about 0 when where one
+    lies says nothing about where the other does (chance-corrected, unlike the share of
+    points they classify alike).  0 when either disc holds all the weight or none.
 
     Parameters
     ----------
@@ -399,6 +404,8 @@ def disc_correlation(
         Discs ``(c_x [m], c_y [m], R [m])``.
     x, y : ndarray
         The points [m].
+    weight : ndarray, optional
+        A non-negative weight per point (default equal).
 
     Returns
     -------
@@ -411,13 +418,17 @@ def disc_correlation(
     >>> round(disc_correlation((0.0, 0.0, 4.5), (9.0, 0.0, 4.5), x, 0 * x), 6)
     -1.0
     """
-    ia = np.hypot(x - a[0], y - a[1]) <= a[2]
-    ib = np.hypot(x - b[0], y - b[1]) <= b[2]
-    ma, mb = float(np.mean(ia)) if ia.size else 0.0, float(np.mean(ib)) if ib.size else 0.0
-    den = ma * (1.0 - ma) * mb * (1.0 - mb)
-    if den <= 0.0:
+    ia = (np.hypot(x - a[0], y - a[1]) <= a[2]).astype(np.float64)
+    ib = (np.hypot(x - b[0], y - b[1]) <= b[2]).astype(np.float64)
+    w = np.ones_like(ia) if weight is None else np.asarray(weight, dtype=np.float64)
+    total = float(np.sum(w))
+    if total <= 0.0:
         return 0.0
-    return float((np.mean(ia & ib) - ma * mb) / math.sqrt(den))
+    ma, mb = float(w @ ia) / total, float(w @ ib) / total
+    den = ma * (1.0 - ma) * mb * (1.0 - mb)
+    if den <= 1e-15:
+        return 0.0
+    return float(np.clip((float(w @ (ia * ib)) / total - ma * mb) / math.sqrt(den), -1.0, 1.0))
 
 
 @dataclass(frozen=True, slots=True)
@@ -428,9 +439,12 @@ class PlaceHalves:
     blocks, so both halves cross it), it is found at the same place with the same sign of
     extra power.  Noise, or an effect that is not bound to a place, puts each half's disc
     where that half's residual happens to be largest.  Two discs are one place when the
-    signed correlation of their inside indicators over the moving samples of both halves,
+    signed correlation of their inside indicators over the samples of both halves,
     ``ρ = s_train s_test φ`` (:func:`disc_correlation`; ``s`` the sign of the extra power the
-    fit puts inside its disc), reaches :data:`PLACE_AGREEMENT`.  The signs make a disc that
+    fit puts inside its disc), reaches :data:`PLACE_AGREEMENT`.  Each sample is weighted by
+    what it tells of a patch, ``(P_friction + P_resistance)²``: its weight in the least-squares
+    fit of a factor on friction and resistance (a sample at rest or in a gentle straight run
+    hardly places the disc; tracked eqs. 14 and 18).  The signs make a disc that
     holds the other's *outside* with the opposite sign the same place (the base model is
     refitted with the disc: "more power inside A" and "less power outside A" are one fit).
 

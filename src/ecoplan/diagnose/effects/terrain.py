@@ -193,7 +193,7 @@ class TerrainPatch(Effect):
         """Search the disc again on ``test`` alone; compare it with this fit's on ``train``.
 
         Each disc's extra power is its own fit's (:meth:`effect_w`, on its half); the discs'
-        correlation is over both halves' moving samples (where a patch acts, :class:`PlaceHalves`).
+        correlation is over both halves' samples, weighted as :class:`PlaceHalves` says.
         """
         other = type(self)().fit(test)
         if self.theta_ is None or other.theta_ is None:
@@ -202,10 +202,11 @@ class TerrainPatch(Effect):
         for eff, d in ((self, train), (other, test)):
             ins = self._inside(d, eff.theta_) > 0.0
             extra.append(float(np.mean(eff.effect_w(d)[ins])) if ins.any() else 0.0)
-        moving = [(d.frame, (d.friction_w + d.resistance_w) > 0.0) for d in (train, test)]
-        x = np.concatenate([np.asarray(f.x)[m] for f, m in moving])
-        y = np.concatenate([np.asarray(f.y)[m] for f, m in moving])
-        phi = disc_correlation(self.theta_, other.theta_, x, y)
+        x, y = (
+            np.concatenate([np.asarray(getattr(d.frame, k)) for d in (train, test)]) for k in "xy"
+        )
+        w = np.concatenate([(d.friction_w + d.resistance_w) ** 2 for d in (train, test)])
+        phi = disc_correlation(self.theta_, other.theta_, x, y, w)
         return PlaceHalves(tuple(self.theta_), tuple(other.theta_), extra[0], extra[1], phi)
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
