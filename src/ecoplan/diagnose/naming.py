@@ -48,8 +48,9 @@ What is compared, per kind of parameter:
   factors are not compared.  A place is: ``terrain_patch``'s disc is searched again on the
   held-out half alone, and the two discs must be **the same place**
   (:class:`~ecoplan.diagnose.effects.fitting.PlaceHalves`): the signed correlation of their
-  inside indicators over the moving samples, the sign that of the extra power each puts
-  inside, at least :data:`~ecoplan.diagnose.effects.fitting.PLACE_AGREEMENT` (``ρ² >= 1/2``).
+  inside indicators over both halves' samples (each weighted by its weight in the fit of a
+  patch factor), the sign that of the extra power each puts inside, at least
+  :data:`~ecoplan.diagnose.effects.fitting.PLACE_AGREEMENT` (``ρ² >= 1/2``).
   A patch of ground is crossed in both halves (they interleave time blocks) and found at
   the same place from either; noise, or a change in time that the better disc search fits
   somewhere (s8: a clean log and a meter-gain step of plant-zoo variant c named
