@@ -23,6 +23,9 @@ that only what calibration cannot close is attributed to unmodelled effects (iss
   (:func:`radius_resolved`), without the second after each stop (:func:`settling`).
 * **Acceleration limit**: when commanded speeds are logged, the 95th percentile of the side
   accelerations while a side is far from its command (saturated).
+
+The friction law (Coulomb, or growing with the slip speed) is identified from the log by
+:mod:`ecoplan.diagnose.friction_law` on top of this calibration.
 """
 
 from __future__ import annotations
@@ -487,6 +490,10 @@ def structural_onset(frame: Frame, params: VehicleParams) -> VehicleParams:
 def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) -> Calibration:
     """Re-identify µ, K, χ, driver terms (or the wheeled coefficients) and the acceleration limit.
 
+    The friction law (Coulomb, or growing with the slip speed) stays ``params``';
+    :func:`ecoplan.diagnose.friction_law.calibrate_with_law` identifies it too.  ``changed``
+    compares with ``params`` as given (a structure identified here is listed too).
+
     Parameters
     ----------
     frame : Frame
@@ -512,6 +519,7 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
         mask = np.zeros(frame.n, dtype=bool)
         mask[:: int(np.ceil(frame.n / CAL_SEARCH_SAMPLES))] = True
         sub = frame.subset(mask)
+    preset = params
     params = structural_onset(sub, params) if structural else params
     chi_kin = kinematic_chi(frame, params)
     if chi_kin is not None:
@@ -523,6 +531,6 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
     if accel is not None and accel > 0.0:
         best = dataclasses.replace(best, accel_max_mps2=accel)
     after = float(np.mean(np.abs(frame.p - best.power(frame.vl, frame.vr).total_w)))
-    old, new = _flat(params), _flat(best)
+    old, new = _flat(preset), _flat(best)
     changed = {k: (old[k], new[k]) for k in new if k in old and not np.isclose(old[k], new[k])}
     return Calibration(best, changed, before, after)

@@ -10,7 +10,8 @@ Steps, each in its module:
 1. :mod:`~ecoplan.diagnose.replay` — the preset's power model on the measured side speeds and the
    kinematics on the commanded ones: residuals of power, energy, yaw rate, speed and pose;
 2. :mod:`~ecoplan.diagnose.calibrate` — the base model's own parameters re-identified on the
-   training split; the held-out gap it closes is reported apart;
+   training split (with the friction law, :mod:`~ecoplan.diagnose.friction_law`, where the
+   log rejects Coulomb's); the held-out gap it closes is reported apart;
 3. :mod:`~ecoplan.diagnose.localise` — where the calibrated model's held-out gap lies;
 4. :mod:`~ecoplan.diagnose.attribute` — which candidate effect explains what is left, whether
    the log can tell the candidates apart, and how far the gap shrinks;
@@ -43,10 +44,10 @@ import numpy as np
 
 from ecoplan._typing import RngLike
 from ecoplan.diagnose.attribute import attribute, split_masks
-from ecoplan.diagnose.calibrate import calibrate
 from ecoplan.diagnose.checks import check_logs, effect_resolution
 from ecoplan.diagnose.effects import prepare
 from ecoplan.diagnose.effects.terrain import known_terrains, segmentation_models
+from ecoplan.diagnose.friction_law import calibrate_with_law
 from ecoplan.diagnose.localise import (
     by_regime,
     over_space,
@@ -159,7 +160,7 @@ def diagnose(
         frame, params.power(frame.vl, frame.vr).total_w, params.accel_max_mps2
     )
     train_f, test_f = frame.subset(train_m), frame.subset(test_m)
-    cal = calibrate(train_f, params)
+    cal = calibrate_with_law(train_f, params)
     run_ids = [str(getattr(lg, "run_id", "") or f"run{i}") for i, lg in enumerate(log_list)]
     p_cal = np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
     r_all = frame.p - p_cal

@@ -7,7 +7,9 @@ preset's where it does not, says which, and scores the result on the held-out sp
 "structural re-identification" a named effect must beat.
 
 * **Tracked** (Morales et al. 2009 §III-C): the onset of the non-regenerated term, the paper's
-  step or a ramp of some width (:func:`ecoplan.diagnose.calibrate.structural_onset`).
+  step or a ramp of some width (:func:`ecoplan.diagnose.calibrate.structural_onset`), and the
+  friction law, Coulomb (eq. 8) or a coefficient growing with the slip speed
+  (:func:`ecoplan.diagnose.friction_law.structural_friction`).
 * **Wheeled** (Chuy et al. 2009, eqs. 14-15): the shape of ``a(r)`` and ``b(r)`` at small
   radii, i.e. the decay exponents ``a_beta`` and ``b_beta`` of each side
   (:func:`wheeled_shape`).  Table I's fits come from radii of 5 m and more
@@ -65,6 +67,7 @@ from ecoplan.diagnose.calibrate import (
     settling,
     structural_onset,
 )
+from ecoplan.diagnose.friction_law import calibrate_with_law
 from ecoplan.diagnose.replay import Frame
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import tracks_to_twist
@@ -360,8 +363,8 @@ class StructuralCalibration:
     heldout_mae_w : float
         MAE of the calibrated model on the held-out split [W] (nan without one).
     identified : tuple of str
-        Structure parameters taken from the log (``"nonregen_onset_mps"``; ``"inner.a_beta"``
-        ...).
+        Structure parameters taken from the log (``"nonregen_onset_mps"``,
+        ``"slip_exponent"``; ``"inner.a_beta"`` ...).
     at_preset : tuple of str
         Structure parameters left at the preset's, because the log does not excite them.
     value : dict of str to float
@@ -390,7 +393,9 @@ def structural_calibration(
 
     Tracked: χ by the usual calibration, the non-regeneration onset at that χ
     (:func:`ecoplan.diagnose.calibrate.structural_onset`) where the log holds case-2 samples
-    inside the searched onsets, then the usual calibration with that onset.
+    inside the searched onsets, then the usual calibration with that onset (which takes the
+    friction law from the log when the log rejects Coulomb's,
+    :func:`ecoplan.diagnose.friction_law.calibrate_with_law`).
     Wheeled: χ and the coefficients (:func:`ecoplan.diagnose.calibrate.calibrate`), then the
     small-radius shape (:func:`wheeled_shape`) at that χ, then the coefficients again with the
     identified shape (pulled towards the preset's coefficients).
@@ -416,18 +421,24 @@ def structural_calibration(
         onset = structural_onset(train, dataclasses.replace(params, chi=chi))
         assert isinstance(onset, TrackedParams)
         trial = dataclasses.replace(params, nonregen_onset_mps=onset.nonregen_onset_mps)
-        cal = calibrate(train, trial)
+        cal = calibrate_with_law(train, trial)
         name = "nonregen_onset_mps"
         assert isinstance(cal.params, TrackedParams)
         ident: tuple[str, ...] = (name,) if n_inf >= ONSET_MIN_INFORMATIVE else ()
-        value = {name: cal.params.nonregen_onset_mps}
+        if cal.params.slip_exponent != params.slip_exponent:
+            ident += ("slip_exponent",)
+        value = {name: cal.params.nonregen_onset_mps, "slip_exponent": cal.params.slip_exponent}
         interval: dict[str, tuple[float, float]] = {}
     else:
         chi = calibrate(train, params).params.chi
         shape = wheeled_shape(train, params, chi)
         cal = calibrate(train, _with_beta(params, _preset_beta(shape.params)))
         ident, value, interval = shape.identified, shape.beta, shape.interval
-    names = ("nonregen_onset_mps",) if isinstance(params, TrackedParams) else _BETA_NAMES
+    names = (
+        ("nonregen_onset_mps", "slip_exponent")
+        if isinstance(params, TrackedParams)
+        else _BETA_NAMES
+    )
     gap = float("nan")
     if test is not None and test.n > 0:
         gap = float(np.mean(np.abs(test.p - cal.params.power(test.vl, test.vr).total_w)))

@@ -15,7 +15,9 @@ the friction force on a contact point has a direction that depends only on the s
 ``wz``, so each track's longitudinal friction ``F^{l,r}`` (eq. 17) is a constant times
 ``sign(wz)`` and the terrain-view power is a constant times ``|wz|`` (eq. 10).  Both are
 precomputed per parameter set, which keeps :func:`tracked_power` a handful of
-vectorised array operations.
+vectorised array operations.  The friction law is Coulomb's unless
+:attr:`TrackedParams.slip_exponent` says otherwise (a coefficient that grows with the slip
+speed): the powers then scale with ``|wz|^(1+n)``, the forces with ``|wz|^n``.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ from ecoplan.models.terrain_link import FollowsTerrain, TerrainSource
 
 __all__ = [
     "DEFAULT_NONREGEN_ONSET_MPS",
+    "DEFAULT_SLIP_REF_MPS",
     "GRAVITY_MPS2",
     "STATIONARY_RAMP_MPS2",
     "FrictionViews",
@@ -58,6 +61,11 @@ STATIONARY_RAMP_MPS2 = 0.86 / 2.5
 #: Default track-speed difference over which the non-regenerated power and the dragged
 #: motor's generator power set in [m/s]; argued in :class:`TrackedParams`.
 DEFAULT_NONREGEN_ONSET_MPS = 0.05
+
+#: Default reference slip speed of the slip-speed friction law [m/s]
+#: (:attr:`TrackedParams.slip_ref_mps`): the slip speed of the track ends turning on the
+#: spot at half the top speed (``0.43 / 0.47 m * 0.36 m``, eqs. 3, 12).
+DEFAULT_SLIP_REF_MPS = 0.33
 
 
 @dataclass(frozen=True, slots=True)
@@ -131,6 +139,16 @@ class TrackedParams(FollowsTerrain):
         :mod:`ecoplan.experiments.ab_replay`.
     case_tol_mps : float
         Speeds this close to zero (or to each other) count as zero (equal) [m/s].
+    slip_exponent : float
+        Friction law, in [0, 1] [-].  ``0`` is the paper's Coulomb friction (eq. 8): the
+        coefficient µ at any slip speed.  ``n > 0``: the coefficient grows with each
+        contact point's slip speed ``s = |wz| |a - C|`` (eq. 9) as ``µ (s / s_ref)^n``, as
+        rubber tracks and soils show (Wong, *Theory of Ground Vehicles*, the shear stress
+        rising with the slip velocity); ``1`` is viscous.  The terrain-view power of a track
+        is then ``µ |wz|^(1+n) Σ N |a - C|^(1+n) / s_ref^n`` (eq. 10 with the law).
+    slip_ref_mps : float
+        Reference slip speed ``s_ref`` of that law [m/s] (µ is the coefficient there);
+        without effect at ``slip_exponent = 0``.
     accel_max_mps2 : float
         Track acceleration used by the simulator and the cost [m/s²].  Default
         :data:`STATIONARY_RAMP_MPS2` (0.86 m/s in 2.5 s), the ramp of the paper's
@@ -167,6 +185,8 @@ class TrackedParams(FollowsTerrain):
     icr_offset_m: float = 0.0
     nonregen_onset_mps: float = DEFAULT_NONREGEN_ONSET_MPS
     case_tol_mps: float = 1e-3
+    slip_exponent: float = 0.0
+    slip_ref_mps: float = DEFAULT_SLIP_REF_MPS
     accel_max_mps2: float = STATIONARY_RAMP_MPS2
     p_total_max_w: float | None = 3040.0
     p_motor_max_w: float | None = None
@@ -199,6 +219,8 @@ class TrackedParams(FollowsTerrain):
         check_range(o, "icr_offset_m", self.icr_offset_m, -half, half, lo_open=True, hi_open=True)
         check_range(o, "nonregen_onset_mps", self.nonregen_onset_mps, 0.0, 1.0)
         check_range(o, "case_tol_mps", self.case_tol_mps, 0.0, 0.1)
+        check_range(o, "slip_exponent", self.slip_exponent, 0.0, 1.0)
+        check_range(o, "slip_ref_mps", self.slip_ref_mps, 0.0, lo_open=True)
         check_range(o, "accel_max_mps2", self.accel_max_mps2, 0.0, lo_open=True)
         if self.p_total_max_w is not None:
             check_range(o, "p_total_max_w", self.p_total_max_w, 0.0, lo_open=True)
@@ -219,9 +241,11 @@ class TrackedParams(FollowsTerrain):
 
 
 class _FrictionConstants(NamedTuple):
-    s_left: float  # sum_i N_i |a_i - C^l|  [N m]   (eq. 10 without mu |w|)
+    # with the slip law (exponent n, reference s_ref): the power is mu |w|^(1+n) s, the
+    # force mu sign(w) |w|^n g; Coulomb (n = 0) as written
+    s_left: float  # sum_i N_i |a_i - C^l|^(1+n) / s_ref^n  (eq. 10 without mu |w|)
     s_right: float
-    g_left: float  # sum_i N_i (a_y - y_c) / |a_i - C|  [N]  (eq. 17 force, without mu sign(w))
+    g_left: float  # sum_i N_i (a_y - y_c) |a_i - C|^(n-1) / s_ref^n  (eq. 17, no mu sign(w))
     g_right: float
 
 
@@ -248,13 +272,15 @@ def contact_points(params: TrackedParams) -> tuple[FloatArray, FloatArray, float
 
 def _friction_constants(params: TrackedParams, icr: TrackICR) -> _FrictionConstants:
     x, y, load = contact_points(params)
+    n = params.slip_exponent
+    ref = params.slip_ref_mps**n
     out = []
     for ay, yc in ((y[0], icr.y_left_m), (y[1], icr.y_right_m)):
         dist = np.hypot(x - icr.x_m, ay - yc)
-        s = float(np.sum(load * dist))
+        s = float(np.sum(load * dist ** (1.0 + n))) / ref
         with np.errstate(divide="ignore", invalid="ignore"):
-            g = float(np.sum(np.where(dist > 0.0, load * (ay - yc) / dist, 0.0)))
-        out.append((s, g))
+            g = float(np.sum(np.where(dist > 0.0, load * (ay - yc) * dist ** (n - 1.0), 0.0)))
+        out.append((s, g / ref))
     return _FrictionConstants(out[0][0], out[1][0], out[0][1], out[1][1])
 
 
@@ -293,15 +319,18 @@ def dynamic_friction_views(
     -------
     FrictionViews
         Per-track terrain-view power ``µ|w| sum N |a - C|`` (eq. 10), motor-view power
-        ``V F`` (eq. 17) and the longitudinal friction forces ``F^{l,r}`` [N].
+        ``V F`` (eq. 17) and the longitudinal friction forces ``F^{l,r}`` [N]; with the
+        slip-speed law (:attr:`TrackedParams.slip_exponent` ``n``) the powers carry
+        ``(|w| |a - C| / s_ref)^n`` per contact point.
     """
     vl = finite_array("v_left", v_left)
     vr = finite_array("v_right", v_right)
     icr = params.icr if icr is None else icr
     c = params._friction if icr == params.icr else _friction_constants(params, icr)
     wz = (vr - vl) / icr.spread_m
-    mu_abs_w = params.mu * np.abs(wz)
-    sgn = params.mu * np.sign(wz)
+    law = np.abs(wz) ** params.slip_exponent  # 1 for Coulomb friction
+    mu_abs_w = params.mu * np.abs(wz) * law
+    sgn = params.mu * np.sign(wz) * law
     fl = c.g_left * sgn
     fr = c.g_right * sgn
     return FrictionViews(mu_abs_w * c.s_left, mu_abs_w * c.s_right, vl * fl, vr * fr, fl, fr)
@@ -554,6 +583,8 @@ def _total_block(vl: FloatArray, vr: FloatArray, k: _KernelConstants, out: Float
     per_travel += k.k
     per_travel *= travel
     out += per_travel
+    if k.slip_n > 0.0:  # the slip-speed law: P_S grows as |V_r - V_l|^(1+n)
+        ad *= np.power(ad, k.slip_n)
     ad *= k.c_s  # P_S, eq. (10)
     out += ad
     out += k.p_up
@@ -561,7 +592,8 @@ def _total_block(vl: FloatArray, vr: FloatArray, k: _KernelConstants, out: Float
 
 
 class _KernelConstants(NamedTuple):
-    c_s: float  # P_S / |V_r - V_l|  [N]  (eq. 10 with eq. 3)
+    c_s: float  # P_S / |V_r - V_l|^(1+n)  [N (s/m)^n]  (eq. 10 with eq. 3)
+    slip_n: float  # exponent n of the slip-speed law (0: Coulomb)
     k: float
     tol: float
     inv_onset: float  # 1 / nonregen_onset_mps (inf: the paper's step)
@@ -575,8 +607,10 @@ class _KernelConstants(NamedTuple):
         c = params._friction
         icr = params.icr
         onset = params.nonregen_onset_mps
+        n = params.slip_exponent
         return cls(
-            c_s=params.mu * (c.s_left + c.s_right) / icr.spread_m,
+            c_s=params.mu * (c.s_left + c.s_right) / icr.spread_m ** (1.0 + n),
+            slip_n=n,
             k=params.k_resistance_n,
             tol=params.case_tol_mps,
             inv_onset=1.0 / onset if onset > 0.0 else np.inf,
@@ -601,7 +635,9 @@ def _tracked_block(
     al = np.abs(vl)
     ar = np.abs(vr)
     travel = al + ar
-    np.multiply(ad, k.c_s, out=f)  # P_S, eq. (10)/(14)
+    # force constant of the friction pair, P_S / |V_r - V_l| [N] (with the law, per sample)
+    c_f = k.c_s if k.slip_n == 0.0 else k.c_s * np.power(ad, k.slip_n)
+    np.multiply(ad, c_f, out=f)  # P_S, eq. (10)/(14)
     np.multiply(travel, k.k, out=r)  # P_R, eq. (18)
     idx = motion_case_index(vl, vr, al, ar, ad, k.tol)
     np.take(CASE_TABLE, idx, out=case)
@@ -621,7 +657,7 @@ def _tracked_block(
     loss -= p_drv
     # friction split: s (dragged force pair -c sign(d) V_l, c sign(d) V_r) + (1 - s) P_S/2
     np.multiply(vl, np.sign(d), out=left)
-    left *= -k.c_s
+    left *= -c_f
     left -= 0.5 * f
     left *= s
     left += 0.5 * f
