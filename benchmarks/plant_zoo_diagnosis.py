@@ -10,6 +10,14 @@ ecoplan's own reader and diagnosed against the matching preset (``auriga-beta-wi
     .venv/bin/python benchmarks/plant_zoo_diagnosis.py --jobs 2                 # 7 x 14 x 4
     .venv/bin/python benchmarks/plant_zoo_diagnosis.py --variants a --seeds 4 --jobs 2
     .venv/bin/python benchmarks/plant_zoo_diagnosis.py --variants a,g --seeds 2 --duration 60
+    .venv/bin/python benchmarks/plant_zoo_diagnosis.py --variants f,g --excitation-only
+
+Before any diagnosis it prints the *excitation table* (:mod:`plant_zoo.excitation`): per
+variant, effect and seed, the matched-filter SNR of the effect in the zoo's noise-free power
+(with against without it, same drive) over the zoo's own logging noise, and for
+``icr_asymmetry`` also the SNR of the ICR offset alone (pose and power).  An in-library effect
+below the bar (SNR 5) on a seed is flagged: the drive does not show it, and a miss there
+measures the drive, not the diagnosis.
 
 Per variant it prints: right effect % on in-library logs, ``none`` % on clean logs,
 ``unexplained`` % on out-of-library logs, the median held-out gap reduction when right, next
@@ -133,6 +141,37 @@ def _share(rows: list[dict[str, Any]], key: str = "right") -> float:
     return float(np.mean([bool(r[key]) for r in rows])) if rows else float("nan")
 
 
+def print_excitation(variants: list[str], seeds: int, duration: float) -> bool:
+    """Print the excitation table of each variant; True if every in-library effect passes."""
+    from plant_zoo import excitation
+
+    bar = excitation.SNR_BAR
+    ok = True
+    print(
+        f"excitation: matched-filter SNR of each effect against the zoo's own noise "
+        f"(bar {bar:g} on every seed; * = in-library below the bar)"
+    )
+    for v in variants:
+        t0 = time.process_time()
+        table = excitation.excitation_table(v, range(seeds), duration)
+        offsets = [excitation.icr_offset_snr(v, s, duration) for s in range(seeds)]
+        print(f"variant {v} ({plant_zoo.VARIANTS[v][1]}), {time.process_time() - t0:.1f} s CPU")
+        print(f"  {'effect':<30s}" + "".join(f"{'s' + str(s):>8s}" for s in range(seeds)))
+        for name, snrs in table.items():
+            inlib = name.split(" ")[0] in plant_zoo.IN_LIBRARY
+            low = inlib and min(snrs) < bar
+            ok = ok and not low
+            tag = "  *" if low else ("" if inlib else "  (out of library)")
+            print(f"  {name:<30s}" + "".join(f"{x:8.1f}" for x in snrs) + tag)
+        print(
+            "  icr offset (m) / pose / power: "
+            + "; ".join(
+                f"{o.offset_m:+.3f} / {o.pose_snr:.1f} / {o.power_snr:.1f}" for o in offsets
+            )
+        )
+    return ok
+
+
 def summarise(rows: list[dict[str, Any]]) -> bool:
     """Print the per-variant table, reliability table and confusion matrix; True if all pass."""
     ok = True
@@ -231,6 +270,12 @@ def main() -> int:
     ap.add_argument("--duration", type=float, default=180.0, help="log length (s)")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument(
+        "--excitation-only",
+        action="store_true",
+        help="print the excitation table and stop (no diagnosis)",
+    )
+    ap.add_argument("--no-excitation", action="store_true", help="skip the excitation table")
+    ap.add_argument(
         "--out",
         default=str(ROOT / "reports" / "plant_zoo"),
         help="folder for results.csv and the cached logs",
@@ -244,6 +289,11 @@ def main() -> int:
     for e in effects:
         if e not in plant_zoo.EFFECTS:
             ap.error(f"unknown effect {e!r}; one of {','.join(plant_zoo.EFFECTS)}")
+    if not args.no_excitation:
+        excited = print_excitation(variants, args.seeds, args.duration)
+        print(f"every in-library effect excited on every seed: {'yes' if excited else 'NO'}\n")
+        if args.excitation_only:
+            return 0 if excited else 1
     out = Path(args.out)
     cache = out / "logs"
     tasks = [

@@ -44,9 +44,19 @@ What is compared, per kind of parameter:
   the selection (the disc is put where the training residual is largest: on plant-zoo
   variant a, friction factor 1.71 against 1.48 held out at the same disc); on shapes searched
   per half, they trade off against the shape (a larger disc, a smaller factor: 1.56 against
-  1.48 on variant b, with intervals of ±0.02 that ignore the disc's uncertainty).  So
-  ``terrain_patch`` and ``terrain_change`` are not compared (:attr:`HalvesCheck.note` says
-  so); that the training shape carries over is what their held-out score already measures;
+  1.48 on variant b, with intervals of ±0.02 that ignore the disc's uncertainty).  So the
+  factors are not compared.  A place is: ``terrain_patch``'s disc is searched again on the
+  held-out half alone, and the two discs must be **the same place**
+  (:class:`~ecoplan.diagnose.effects.fitting.PlaceHalves`): the signed correlation of their
+  inside indicators over both halves' samples (each weighted by its weight in the fit of a
+  patch factor), the sign that of the extra power each puts inside, at least
+  :data:`~ecoplan.diagnose.effects.fitting.PLACE_AGREEMENT` (``ρ² >= 1/2``).
+  A patch of ground is crossed in both halves (they interleave time blocks) and found at
+  the same place from either; noise, or a change in time that the better disc search fits
+  somewhere (s8: a clean log and a meter-gain step of plant-zoo variant c named
+  ``terrain_patch`` at confidence 0.99998), puts each half's disc where that half's residual
+  happens to be largest.  ``terrain_change``'s segments are not compared; that its training
+  segments carry over is what its held-out score already measures;
 * a drift in time is compared by its *rate* (``efficiency_drift``'s ``eta_rate_per_s``): its
   level at any instant is absorbed by the base model's refit in each half.  The split
   interleaves time blocks, so both halves span the whole log and a true drift has one rate;
@@ -74,10 +84,12 @@ from ecoplan.diagnose.effects import (
     EffectData,
     NoEffect,
     TerrainChange,
+    TerrainPatch,
     TimeStep,
     prepare,
 )
 from ecoplan.diagnose.effects.data import segments
+from ecoplan.diagnose.effects.fitting import PLACE_AGREEMENT, PlaceHalves
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.structure import wheeled_structural_alternative
 from ecoplan.errors import InputError
@@ -456,17 +468,21 @@ class HalvesCheck:
     params : tuple of ParameterHalves
         The compared parameters.
     note : str
-        Why nothing was compared, when nothing was (else empty).
+        Why nothing was compared, when nothing was, or what the place comparison found (else
+        empty).
+    place : PlaceHalves or None
+        ``terrain_patch``: its disc searched on each half, compared as places.
     """
 
     effect: str
     params: tuple[ParameterHalves, ...]
     note: str = ""
+    place: PlaceHalves | None = None
 
     @property
     def agree(self) -> bool:
-        """Every parameter's intervals overlap."""
-        return all(p.agree for p in self.params)
+        """Every parameter's intervals overlap, and the discs (if any) are one place."""
+        return all(p.agree for p in self.params) and (self.place is None or self.place.agree)
 
     @property
     def p_value(self) -> float:
@@ -593,6 +609,17 @@ def halves_check(effect: Effect, train: EffectData, test: EffectData) -> HalvesC
         compares none (see the module docstring).
     """
     theta = effect.theta_
+    if isinstance(effect, TerrainPatch) and theta is not None:
+        place = effect.place_halves(train, test)
+        (ax, ay, ar), (bx, by, br) = place.train_disc, place.test_disc
+        note = (
+            f"disc ({ax:.2f}, {ay:.2f}) m, R {ar:.2f} m on the training half, ({bx:.2f}, "
+            f"{by:.2f}) m, R {br:.2f} m searched on the held-out half alone; extra power "
+            f"inside {place.train_extra_w:+.1f} W and {place.test_extra_w:+.1f} W; signed "
+            f"correlation of the samples inside {place.rho:+.2f} (one place from "
+            f"{PLACE_AGREEMENT:.2f})"
+        )
+        return HalvesCheck(effect.name, (), note, place)
     if theta is not None and not _scalar(theta):
         note = (
             "not compared: a searched shape (a region, segments in time), whose held-out "
@@ -629,7 +656,9 @@ def halves_rule(
     """The named effect stands only if its parameters agree on the two halves (item 2).
 
     Otherwise the verdict is ``unexplained``, with confidence ``1 -`` the Bonferroni p-value of
-    the largest disagreement (:attr:`HalvesCheck.p_value`).
+    the largest disagreement (:attr:`HalvesCheck.p_value`); for a disc that is not one place
+    (:class:`~ecoplan.diagnose.effects.fitting.PlaceHalves`), ``1 - max(ρ, 0)²``: the share of
+    one half's disc that the other's does not account for (0.5 at the bound).
 
     Parameters
     ----------
@@ -647,6 +676,9 @@ def halves_rule(
         stands.
     """
     check = halves_check(effect, train, test)
+    if check.place is not None and not check.place.agree:
+        reason = f"{effect.name} is not found at the same place from both halves: {check.note}"
+        return "unexplained", 1.0 - max(check.place.rho, 0.0) ** 2, (), reason, check
     worst = check.worst()
     if check.agree or worst is None:
         return (*verdict, "", check)

@@ -15,7 +15,9 @@ convergence at a fixed scale the IRLS reaches ``least_squares``' Huber minimiser
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import lsq_linear
@@ -33,11 +35,14 @@ __all__ = [
     "EFFECT_RIDGE",
     "NONREGEN_COLUMN",
     "NONREGEN_FLOOR_SHARE",
+    "PLACE_AGREEMENT",
     "WHEELED_ROBUST_ITERATIONS",
     "Bounds",
+    "PlaceHalves",
     "base_bounds",
     "bounded_lstsq",
     "compass_refine",
+    "disc_correlation",
     "fit_linear",
     "huber_loss",
     "huber_weights",
@@ -370,3 +375,101 @@ def compass_refine(
         else:
             h, q = 0.5 * h, 0.5 * q
     return cur, cur_sse
+
+
+#: Least signed correlation of two discs' inside indicators for them to be one place
+#: (:class:`PlaceHalves`) [-]: ``ρ² >= 1/2``, the disc found on one half of the split accounts
+#: for at least half of the variance of the other's (more of the place shared than not).
+PLACE_AGREEMENT = 1.0 / math.sqrt(2.0)
+
+
+def disc_correlation(
+    a: tuple[float, float, float],
+    b: tuple[float, float, float],
+    x: FloatArray,
+    y: FloatArray,
+    weight: FloatArray | None = None,
+) -> float:
+    """Correlation (φ coefficient) of "inside disc ``a``" and "inside disc ``b``" over points.
+
+    The weighted Pearson correlation of the two 0/1 indicators over the points ``(x, y)``:
+    with equal weights ``φ = (n₁₁ n₀₀ - n₁₀ n₀₁) / sqrt(n₁. n₀. n.₁ n.₀)``, 1 when the discs
+    hold the same points, -1 when each holds the other's outside, about 0 when where one
+    lies says nothing about where the other does (chance-corrected, unlike the share of
+    points they classify alike).  0 when either disc holds all the weight or none.
+
+    Parameters
+    ----------
+    a, b : tuple of float
+        Discs ``(c_x [m], c_y [m], R [m])``.
+    x, y : ndarray
+        The points [m].
+    weight : ndarray, optional
+        A non-negative weight per point (default equal).
+
+    Returns
+    -------
+    float
+        φ in [-1, 1].
+
+    >>> x = np.arange(10.0)
+    >>> round(disc_correlation((0.0, 0.0, 4.5), (0.0, 0.0, 4.5), x, 0 * x), 6)
+    1.0
+    >>> round(disc_correlation((0.0, 0.0, 4.5), (9.0, 0.0, 4.5), x, 0 * x), 6)
+    -1.0
+    """
+    ia = (np.hypot(x - a[0], y - a[1]) <= a[2]).astype(np.float64)
+    ib = (np.hypot(x - b[0], y - b[1]) <= b[2]).astype(np.float64)
+    w = np.ones_like(ia) if weight is None else np.asarray(weight, dtype=np.float64)
+    total = float(np.sum(w))
+    if total <= 0.0:
+        return 0.0
+    ma, mb = float(w @ ia) / total, float(w @ ib) / total
+    den = ma * (1.0 - ma) * mb * (1.0 - mb)
+    if den <= 1e-15:
+        return 0.0
+    return float(np.clip((float(w @ (ia * ib)) / total - ma * mb) / math.sqrt(den), -1.0, 1.0))
+
+
+@dataclass(frozen=True, slots=True)
+class PlaceHalves:
+    """A disc of the map searched on each half of the split, compared as places.
+
+    A patch of ground is a place: searched on either half of the split (interleaved time
+    blocks, so both halves cross it), it is found at the same place with the same sign of
+    extra power.  Noise, or an effect that is not bound to a place, puts each half's disc
+    where that half's residual happens to be largest.  Two discs are one place when the
+    signed correlation of their inside indicators over the samples of both halves,
+    ``ρ = s_train s_test φ`` (:func:`disc_correlation`; ``s`` the sign of the extra power the
+    fit puts inside its disc), reaches :data:`PLACE_AGREEMENT`.  Each sample is weighted by
+    what it tells of a patch, ``(P_friction + P_resistance)²``: its weight in the least-squares
+    fit of a factor on friction and resistance (a sample at rest or in a gentle straight run
+    hardly places the disc; tracked eqs. 14 and 18).  The signs make a disc that
+    holds the other's *outside* with the opposite sign the same place (the base model is
+    refitted with the disc: "more power inside A" and "less power outside A" are one fit).
+
+    Attributes
+    ----------
+    train_disc, test_disc : tuple of float
+        The discs ``(c_x [m], c_y [m], R [m])`` searched on each half.
+    train_extra_w, test_extra_w : float
+        Mean extra power each fit puts inside its disc, on its own half [W].
+    correlation : float
+        φ of the two discs' inside indicators [-].
+    """
+
+    train_disc: tuple[float, float, float]
+    test_disc: tuple[float, float, float]
+    train_extra_w: float
+    test_extra_w: float
+    correlation: float
+
+    @property
+    def rho(self) -> float:
+        """The signed correlation ``ρ = s_train s_test φ`` [-]."""
+        return float(np.sign(self.train_extra_w) * np.sign(self.test_extra_w)) * self.correlation
+
+    @property
+    def agree(self) -> bool:
+        """Whether the two discs are one place (``ρ >= PLACE_AGREEMENT``)."""
+        return self.rho >= PLACE_AGREEMENT

@@ -31,7 +31,12 @@ from ecoplan.diagnose.effects.base import (
     eta_of,
 )
 from ecoplan.diagnose.effects.data import EffectData
-from ecoplan.diagnose.effects.fitting import compass_refine, fit_linear
+from ecoplan.diagnose.effects.fitting import (
+    PlaceHalves,
+    compass_refine,
+    disc_correlation,
+    fit_linear,
+)
 from ecoplan.diagnose.replay import Frame
 from ecoplan.diagnose.where_time import TimeSegment, label_segments
 from ecoplan.errors import InputError
@@ -183,6 +188,26 @@ class TerrainPatch(Effect):
         for sse, start in starts:
             compass_refine(trial, start, sse, span)
         return best[1]
+
+    def place_halves(self, train: EffectData, test: EffectData) -> PlaceHalves:
+        """Search the disc again on ``test`` alone; compare it with this fit's on ``train``.
+
+        Each disc's extra power is its own fit's (:meth:`effect_w`, on its half); the discs'
+        correlation is over both halves' samples, weighted as :class:`PlaceHalves` says.
+        """
+        other = type(self)().fit(test)
+        if self.theta_ is None or other.theta_ is None:
+            return PlaceHalves((0.0, 0.0, 0.0), (0.0, 0.0, 0.0), 0.0, 0.0, 0.0)
+        extra = []
+        for eff, d in ((self, train), (other, test)):
+            ins = self._inside(d, eff.theta_) > 0.0
+            extra.append(float(np.mean(eff.effect_w(d)[ins])) if ins.any() else 0.0)
+        x, y = (
+            np.concatenate([np.asarray(getattr(d.frame, k)) for d in (train, test)]) for k in "xy"
+        )
+        w = np.concatenate([(d.friction_w + d.resistance_w) ** 2 for d in (train, test)])
+        phi = disc_correlation(self.theta_, other.theta_, x, y, w)
+        return PlaceHalves(tuple(self.theta_), tuple(other.theta_), extra[0], extra[1], phi)
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         if theta is None:
