@@ -285,6 +285,11 @@ def main() -> int:
     )
     ap.add_argument("--no-excitation", action="store_true", help="skip the excitation table")
     ap.add_argument(
+        "--refit",
+        action="store_true",
+        help="wheeled variants: also the SNR left after re-fitting a(r), b(r) (minutes)",
+    )
+    ap.add_argument(
         "--out",
         default=str(ROOT / "reports" / "plant_zoo"),
         help="folder for results.csv and the cached logs",
