@@ -17,7 +17,9 @@ variant, effect and seed, the matched-filter SNR of the effect in the zoo's nois
 (with against without it, same drive) over the zoo's own logging noise, and for
 ``icr_asymmetry`` also the SNR of the ICR offset alone (pose and power).  An in-library effect
 below the bar (SNR 5) on a seed is flagged: the drive does not show it, and a miss there
-measures the drive, not the diagnosis.
+measures the drive, not the diagnosis.  ``--refit`` adds, for the wheeled variants, the SNR
+left after re-fitting the plant's own a(r), b(r) (:func:`plant_zoo.excitation.refit_snr`): the
+part of an effect that no structural calibration can absorb.
 
 Per variant it prints: right effect % on in-library logs, ``none`` % on clean logs,
 ``unexplained`` % on out-of-library logs, the median held-out gap reduction when right, next
@@ -141,7 +143,7 @@ def _share(rows: list[dict[str, Any]], key: str = "right") -> float:
     return float(np.mean([bool(r[key]) for r in rows])) if rows else float("nan")
 
 
-def print_excitation(variants: list[str], seeds: int, duration: float) -> bool:
+def print_excitation(variants: list[str], seeds: int, duration: float, refit: bool = False) -> bool:
     """Print the excitation table of each variant; True if every in-library effect passes."""
     from plant_zoo import excitation
 
@@ -163,6 +165,13 @@ def print_excitation(variants: list[str], seeds: int, duration: float) -> bool:
             ok = ok and not low
             tag = "  *" if low else ("" if inlib else "  (out of library)")
             print(f"  {name:<30s}" + "".join(f"{x:8.1f}" for x in snrs) + tag)
+        if refit and plant_zoo.VARIANTS[v][0] == "wheeled":
+            print("  after re-fitting the plant's own a(r), b(r) (12 coefficients, --refit):")
+            for name in plant_zoo.EFFECTS:
+                if name == "power_saturation":
+                    continue
+                snrs = [excitation.refit_snr(v, name, s, duration) for s in range(seeds)]
+                print(f"  {name:<30s}" + "".join(f"{x:8.1f}" for x in snrs))
         print(
             "  icr offset (m) / pose / power: "
             + "; ".join(
@@ -276,6 +285,11 @@ def main() -> int:
     )
     ap.add_argument("--no-excitation", action="store_true", help="skip the excitation table")
     ap.add_argument(
+        "--refit",
+        action="store_true",
+        help="wheeled variants: also the SNR left after re-fitting a(r), b(r) (minutes)",
+    )
+    ap.add_argument(
         "--out",
         default=str(ROOT / "reports" / "plant_zoo"),
         help="folder for results.csv and the cached logs",
@@ -290,7 +304,7 @@ def main() -> int:
         if e not in plant_zoo.EFFECTS:
             ap.error(f"unknown effect {e!r}; one of {','.join(plant_zoo.EFFECTS)}")
     if not args.no_excitation:
-        excited = print_excitation(variants, args.seeds, args.duration)
+        excited = print_excitation(variants, args.seeds, args.duration, args.refit)
         print(f"every in-library effect excited on every seed: {'yes' if excited else 'NO'}\n")
         if args.excitation_only:
             return 0 if excited else 1

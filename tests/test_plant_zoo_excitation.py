@@ -144,3 +144,16 @@ def test_the_other_family_never_brakes_within_the_side_limit() -> None:
     within = np.maximum(np.abs(p_in), np.abs(p_out)) < 0.9 * SIDE_LIMIT_W
     assert within.sum() > 1000
     assert float(p_in[within].min()) > -0.05
+
+
+def test_wheeled_regeneration_is_a_smaller_braking_torque_to_a_refit() -> None:
+    # Eq. (12) with the inner side braking: returning a share f of |a v + b| is the same power
+    # as braking with (1 - f) a, (1 - f) b -- the sign of a v + b, hence the braking states, is
+    # unchanged.  So a re-fit of a(r), b(r) absorbs regeneration almost entirely (a little of
+    # the family's shape is left), while a power gain switched on mid-run cannot be absorbed.
+    assert excitation.power_snr("g", "regeneration", 0) >= excitation.SNR_BAR
+    assert excitation.refit_snr("g", "regeneration", 0) < 1.0
+    assert excitation.refit_snr("g", "none", 0) < 1e-3
+    assert excitation.refit_snr("g", "power_gain", 0) >= excitation.SNR_BAR
+    with pytest.raises(ValueError, match="wheeled"):
+        excitation.refit_snr("a", "none", 0)

@@ -16,6 +16,14 @@ effect reliably, so a miss says more about the drive than about the diagnosis.  
 *necessary* condition only: a diagnosis must also estimate the effect's parameters and tell it
 from its rivals, which costs more signal.
 
+What the power SNR does not say: ``actuator_lag`` and ``power_saturation`` change the wheel
+speeds, and the log records the changed speeds; on those speeds the plant's power is the base
+power, so these two effects show in a log only against the *commands* (their power SNR
+measures how much the driving changed).  And the diagnosis re-identifies the vehicle's
+structure first: :func:`refit_snr` gives, for the wheeled variants, what an effect leaves
+after the plant's own ``a(r)``, ``b(r)`` are re-fitted -- for ``regeneration`` almost nothing,
+since a returned share of the braking power is a smaller braking torque in eq. (12).
+
 The SNR is exact for an AR(1) noise sampled at the kept (non-dropped) log samples: the
 samples are whitened with the gap-aware recursion ``e_k = (d_k - phi^g d_{k-1}) /
 sqrt(1 - phi^(2 g))`` (``g`` the gap in samples), and ``SNR^2 = sum(e_k^2) / std^2``
@@ -245,3 +253,75 @@ def excitation_table(
     table = {e: [power_snr(variant, e, s, duration_s) for s in seeds] for e in effects}
     table["icr_asymmetry (offset)"] = [icr_offset_snr(variant, s, duration_s).snr for s in seeds]
     return table
+
+
+def refit_snr(variant: str, effect: str, seed: int, duration_s: float = 180.0) -> float:
+    """SNR of what a wheeled effect leaves after the plant's own ``a(r)``, ``b(r)`` are re-fitted.
+
+    A stronger necessary condition than :func:`power_snr`: the diagnosis re-identifies the
+    vehicle's structure before it names an effect (issue 12, items 1-2), so only the part of
+    the effect's signature that no re-fit of the 12 coefficients of eqs. (14)-(15) (Table I's
+    inner and outer ``a_inf, a_alpha, a_beta, b_inf, b_alpha, b_beta``, in the plant's own
+    family) can absorb is evidence for it.  The noise-free meter power of the case is fitted
+    by least squares (scipy) on the drive's noise-free side speeds (the commands through the
+    case's drive lag) from Table I as the start, and the residual's :func:`ar1_snr` against the
+    logged power noise is returned.
+
+    Parameters
+    ----------
+    variant : str
+        A wheeled zoo variant (``f`` or ``g``).
+    effect : str
+        Any effect of :data:`plant_zoo.plant.EFFECTS` except ``power_saturation``, whose
+        slowed side speeds the zoo does not return.
+    seed : int
+        Case seed.
+    duration_s : float
+        Run length (s).
+
+    Returns
+    -------
+    float
+        SNR of the residual after the re-fit.
+
+    Raises
+    ------
+    ValueError
+        A tracked variant or ``power_saturation``.
+    """
+    from scipy.optimize import least_squares
+
+    if plant.VARIANTS[variant][0] != "wheeled" or effect == "power_saturation":
+        raise ValueError(f"refit_snr: wheeled variants, not {variant!r} / {effect!r}")
+    case = plant.make_case(variant, effect, seed, duration_s)
+    fam = "rational" if variant == "f" else "chuy"
+    cmd_l, cmd_r = drive.operator_commands(
+        np.random.default_rng([seed, 1]),
+        "wheeled",
+        duration_s,
+        plant.DT_S,
+        wheeled_params=wheeled.WheeledParams(family=fam),
+    )
+    tau = case.effect_params.get("tau_s", plant.DRIVE_LAG_S)
+    vl, vr = plant._lag(cmd_l, tau), plant._lag(cmd_r, tau)
+    step = round(plant.LOG_DT_S / plant.DT_S)
+    m = len(vl) // step
+    index = np.round((case.columns["t"] - (step - 1) * plant.DT_S) / plant.LOG_DT_S)
+    kept = index.astype(int)
+
+    def residual(x: FloatArray) -> FloatArray:
+        p = wheeled.WheeledParams(
+            inner=(x[0], x[1], x[2], x[3], x[4], x[5]),
+            outer=(x[6], x[7], x[8], x[9], x[10], x[11]),
+            family=fam,
+        )
+        pw = wheeled.total_power(p, vl, vr)[: m * step].reshape(m, step).mean(axis=1)
+        return np.asarray(pw[kept] - case.true_power_w, dtype=float)
+
+    x0 = np.array(wheeled.TABLE_I_INNER + wheeled.TABLE_I_OUTER, dtype=float)
+    lower = np.full(12, -np.inf)
+    lower[[2, 5, 8, 11]] = 0.05  # decay exponents stay positive: a(r), b(r) decay with r
+    fit = least_squares(
+        residual, x0, x_scale=np.abs(x0) + 0.1, bounds=(lower, np.inf), max_nfev=400
+    )
+    return ar1_snr(fit.fun, index, POWER_NOISE_W["wheeled"], POWER_NOISE_PHI)
