@@ -57,6 +57,7 @@ __all__ = [
     "kinematic_chi",
     "onset_informative_samples",
     "radius_resolved",
+    "search_subset",
     "settling",
     "structural_onset",
     "wheeled_bounds",
@@ -487,6 +488,26 @@ def structural_onset(frame: Frame, params: VehicleParams) -> VehicleParams:
     return best[1]
 
 
+def search_subset(frame: Frame) -> Frame:
+    """The samples the calibration's searches run on: all, or every k-th above a size.
+
+    Parameters
+    ----------
+    frame : Frame
+        The training samples.
+
+    Returns
+    -------
+    Frame
+        ``frame`` itself, or its strided subset of at most :data:`CAL_SEARCH_SAMPLES` samples.
+    """
+    if frame.n <= CAL_SEARCH_SAMPLES:
+        return frame
+    mask = np.zeros(frame.n, dtype=bool)
+    mask[:: int(np.ceil(frame.n / CAL_SEARCH_SAMPLES))] = True
+    return frame.subset(mask)
+
+
 def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) -> Calibration:
     """Re-identify µ, K, χ, driver terms (or the wheeled coefficients) and the acceleration limit.
 
@@ -514,11 +535,7 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
         Calibrated parameters and the training MAE before and after.
     """
     before = float(np.mean(np.abs(frame.p - params.power(frame.vl, frame.vr).total_w)))
-    sub = frame
-    if frame.n > CAL_SEARCH_SAMPLES:
-        mask = np.zeros(frame.n, dtype=bool)
-        mask[:: int(np.ceil(frame.n / CAL_SEARCH_SAMPLES))] = True
-        sub = frame.subset(mask)
+    sub = search_subset(frame)
     preset = params
     params = structural_onset(sub, params) if structural else params
     chi_kin = kinematic_chi(frame, params)

@@ -22,16 +22,16 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 from scipy.stats import chi2
 
-from ecoplan._typing import FloatArray
 from ecoplan.diagnose.calibrate import (
-    CAL_SEARCH_SAMPLES,
     CHI_BOUNDS,
     Calibration,
     calibrate,
     fit_linear_at_chi,
     grid_then_bounded,
+    search_subset,
 )
 from ecoplan.diagnose.replay import Frame
+from ecoplan.diagnose.stats import effective_samples
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import VehicleParams
 
@@ -92,18 +92,6 @@ class FrictionLawFit:
     lr_stat: float
     identified: bool
     excited: bool
-
-
-def _effective_samples(resid: FloatArray) -> float:
-    """Samples worth of independent information in a residual with lag-1 correlation ``ρ``.
-
-    ``n (1 - ρ) / (1 + ρ)`` (an AR(1) residual's variance of the mean), ``ρ`` clipped to
-    [0, 0.99].
-    """
-    if resid.size < 4:
-        return float(resid.size)
-    rho = float(np.clip(np.corrcoef(resid[:-1], resid[1:])[0, 1], 0.0, 0.99))
-    return resid.size * (1.0 - rho) / (1.0 + rho)
 
 
 def slip_excited(frame: Frame) -> bool:
@@ -189,7 +177,7 @@ def _law_search(frame: Frame, base: TrackedParams, chi: float) -> FrictionLawFit
         frame, dataclasses.replace(base, slip_exponent=best_n), at_chi
     )
     resid = frame.p - np.asarray(fitted.power(frame.vl, frame.vr).total_w)
-    n_eff = _effective_samples(resid)
+    n_eff = effective_samples(resid)
     lr = float(n_eff * np.log(max(mse0, 1e-300) / max(best_mse, 1e-300)))
     interval = _profile_interval(frame, base, at_chi, best_n, n_eff * np.log(best_mse), n_eff)
     identified = lr > float(chi2.ppf(1.0 - SLIP_LEVEL, 1)) and best_n > 0.0
@@ -277,11 +265,7 @@ def calibrate_with_law(
     if not isinstance(params, TrackedParams) or params.slip_exponent != 0.0:
         return cal
     assert isinstance(cal.params, TrackedParams)
-    sub = frame
-    if frame.n > CAL_SEARCH_SAMPLES:
-        mask = np.zeros(frame.n, dtype=bool)
-        mask[:: int(np.ceil(frame.n / CAL_SEARCH_SAMPLES))] = True
-        sub = frame.subset(mask)
+    sub = search_subset(frame)
     start = dataclasses.replace(params, nonregen_onset_mps=cal.params.nonregen_onset_mps)
     law = structural_friction(sub, start, cal.params.chi)
     if not law.identified:

@@ -20,6 +20,7 @@ __all__ = [
     "LOW_RATE_DT_S",
     "block_bootstrap",
     "coloured_noise_floor",
+    "effective_samples",
     "ljung_box",
     "noise_floor_mae",
     "prewhiten",
@@ -200,3 +201,25 @@ def block_bootstrap(
     sd = float(res.standard_error)
     p = float(norm.sf(red / sd)) if sd > 0 else (0.0 if red > 0 else 1.0)
     return red, float(res.confidence_interval.low), float(res.confidence_interval.high), p
+
+
+def effective_samples(resid: FloatArray) -> float:
+    """Samples worth of independent information in a residual with lag-1 correlation ``ρ``.
+
+    ``n (1 - ρ) / (1 + ρ)`` (an AR(1) residual's variance of the mean), ``ρ`` the sample
+    lag-1 correlation clipped to [0, 0.99]; ``n`` itself below 4 samples.
+
+    Parameters
+    ----------
+    resid : ndarray
+        The residual, in time order.
+
+    Returns
+    -------
+    float
+        The effective sample count.
+    """
+    if resid.size < 4:
+        return float(resid.size)
+    rho = float(np.clip(np.corrcoef(resid[:-1], resid[1:])[0, 1], 0.0, 0.99))
+    return resid.size * (1.0 - rho) / (1.0 + rho)

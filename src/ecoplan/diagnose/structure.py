@@ -69,6 +69,7 @@ from ecoplan.diagnose.calibrate import (
 )
 from ecoplan.diagnose.friction_law import calibrate_with_law
 from ecoplan.diagnose.replay import Frame
+from ecoplan.diagnose.stats import effective_samples
 from ecoplan.errors import InputError
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.tracked import TrackedParams
@@ -317,12 +318,7 @@ def _log_half_widths(frame: Frame, params: WheeledParams, chi: float, lb: FloatA
         return np.full(4, np.inf)
     p, mse = fit_linear_at_chi(frame, _with_beta(params, np.exp(lb)), chi)
     resid = frame.p - p.power(frame.vl, frame.vr).total_w
-    rho = (
-        float(np.clip(np.corrcoef(resid[:-1], resid[1:])[0, 1], 0.0, 0.99))
-        if resid.size > 3
-        else 0.0
-    )
-    n_eff = resid.size * (1.0 - rho) / (1.0 + rho)
+    n_eff = effective_samples(resid)
 
     def nll(x: FloatArray) -> float:
         mse = _trial_mse(frame, _with_beta(params, np.exp(x)), chi)
