@@ -122,17 +122,20 @@ def _per_run(frame: Frame) -> list[IntArray]:
     return [np.flatnonzero(frame.run == r) for r in np.unique(frame.run)]
 
 
-def segments(frame: Frame) -> list[IntArray]:
+def segments(frame: Frame, max_gap_s: float | None = None) -> list[IntArray]:
     """Contiguous pieces of a (possibly split) frame.
 
-    A new piece starts at every run change and at every time gap longer than 1.5 sample periods.
+    A new piece starts at every run change and at every time gap longer than 1.5 sample
+    periods, or than ``max_gap_s`` [s] when given (a clock that bridges dropped rows).
     """
     if frame.n == 0:
         return []
     dt = np.diff(frame.t)
-    same = np.diff(frame.run) == 0
-    step = float(np.median(dt[same & (dt > 0)])) if np.any(same & (dt > 0)) else 1.0
-    brk = (np.diff(frame.run) != 0) | (dt > 1.5 * step) | (dt <= 0)
+    if max_gap_s is None:
+        same = np.diff(frame.run) == 0
+        step = float(np.median(dt[same & (dt > 0)])) if np.any(same & (dt > 0)) else 1.0
+        max_gap_s = 1.5 * step
+    brk = (np.diff(frame.run) != 0) | (dt > max_gap_s) | (dt <= 0)
     edges = np.concatenate([[0], np.flatnonzero(brk) + 1, [frame.n]])
     return [np.arange(a, b) for a, b in itertools.pairwise(edges) if b > a]
 

@@ -11,14 +11,13 @@ a piece whose first value is held.
 
 from __future__ import annotations
 
-import itertools
 from typing import Any
 
 import numpy as np
 
 from ecoplan._typing import FloatArray, IntArray
 from ecoplan.diagnose.effects.base import MotionLike, Parameter, Params, ScalarSearch, base_power_w
-from ecoplan.diagnose.effects.data import EffectData
+from ecoplan.diagnose.effects.data import EffectData, segments
 from ecoplan.diagnose.replay import Frame
 from ecoplan.presets import VehicleParams
 
@@ -49,12 +48,7 @@ def delay_pieces(frame: Frame, bridge_s: float = DELAY_BRIDGE_S) -> list[IntArra
     list of ndarray
         Sample indices of each piece, in order.
     """
-    if frame.n == 0:
-        return []
-    dt = np.diff(frame.t)
-    brk = (np.diff(frame.run) != 0) | (dt > bridge_s) | (dt <= 0)
-    edges = np.concatenate([[0], np.flatnonzero(brk) + 1, [frame.n]])
-    return [np.arange(a, b) for a, b in itertools.pairwise(edges) if b > a]
+    return segments(frame, max_gap_s=bridge_s)
 
 
 class SensorDelay(ScalarSearch):
