@@ -181,7 +181,12 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
     pulled towards ``params``' exponents (:data:`BETA_PRIOR_WEIGHT`).  Their 95 % intervals
     come from the curvature of the profile log-likelihood ``n_eff / 2 ln(mse)``, with
     ``n_eff`` shrunk by the residual's lag-1 autocorrelation.  An exponent whose interval is
-    wider than :data:`BETA_MAX_LOG_HALF_WIDTH` is set back to the preset's and the rest refitted.
+    wider than :data:`BETA_MAX_LOG_HALF_WIDTH` is set back to the preset's and the rest searched
+    again (from the grid), until every exponent left free is narrow: the exponents trade off
+    against each other, so the value one took jointly with an exponent that was then set back
+    is not its value alone (on a clean log of the plant zoo's variant f, seed 0, keeping it gave
+    a training MSE of 0.79 W² where the preset's shape gives 0.35 W²).  A shape that fits the
+    training samples worse than the preset's (searched objective above 1) is not taken.
 
     Parameters
     ----------
@@ -221,7 +226,8 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
     free = np.ones(4, dtype=bool)
     lb = lb0.copy()
     half = np.full(4, np.inf)
-    for _ in range(2):
+    # every pass either keeps the free set (done) or frees fewer exponents: at most 4 prunes
+    for _ in range(5):
         runs = [
             minimize(
                 objective,
@@ -246,6 +252,10 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
     beta = np.exp(np.where(free, lb, lb0))
     if not np.isfinite(_trial_mse(frame.subset(resolved), _with_beta(p0, beta), chi)):
         free[:] = False  # the linear fit fails at the searched shape: keep the preset's
+        beta = np.exp(lb0)
+    elif free.any() and objective(np.log(beta), free) > 1.0:
+        # the preset's shape fits the training samples better (objective 1 there): keep it
+        free[:] = False
         beta = np.exp(lb0)
     fitted, _ = fit_linear_at_chi(frame.subset(resolved), _with_beta(p0, beta), chi)
     assert isinstance(fitted, WheeledParams)
