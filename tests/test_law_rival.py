@@ -28,6 +28,7 @@ from ecoplan.diagnose.attribute import split_masks
 from ecoplan.diagnose.friction_law import law_calibrations
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
+from ecoplan.diagnose.report import json_report
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import vehicle
 from tracked_plant import GAUGE_M, HZ, PLANT, plant_power_w
@@ -141,3 +142,6 @@ def test_a_law_plant_without_effects_keeps_the_law_as_structure_and_names_nothin
     rival = _rival(d)
     assert rival["kept"] == 1.0
     assert rival["law_after_w"] < rival["coulomb_after_w"]
+    # the report's JSON (validated against its schema) lists the choice with the exponent
+    (entry,) = [a for a in json_report(d)["naming"]["alternatives"] if a["name"] == "friction_law"]
+    assert entry["params"]["slip_exponent"] == pytest.approx(n)
