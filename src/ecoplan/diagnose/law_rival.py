@@ -83,26 +83,6 @@ class LawRival:
     p_value: float
     kept: bool
 
-    @property
-    def note(self) -> str:
-        """One line on the choice."""
-        law = f"friction growing with slip (n = {self.exponent:.2f})"
-        if self.law_best != "none":
-            law += f" with {self.law_best}"
-        coulomb = "Coulomb friction" + (
-            f" with {self.coulomb_best}" if self.coulomb_best != "none" else " alone"
-        )
-        if self.kept:
-            return (
-                f"{law} leaves {self.law_after_w:.1f} W held out, less than {coulomb} "
-                f"({self.coulomb_after_w:.1f} W): the base carries the law"
-            )
-        return (
-            f"{coulomb} leaves {self.coulomb_after_w:.1f} W held out, no more than {law} "
-            f"({self.law_after_w:.1f} W): the law identified on the training split is not "
-            "the vehicle's, the base stays Coulomb"
-        )
-
     def alternative(self) -> Alternative:
         """The choice as a naming-rule alternative named ``"friction_law"`` (for the report).
 
