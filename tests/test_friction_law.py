@@ -1,13 +1,13 @@
 """The friction law as structure (issue 12, item 1): Coulomb, or friction growing with slip speed.
 
 Morales et al. 2009 take dynamic friction Coulomb (eq. 8): at each contact point a force
-``µ N`` whatever its slip speed.  The logs here come from a tracked plant written in this file
-with numpy alone (importing nothing from ecoplan): the paper's punctual pressure model (four
-points per track, §III-C, Fig. 5), ICRs at ``±L / (2χ)`` (eq. 12), and a friction coefficient
-``µ (s / s_ref)^n`` at each point's slip speed ``s = |wz| ρ`` (eq. 9; ``n = 0`` is Coulomb),
-traction resistance (eq. 18), driver terms (§III-C) and η (eq. 20).  Calibration must find
-``n`` where the log turns at several yaw rates, and keep Coulomb on Coulomb logs and on logs
-that turn at one yaw rate only.
+``µ N`` whatever its slip speed.  The logs here come from a tracked plant written with numpy
+alone (``tests/tracked_plant.py``, importing nothing from ecoplan): the paper's punctual
+pressure model (four points per track, §III-C, Fig. 5), ICRs at ``±L / (2χ)`` (eq. 12), and a
+friction coefficient ``µ (s / s_ref)^n`` at each point's slip speed ``s = |wz| ρ`` (eq. 9;
+``n = 0`` is Coulomb), traction resistance (eq. 18), driver terms (§III-C) and η (eq. 20).
+Calibration must find ``n`` where the log turns at several yaw rates, and keep Coulomb on
+Coulomb logs and on logs that turn at one yaw rate only.
 """
 
 from __future__ import annotations
@@ -27,49 +27,7 @@ from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.structure import structural_calibration
 from ecoplan.models.tracked import TrackedParams, dynamic_friction_views
 from ecoplan.presets import vehicle
-
-# Auriga-β (Morales et al. 2009, §III-C): mass, track gauge, contact length, contact points
-MASS_KG, GAUGE_M, LENGTH_M, POINTS = 286.0, 0.42, 0.72, 4
-HZ = 20.0
-#: The plant's own parameters (µ, K, χ, driver terms near the paper's marble values).
-PLANT = {"mu": 0.7, "k": 300.0, "chi": 0.85, "p_up": 60.0, "p_br": 150.0, "k_nr": 150.0}
-ETA = 0.95
-S_REF_MPS = 0.4
-
-
-def plant_friction_w(vl: np.ndarray, vr: np.ndarray, mu: float, chi: float, n: float) -> np.ndarray:
-    """Terrain-drawn friction power, sum over contact points of ``µ (s/s_ref)^n N s`` [W]."""
-    x = np.linspace(-LENGTH_M / 2, LENGTH_M / 2, POINTS)
-    load = MASS_KG * 9.81 / (2 * POINTS)
-    half = GAUGE_M / (2 * chi)  # ICRs at +-L / (2 chi), eq. 12
-    wz = (vr - vl) / (2 * half)
-    out = np.zeros(vl.size)
-    for ay, yc in ((GAUGE_M / 2, half), (-GAUGE_M / 2, -half)):
-        slip = np.abs(wz)[:, None] * np.hypot(x, ay - yc)[None, :]
-        out += mu * np.sum(load * (slip / S_REF_MPS) ** n * slip, axis=1)
-    return out
-
-
-def plant_power_w(vl: np.ndarray, vr: np.ndarray, n: float) -> np.ndarray:
-    """``P_T`` of the plant: friction, resistance, driver terms (paper's steps), over η."""
-    tol = 1e-3
-    moving_l, moving_r = np.abs(vl) > tol, np.abs(vr) > tol
-    turning = np.abs(vr - vl) > tol
-    same = moving_l & moving_r & (np.sign(vl) == np.sign(vr)) & turning  # case 2
-    braking = (moving_l ^ moving_r) | (moving_l & moving_r & (np.sign(vl) != np.sign(vr)))
-    travel = np.abs(vl) + np.abs(vr)
-    p = plant_friction_w(vl, vr, PLANT["mu"], PLANT["chi"], n) + PLANT["k"] * travel
-    p += PLANT["p_up"] + PLANT["p_br"] * braking + PLANT["k_nr"] * travel * same
-    return p / ETA
-
-
-def _ramp(cmd: np.ndarray, accel_mps2: float = 0.5) -> np.ndarray:
-    """Side speed following its command at a bounded acceleration."""
-    v = np.zeros(cmd.size)
-    step = accel_mps2 / HZ
-    for i in range(1, cmd.size):
-        v[i] = v[i - 1] + np.clip(cmd[i] - v[i - 1], -step, step)
-    return v
+from tracked_plant import HZ, S_REF_MPS, plant_friction_w, plant_power_w, ramp
 
 
 def _log(
@@ -93,7 +51,7 @@ def _log(
             a, b = s, -s
         cl[i : i + k], cr[i : i + k] = (a, b) if rng.random() < 0.5 else (b, a)
         i += k
-    vl, vr = _ramp(cl), _ramp(cr)
+    vl, vr = ramp(cl), ramp(cr)
     truth = plant_power_w(vl, vr, n)
     t = np.arange(size) / HZ
     log = SimpleNamespace(

@@ -7,9 +7,12 @@ Vehicles*): a coefficient ``µ (s / s_ref)^n`` at each point's slip speed ``s``,
 growing as ``|wz|^(1+n)`` (:attr:`ecoplan.models.tracked.TrackedParams.slip_exponent`).  This
 is a convention of the base model (issue 12, item 1): :func:`structural_friction` identifies
 it from a log where the log turns at several yaw rates and the data reject Coulomb's,
-and leaves Coulomb's otherwise; :func:`calibrate_with_law` is the calibration of
-:func:`ecoplan.diagnose.calibrate.calibrate` with the law identified on top, which the
-diagnosis uses, and reports the law among the changed parameters.
+and leaves Coulomb's otherwise; :func:`law_calibrations` gives the calibration of
+:func:`ecoplan.diagnose.calibrate.calibrate` with Coulomb friction and, where the law is
+identified, with the law on top (reporting it among the changed parameters).  An identified
+law is not yet the diagnosis's base: a patch of ground crossed while turning fast looks like
+friction growing with slip, so :mod:`ecoplan.diagnose.law_rival` holds the law against the
+effects on held-out data (issue 12, item 2) before the base carries it.
 """
 
 from __future__ import annotations
@@ -41,6 +44,7 @@ __all__ = [
     "SLIP_MIN_SPREAD",
     "FrictionLawFit",
     "calibrate_with_law",
+    "law_calibrations",
     "slip_excited",
     "structural_friction",
 ]
@@ -235,17 +239,60 @@ def _profile_interval(
     return ends[0], ends[1]
 
 
+def law_calibrations(
+    frame: Frame, params: VehicleParams, *, structural: bool = False
+) -> tuple[Calibration, Calibration | None]:
+    """The calibration with Coulomb friction, and with the friction law where it is identified.
+
+    Tracked parameters with Coulomb friction: after the calibration
+    (:func:`~ecoplan.diagnose.calibrate.calibrate`), the law (:func:`structural_friction`, on
+    at most :data:`~ecoplan.diagnose.calibrate.CAL_SEARCH_SAMPLES` strided samples, at the
+    calibrated χ); where it is identified the calibration is run again with it (χ searched
+    again) and ``slip_exponent`` is listed in its ``changed``.  Wheeled parameters, or a law
+    already set: the calibration alone.
+
+    Parameters
+    ----------
+    frame : Frame
+        Training split.
+    params : TrackedParams or WheeledParams
+        Preset parameters.
+    structural : bool
+        Passed on (the non-regeneration onset).
+
+    Returns
+    -------
+    coulomb : Calibration
+        The calibration with ``params``' friction law.
+    law : Calibration or None
+        The calibration with the identified law; None where it is not identified.
+    """
+    cal = calibrate(frame, params, structural=structural)
+    if not isinstance(params, TrackedParams) or params.slip_exponent != 0.0:
+        return cal, None
+    assert isinstance(cal.params, TrackedParams)
+    sub = search_subset(frame)
+    start = dataclasses.replace(params, nonregen_onset_mps=cal.params.nonregen_onset_mps)
+    law = structural_friction(sub, start, cal.params.chi)
+    if not law.identified:
+        return cal, None
+    with_law = calibrate(frame, dataclasses.replace(start, slip_exponent=law.exponent))
+    # against the parameters as given (tracked fields are plain numbers)
+    keys = [*cal.changed, *with_law.changed, "slip_exponent"]
+    pairs = {k: (float(getattr(params, k)), float(getattr(with_law.params, k))) for k in keys}
+    changed = {k: ab for k, ab in pairs.items() if not np.isclose(*ab)}
+    return cal, Calibration(with_law.params, changed, cal.mae_before_w, with_law.mae_after_w)
+
+
 def calibrate_with_law(
     frame: Frame, params: VehicleParams, *, structural: bool = False
 ) -> Calibration:
     """Calibrate (:func:`~ecoplan.diagnose.calibrate.calibrate`), with the friction law identified.
 
-    Tracked parameters with Coulomb friction: after the calibration, the law
-    (:func:`structural_friction`, on at most
-    :data:`~ecoplan.diagnose.calibrate.CAL_SEARCH_SAMPLES` strided samples, at the calibrated
-    χ); where it is identified the calibration is run again with it (χ searched again) and
-    ``slip_exponent`` is listed in ``changed``.  Wheeled parameters, or a law already set:
-    the calibration alone.
+    The law's calibration of :func:`law_calibrations` where the law is identified, else the
+    calibration with Coulomb friction.  The diagnosis does not take the law from here: it
+    holds the law against the effects on held-out data first
+    (:mod:`ecoplan.diagnose.law_rival`).
 
     Parameters
     ----------
@@ -261,18 +308,5 @@ def calibrate_with_law(
     Calibration
         Calibrated parameters (with the law when identified) and the training MAE.
     """
-    cal = calibrate(frame, params, structural=structural)
-    if not isinstance(params, TrackedParams) or params.slip_exponent != 0.0:
-        return cal
-    assert isinstance(cal.params, TrackedParams)
-    sub = search_subset(frame)
-    start = dataclasses.replace(params, nonregen_onset_mps=cal.params.nonregen_onset_mps)
-    law = structural_friction(sub, start, cal.params.chi)
-    if not law.identified:
-        return cal
-    with_law = calibrate(frame, dataclasses.replace(start, slip_exponent=law.exponent))
-    # against the parameters as given (tracked fields are plain numbers)
-    keys = [*cal.changed, *with_law.changed, "slip_exponent"]
-    pairs = {k: (float(getattr(params, k)), float(getattr(with_law.params, k))) for k in keys}
-    changed = {k: ab for k, ab in pairs.items() if not np.isclose(*ab)}
-    return Calibration(with_law.params, changed, cal.mae_before_w, with_law.mae_after_w)
+    cal, law = law_calibrations(frame, params, structural=structural)
+    return cal if law is None else law

@@ -139,7 +139,8 @@ class Alternative:
     Attributes
     ----------
     name : str
-        ``"structural"`` or ``"time_step"`` (:data:`ALTERNATIVES`).
+        ``"structural"`` or ``"time_step"`` (:data:`ALTERNATIVES`), or ``"friction_law"``: the
+        law held against the effects (:mod:`~ecoplan.diagnose.law_rival`), recorded only.
     after_w : float
         Held-out power MAE with it [W].
     reduction_w : float
@@ -163,7 +164,7 @@ class Alternative:
     @property
     def verdict(self) -> str:
         """The verdict when this alternative overrules the best effect (:func:`naming_rule`)."""
-        return ALTERNATIVES[self.name]
+        return ALTERNATIVES.get(self.name, "none")
 
 
 def _structural(

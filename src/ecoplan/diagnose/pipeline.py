@@ -11,7 +11,8 @@ Steps, each in its module:
    kinematics on the commanded ones: residuals of power, energy, yaw rate, speed and pose;
 2. :mod:`~ecoplan.diagnose.calibrate` — the base model's own parameters re-identified on the
    training split (with the friction law, :mod:`~ecoplan.diagnose.friction_law`, where the
-   log rejects Coulomb's); the held-out gap it closes is reported apart;
+   log rejects Coulomb's and the law beats every effect on held-out data,
+   :mod:`~ecoplan.diagnose.law_rival`); the held-out gap it closes is reported apart;
 3. :mod:`~ecoplan.diagnose.localise` — where the calibrated model's held-out gap lies;
 4. :mod:`~ecoplan.diagnose.attribute` — which candidate effect explains what is left, whether
    the log can tell the candidates apart, and how far the gap shrinks;
@@ -43,11 +44,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from ecoplan._typing import RngLike
-from ecoplan.diagnose.attribute import attribute, split_masks
+from ecoplan.diagnose.attribute import split_masks
 from ecoplan.diagnose.checks import check_logs, effect_resolution
-from ecoplan.diagnose.effects import prepare
 from ecoplan.diagnose.effects.terrain import known_terrains, segmentation_models
-from ecoplan.diagnose.friction_law import calibrate_with_law
+from ecoplan.diagnose.law_rival import calibrate_and_attribute
 from ecoplan.diagnose.localise import (
     by_regime,
     over_space,
@@ -160,7 +160,9 @@ def diagnose(
         frame, params.power(frame.vl, frame.vr).total_w, params.accel_max_mps2
     )
     train_f, test_f = frame.subset(train_m), frame.subset(test_m)
-    cal = calibrate_with_law(train_f, params)
+    # the friction law, where identified, is held against the effects first (law_rival)
+    base = calibrate_and_attribute(train_f, test_f, params, gen, effects)
+    cal, train, test, att = base.calibration, base.train, base.test, base.attribution
     run_ids = [str(getattr(lg, "run_id", "") or f"run{i}") for i, lg in enumerate(log_list)]
     p_cal = np.asarray(cal.params.power(frame.vl, frame.vr).total_w)
     r_all = frame.p - p_cal
@@ -169,9 +171,6 @@ def diagnose(
     known_w = [logged_power_w(m, frame.vl, frame.vr) for m in segmentation_models(params)]
     segments = where_time(frame.t, r_all, frame.run, run_ids, model_w=p_cal, known_w=known_w)
     labels = _terrain_labels(known, segments, frame, run_ids)
-    train = prepare(train_f, cal.params, prior=params)
-    test = prepare(test_f, cal.params, prior=params)
-    att = attribute(train, test, gen, effects)
     # effects the log cannot resolve at a physical size: said, never ruled out (issue 12 item 3)
     unresolved = tuple(r.note for r in effect_resolution(train) if not r.resolved)
     input_notes = checked.excitation_notes + unresolved
