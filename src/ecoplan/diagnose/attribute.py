@@ -44,7 +44,7 @@ from ecoplan.diagnose.effects import (
     make_effect,
 )
 from ecoplan.diagnose.effects.motion import lag_speed_channel, offset_pose_channel
-from ecoplan.diagnose.effects.supply import saturation_speed_crossfit
+from ecoplan.diagnose.effects.supply import regeneration_structure, saturation_speed_crossfit
 from ecoplan.diagnose.naming import (
     Alternative,
     HalvesCheck,
@@ -416,6 +416,11 @@ def attribute(
     named = tied[0] if verdict == "ambiguous" and tied else verdict
     named_after = next((sc.after for sc in power_scores if sc.name == named), None)
     alternatives = fit_alternatives(train, test, r0, rng, shape=named_after is not None)
+    structure = regeneration_structure(fitted.get(named), test)
+    if structure is not None:  # a wheeled regeneration is a structure of a(r), b(r)
+        r_reg = residuals[named]
+        red, _, _, p_reg = block_bootstrap(r0, r_reg, test.frame.block.astype(np.float64), rng)
+        alternatives.append(Alternative("structural", before - red, red, p_reg, structure, r_reg))
     verdict, conf, tied, res_after, reason = naming_rule(
         (verdict, conf, tied, res_after),
         named_after,

@@ -53,6 +53,7 @@ __all__ = [
     "Regeneration",
     "capped_speeds",
     "regenerated_w",
+    "regeneration_structure",
     "saturation_speed_channel",
     "saturation_speed_crossfit",
 ]
@@ -168,6 +169,44 @@ class Regeneration(ScalarSearch):
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         return {"fraction": float(theta or 0.0)}
+
+
+def regeneration_structure(effect: Effect | None, data: EffectData) -> dict[str, float] | None:
+    """A wheeled regeneration read as what it is on a wheeled vehicle: a structure.
+
+    Chuy et al. 2009 identify ``a(r)``, ``b(r)`` radius by radius from the power the robot
+    draws (Sec. III, Fig. 6; eq. 12 per side).  A braking side that returns a share ``ρ`` of
+    its power (:func:`regenerated_w`: ``ρ`` of the braking side's ``|P|``, Sec. III-A) shows,
+    at every radius where that side brakes, as the coefficients ``(1 - ρ) a(r)``,
+    ``(1 - ρ) b(r)`` of that side: the same power on every such sample.  Where a drive brakes
+    a side only in tight turns (the inner wheels, Fig. 6), the two differ only where one
+    radius is driven both braking and motoring; on the plant zoo's wheeled drive, the plant's
+    own ``a(r)``, ``b(r)`` refitted leave its regeneration at a matched-filter SNR of 0.1
+    (``plant_zoo.excitation.refit_snr``).  So a wheeled regeneration cannot be told from a
+    structural re-identification (issue 12 item 2): the naming rule takes this structure --
+    the named fit, read as the braking side's coefficients scaled by ``1 - ρ`` where it
+    brakes -- as a structural alternative, which closes exactly the gap the effect closes, so
+    that its structural clause (a tie goes to the structure) gives ``none``.  Tracked, the
+    returned share is bounded by the non-regenerated loss of case 2 (Morales et al. 2009
+    §III-C), which no structure of the model holds: no such reading.
+
+    Parameters
+    ----------
+    effect : Effect or None
+        The named effect, fitted.
+    data : EffectData
+        A split (its calibrated parameters say which vehicle).
+
+    Returns
+    -------
+    dict of str to float or None
+        ``{"braking_ab_scale": 1 - ρ, "chi": χ}`` for a wheeled :class:`Regeneration`; None
+        otherwise.
+    """
+    if not isinstance(effect, Regeneration) or not isinstance(data.params, WheeledParams):
+        return None
+    chi = float(effect.params_.get("chi", data.params.chi))
+    return {"braking_ab_scale": 1.0 - float(effect.params_.get("fraction", 0.0)), "chi": chi}
 
 
 class PowerSaturation(ScalarSearch):
