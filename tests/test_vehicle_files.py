@@ -233,3 +233,48 @@ def test_diagnose_takes_a_vehicle_file(tmp_path: Path, capsys: pytest.CaptureFix
     assert code == 0, capsys.readouterr().err
     # the log is simulated from the file itself: no unmodelled effect to find
     assert json.loads(out.read_text())["verdict"]["effect"] == "none"
+
+
+@pytest.mark.parametrize("n", [0.0, 0.3, 1.0])
+def test_a_friction_law_in_a_vehicle_file_reaches_the_model(tmp_path: Path, n: float) -> None:
+    # A spot turn's slip speeds all scale with the yaw rate, so friction µ (s / s_ref)^n makes
+    # the friction power grow as ω^(1 + n) (Coulomb, n = 0: as ω, tracked eq. 8). With no
+    # resistance and no braking terms the total is (friction + power-up) / η, so doubling the
+    # track speeds multiplies total - power-up / η by 2^(1 + n).
+    data = _with(("terrains", "asphalt", "rolling_resistance", "value"), 0.0)
+    data["terrains"]["asphalt"]["slip_exponent"] = {"value": n, "source": "assumption"}
+    data["terrains"]["asphalt"]["slip_ref_mps"] = {"value": 0.2, "source": "assumption"}
+    p = load_vehicle(_write(tmp_path, data)).params("asphalt")
+    assert (p.slip_exponent, p.slip_ref_mps) == (n, 0.2)
+    idle = ROBOT50["drivers"]["p_powerup_w"] / ROBOT50["drivers"]["eta"]
+    turn = [float(p.power(-v, v).total_w) - idle for v in (0.1, 0.2, 0.4)]
+    assert turn[1] / turn[0] == pytest.approx(2.0 ** (1.0 + n), rel=1e-9)
+    assert turn[2] / turn[1] == pytest.approx(2.0 ** (1.0 + n), rel=1e-9)
+    # the sand terrain states no law: Coulomb
+    assert load_vehicle(_write(tmp_path, data)).params("sand").slip_exponent == 0.0
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "expected"),
+    [
+        ("slip_exponent", 1.5, r"robot\.yaml:\d+: .*slip_exponent must be in \[0, 1\]"),
+        ("slip_ref_mps", 0.0, r"robot\.yaml:\d+: .*slip_ref_mps must be > 0"),
+    ],
+)
+def test_an_impossible_friction_law_is_one_line(
+    tmp_path: Path, field: str, value: float, expected: str
+) -> None:
+    data = copy.deepcopy(ROBOT50)
+    data["terrains"]["asphalt"][field] = {"value": value, "source": "assumption"}
+    with pytest.raises(InputError, match=expected) as info:
+        load_vehicle(_write(tmp_path, data))
+    assert "\n" not in str(info.value)
+
+
+def test_a_friction_law_on_a_radius_fit_vehicle_is_refused(tmp_path: Path) -> None:
+    shipped = Path(__file__).parents[1] / "src/ecoplan/models/vehicle_files"
+    data = yaml.safe_load((shipped / "pioneer-3at.yaml").read_text())
+    terrain = next(iter(data["terrains"]))
+    data["terrains"][terrain]["slip_exponent"] = {"value": 0.3, "source": "assumption"}
+    with pytest.raises(InputError, match=r"slip_exponent belongs to the contact-friction model"):
+        load_vehicle(_write(tmp_path, data))

@@ -24,6 +24,7 @@ Schema (every length in m, mass in kg, power in W, speed in m/s)::
       asphalt:                     # a name a field user recognises
         mu: {value: 0.81, source: paper, ref: "tracked §III-C"}
         rolling_resistance: {value: 0.02, source: assumption, ref: "..."}
+        slip_exponent: {value: 0.3, source: identified}   # optional; 0 = Coulomb (eq. 8)
         ...
     assumptions: ["24 V bus", ...]
 
@@ -135,6 +136,12 @@ class TerrainEntry(_Section):
     ----------
     mu : Sourced, optional
         Dynamic friction coefficient µ (tracked eq. 8), in [0, 5].
+    slip_exponent : Sourced, optional
+        Friction law of the contact-friction model [-], in [0, 1]: the coefficient is
+        ``µ (s / slip_ref_mps)^n`` at a contact point's slip speed ``s``; 0 (the default) is the
+        paper's Coulomb friction (:attr:`ecoplan.models.tracked.TrackedParams.slip_exponent`).
+    slip_ref_mps : Sourced, optional
+        Slip speed at which the law's coefficient equals ``mu`` [m/s], > 0.
     k_resistance_n : Sourced, optional
         Traction-resistance constant K of tracked eq. (18) [N], >= 0.
     rolling_resistance : Sourced, optional
@@ -160,6 +167,8 @@ class TerrainEntry(_Section):
     """
 
     mu: Sourced | None = None
+    slip_exponent: Sourced | None = None
+    slip_ref_mps: Sourced | None = None
     k_resistance_n: Sourced | None = None
     rolling_resistance: Sourced | None = None
     sides: SourcedSides | None = None
@@ -179,6 +188,12 @@ class TerrainEntry(_Section):
             raise ValueError(f"mu must be in [0, 5]; got {self.mu.value:g}")
         if self.chi is not None and not 0.0 < self.chi.value < 1.0:
             raise ValueError(f"chi must be in (0, 1) (skid-steer); got {self.chi.value:g}")
+        if self.slip_exponent is not None and not 0.0 <= self.slip_exponent.value <= 1.0:
+            raise ValueError(
+                f"slip_exponent must be in [0, 1] (0: Coulomb); got {self.slip_exponent.value:g}"
+            )
+        if self.slip_ref_mps is not None and not self.slip_ref_mps.value > 0.0:
+            raise ValueError(f"slip_ref_mps must be > 0; got {self.slip_ref_mps.value:g}")
         for name in ("k_resistance_n", "rolling_resistance", "p_powerup_w", "p_braking_w"):
             _nonneg(getattr(self, name), name)
         _nonneg(self.k_nonregen_n, "k_nonregen_n")
@@ -409,7 +424,14 @@ def _check_terrain(vf: VehicleFile, name: str, e: TerrainEntry) -> None:
             raise ValueError(f"terrains.{name}.sides is required by the radius-fit model")
         if vf.power_log.signal == "motor_current":
             raise ValueError("power_log.signal motor_current needs the contact-friction model")
-        for field in ("mu", "k_resistance_n", "p_braking_w", "k_nonregen_n"):
+        for field in (
+            "mu",
+            "slip_exponent",
+            "slip_ref_mps",
+            "k_resistance_n",
+            "p_braking_w",
+            "k_nonregen_n",
+        ):
             if getattr(e, field) is not None:
                 raise ValueError(f"terrains.{name}.{field} belongs to the contact-friction model")
 

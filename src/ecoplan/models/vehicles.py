@@ -27,7 +27,7 @@ from typing import Any
 import yaml
 
 from ecoplan.errors import InputError
-from ecoplan.models.tracked import GRAVITY_MPS2, TrackedParams
+from ecoplan.models.tracked import DEFAULT_SLIP_REF_MPS, GRAVITY_MPS2, TrackedParams
 from ecoplan.models.vehicle_schema import Sourced, TerrainEntry, VehicleFile, limit_problem
 from ecoplan.models.wheeled import SideCoefficients, WheeledParams
 
@@ -191,6 +191,8 @@ class Vehicle:
                 contact_length_m=g.wheelbase_m,
                 n_contact_points=g.n_contact_points,
                 mu=_value(e.mu, 0.0),
+                slip_exponent=_value(e.slip_exponent, 0.0),
+                slip_ref_mps=_value(e.slip_ref_mps, DEFAULT_SLIP_REF_MPS),
                 k_resistance_n=self._k_resistance(e),
                 p_braking_w=_value(e.p_braking_w, d.p_braking_w),
                 k_nonregen_n=_value(e.k_nonregen_n, d.k_nonregen_n),
