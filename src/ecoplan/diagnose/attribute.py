@@ -44,7 +44,7 @@ from ecoplan.diagnose.effects import (
     make_effect,
 )
 from ecoplan.diagnose.effects.motion import lag_speed_channel, offset_pose_channel
-from ecoplan.diagnose.effects.supply import saturation_speed_channel
+from ecoplan.diagnose.effects.supply import regeneration_structure, saturation_speed_crossfit
 from ecoplan.diagnose.naming import (
     Alternative,
     HalvesCheck,
@@ -99,7 +99,9 @@ class EffectScore:
         Candidate name.
     channel : str
         Where the candidate is judged: ``"power_w"`` (power residual), ``"speed_mps"``
-        (measured side speeds against the commands through the drive, ``actuator_lag``) or
+        (measured side speeds against the commands through the drive, ``actuator_lag``; and
+        ``power_saturation``'s speeds short of the commands, scored with each half held out
+        once, :func:`~ecoplan.diagnose.effects.supply.saturation_speed_crossfit`) or
         ``"pose_speed_mps"`` (forward speed from the pose against the side speeds,
         ``icr_asymmetry``).
     before, after : float
@@ -229,9 +231,11 @@ def _score(
     floor: float,
     power: tuple[float, float],
     params: dict[str, float],
+    block: FloatArray | None = None,
 ) -> EffectScore:
     before = float(np.mean(np.abs(r0)))
-    red, lo, hi, p = block_bootstrap(r0, r1, test.frame.block.astype(np.float64), rng)
+    blk = test.frame.block.astype(np.float64) if block is None else block
+    red, lo, hi, p = block_bootstrap(r0, r1, blk, rng)
     explained = float(np.clip(red / max(before - floor, 1e-12), 0.0, 1.0))
     sig = p < level and red > min_gain * before
     return EffectScore(
@@ -345,8 +349,9 @@ def attribute(
             )
         )
     if speed_sat:
-        # a power limit that slows the drive shows on the speeds, not on the power
-        s0, s1, cap = saturation_speed_channel(train, test)
+        # a power limit that slows the drive shows on the speeds, not on the power; it binds
+        # in a few episodes, so both halves are held out once (cross-fitting)
+        s0, s1, s_block, cap = saturation_speed_crossfit(train, test)
         clip = PowerSaturation(theta=cap).fit(train)
         sat = _score(
             "power_saturation",
@@ -360,6 +365,7 @@ def attribute(
             noise_floor_mae(s0),
             (before, clip.score(test)),
             {"p_max_w": cap},
+            s_block,
         )
         if sat.significant:
             fitted["power_saturation"] = clip
@@ -410,6 +416,11 @@ def attribute(
     named = tied[0] if verdict == "ambiguous" and tied else verdict
     named_after = next((sc.after for sc in power_scores if sc.name == named), None)
     alternatives = fit_alternatives(train, test, r0, rng, shape=named_after is not None)
+    structure = regeneration_structure(fitted.get(named), test)
+    if structure is not None:  # a wheeled regeneration is a structure of a(r), b(r)
+        r_reg = residuals[named]
+        red, _, _, p_reg = block_bootstrap(r0, r_reg, test.frame.block.astype(np.float64), rng)
+        alternatives.append(Alternative("structural", before - red, red, p_reg, structure, r_reg))
     verdict, conf, tied, res_after, reason = naming_rule(
         (verdict, conf, tied, res_after),
         named_after,

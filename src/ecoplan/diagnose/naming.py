@@ -12,7 +12,9 @@ training split and scored on the held-out one like the candidates:
   the two halves of the split agree on its exponents: a shape that a time-varying effect
   bent is not the vehicle's).  When it closes the gap as well as the best effect, the gap
   is the base model's convention, not an effect: the verdict is ``none`` with the structure
-  reported by calibration.
+  reported by calibration.  A wheeled ``regeneration`` is such a structure itself (the
+  braking side's ``a(r)``, ``b(r)`` scaled where it brakes,
+  :func:`~ecoplan.diagnose.effects.supply.regeneration_structure`), and so never named.
 * ``time_step`` -- a change *in time* (:class:`~ecoplan.diagnose.effects.TimeStep`: from one
   instant on, friction and the rest of the power scaled), as a payload loaded or a meter's gain
   changed mid-run.  A place-bound effect (``terrain_patch``) or a drift that a single step in
