@@ -263,6 +263,19 @@ def summarise(rows: list[dict[str, Any]]) -> bool:
     return ok
 
 
+class _Serial:
+    """``--jobs 1``: the executor's ``map`` in this process (lazily, one case at a time)."""
+
+    def __enter__(self) -> _Serial:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        return None
+
+    def map(self, fn: Any, tasks: list[Any], chunksize: int = 1) -> Any:
+        return map(fn, tasks)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description="blind diagnosis on the independent plant zoo")
     ap.add_argument(
@@ -317,11 +330,15 @@ def main() -> int:
         for s in range(args.seeds)
     ]
     t0 = time.perf_counter()
-    if args.jobs > 1:
-        with ProcessPoolExecutor(args.jobs) as ex:
-            rows = list(ex.map(run_case, tasks, chunksize=1))
-    else:
-        rows = [run_case(t) for t in tasks]
+    rows: list[dict[str, Any]] = []
+    with ProcessPoolExecutor(args.jobs) if args.jobs > 1 else _Serial() as ex:
+        for row in ex.map(run_case, tasks, chunksize=1):
+            rows.append(row)  # one progress line per case, so that a stopped run still tells
+            print(
+                f"  [{len(rows)}/{len(tasks)}] {row['variant']} {row['effect']} s{row['seed']}: "
+                f"{row['verdict']} ({row['confidence']:.2f}){'' if row['right'] else '  WRONG'}",
+                flush=True,
+            )
     wall = time.perf_counter() - t0
     print(
         f"{len(rows)} cases: variants {','.join(variants)} x {len(effects)} effects x "

@@ -29,6 +29,7 @@ from ecoplan.diagnose.friction_law import law_calibrations
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.report import json_report
+from ecoplan.diagnose.report_md import report_markdown
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import vehicle
 from tracked_plant import GAUGE_M, HZ, PLANT, plant_power_w
@@ -126,6 +127,7 @@ def test_a_patch_crossed_while_turning_fast_is_named_and_gets_no_law(seed: int) 
     rival = _rival(d)
     assert rival["kept"] == 0.0
     assert rival["coulomb_after_w"] < rival["law_after_w"]
+    assert "The law was **not kept**" in report_markdown(d)
 
 
 @pytest.mark.slow
@@ -145,3 +147,6 @@ def test_a_law_plant_without_effects_keeps_the_law_as_structure_and_names_nothin
     # the report's JSON (validated against its schema) lists the choice with the exponent
     (entry,) = [a for a in json_report(d)["naming"]["alternatives"] if a["name"] == "friction_law"]
     assert entry["params"]["slip_exponent"] == pytest.approx(n)
+    # and report.md says so, with the exponent
+    assert "The law was **kept**" in report_markdown(d)
+    assert f"n = {n:.2f}" in report_markdown(d)

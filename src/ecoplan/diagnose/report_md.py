@@ -51,6 +51,32 @@ def _untold(d: Diagnosis) -> list[str]:
     ]
 
 
+def _friction_law(d: Diagnosis) -> list[str]:
+    """Where a friction law was identified: whether it was kept, and the two held-out MAEs."""
+    law = next((a for a in d.attribution.alternatives if a.name == "friction_law"), None)
+    if law is None:
+        return []
+    n = law.params.get("slip_exponent", float("nan"))
+    coulomb = law.params.get("coulomb_after_w", float("nan"))
+    kept = law.params.get("kept", 0.0) == 1.0
+    choice = (
+        "**kept** as base-model structure (`slip_exponent` above): the law explains the log "
+        "better than any effect on Coulomb friction"
+        if kept
+        else "**not kept**: Coulomb friction with the best effect explains the log better, so "
+        "the diagnosis stands on Coulomb friction"
+    )
+    return [
+        "## Friction law",
+        "",
+        f"The training split shows friction growing with slip speed, µ (s / s_ref)^n with "
+        f"n = {n:.2f}, rather than Coulomb's constant µ (Morales et al. 2009, eq. 8). Best "
+        f"held-out MAE on each base: with the law {_f(law.after_w, 'W')}, with Coulomb "
+        f"{_f(coulomb, 'W')}. The law was {choice}.",
+        "",
+    ]
+
+
 def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
     """The Markdown text of ``report.md`` for a diagnosis."""
     att = d.attribution
@@ -126,6 +152,7 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
             "non-decreasing with speed, a(r), b(r) monotone as in the wheeled paper).",
             "",
         ]
+    out += _friction_law(d)
     out += ["## Where", "", "Regimes where the error share exceeds the time share:", ""]
     top = sorted(d.where, key=lambda w: -(w.error_share - w.time_share))[:5]
     out += ["| regime | share of error | share of time | MAE |", "|---|---|---|---|"]
