@@ -31,11 +31,17 @@ from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any
 
-import numpy as np
+# one BLAS thread per process, set before numpy loads its BLAS: with --jobs 2, or two runs
+# side by side, a threaded BLAS oversubscribes the cores (on 2 cores the zoo ran ~10x slower,
+# half of the time spinning in the kernel)
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
 
-from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.synth.cases import generate_case
-from ecoplan.synth.withheld import IN_LIBRARY
+import numpy as np  # noqa: E402
+
+from ecoplan.diagnose.pipeline import diagnose  # noqa: E402
+from ecoplan.synth.cases import generate_case  # noqa: E402
+from ecoplan.synth.withheld import IN_LIBRARY  # noqa: E402
 
 CLASSES = ("none", *IN_LIBRARY, "out_of_library")
 
@@ -170,5 +176,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
     sys.exit(main())

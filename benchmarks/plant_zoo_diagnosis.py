@@ -52,11 +52,17 @@ from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
-import numpy as np
+# one BLAS thread per process, set before numpy loads its BLAS: with --jobs 2, or two runs
+# side by side, a threaded BLAS oversubscribes the cores (on 2 cores the zoo ran ~10x slower,
+# half of the time spinning in the kernel)
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import plant_zoo
+import plant_zoo  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGETS = {"right": 0.9, "none": 0.9, "unexplained": 0.7, "reduction": 0.7, "conf": 0.9}
@@ -356,5 +362,4 @@ def main() -> int:
 
 
 if __name__ == "__main__":
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
     sys.exit(main())
