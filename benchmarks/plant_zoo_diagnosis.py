@@ -228,6 +228,26 @@ def summarise(rows: list[dict[str, Any]]) -> bool:
             + " ".join(f"{_pct(x):>7s}" for x in fig)
             + f" {amb:6d} {crash:5d}  {'PASS' if ok_v else 'fail'}  {desc}"
         )
+    wheeled = [v for v in variants if plant_zoo.VARIANTS[v][0] == "wheeled"]
+    for v in wheeled:
+        # Chuy et al. identify a(r), b(r) radius by radius (eq. 12): a braking side that gives
+        # back a share draws what scaled coefficients draw, so the naming rule's structural
+        # alternative ties `regeneration` and the diagnosis never names it on a wheeled log
+        # (effects/supply.regeneration_structure).  The literal figure above counts those
+        # logs as misses; this line shows the rest of the in-library effects apart.
+        rest = [
+            r
+            for r in rows
+            if r["variant"] == v
+            and r["effect"] in plant_zoo.IN_LIBRARY
+            and r["effect"] != "regeneration"
+        ]
+        regen = [r for r in rows if r["variant"] == v and r["effect"] == "regeneration"]
+        print(
+            f"  {v}: right on the in-library effects other than regeneration {_pct(_share(rest))}"
+            f" of {len(rest)}; regeneration logs called `none` "
+            f"{sum(r['verdict'] == 'none' for r in regen)} of {len(regen)}"
+        )
     print(
         "  right: in-library logs whose verdict names the effect; none: clean logs called "
         "`none`;\n  unexpl: out-of-library logs called `unexplained`; reduct: median held-out "
