@@ -76,6 +76,16 @@ def _read_log(path: Path) -> Any:
     return read_log_csv(path)
 
 
+def _held_out_rows(t_log: np.ndarray, t_test: np.ndarray) -> np.ndarray | None:
+    """Rows of the logged case at the held-out samples' times (None if one does not match).
+
+    The diagnosis may leave samples out of its frame (a wheeled log's stop tails), so the
+    held-out samples are found by their time stamps, not by the frame's mask.
+    """
+    idx = np.clip(np.searchsorted(t_log, t_test - 1e-6), 0, t_log.size - 1)
+    return idx if np.allclose(t_log[idx], t_test, rtol=0.0, atol=1e-4) else None
+
+
 def run_case(args: tuple[str, str, int, float, str]) -> dict[str, Any]:
     variant, effect, seed, duration, cache = args
     from ecoplan.diagnose.pipeline import diagnose
@@ -130,8 +140,9 @@ def run_case(args: tuple[str, str, int, float, str]) -> dict[str, Any]:
     name = att.tied[0] if d.verdict == "ambiguous" and att.tied else d.verdict
     top = next((s for s in att.scores if s.name == name), None)
     row["channel"] = top.channel if top is not None else ""
-    if top is not None and top.channel == "power_w" and len(d.test_mask) == len(case.true_power_w):
-        p_true = case.true_power_w[d.test_mask]
+    held = _held_out_rows(case.columns["t"], d.test_frame.t)
+    if top is not None and top.channel == "power_w" and held is not None:
+        p_true = case.true_power_w[held]
         pred_cal = d.test_frame.p - d.residual_calibrated_w
         before = float(np.mean(np.abs(p_true - pred_cal)))
         after = float(np.mean(np.abs(p_true - d.prediction_final_w)))
