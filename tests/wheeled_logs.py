@@ -69,7 +69,6 @@ def chuy_log(
     n_tight: int = 4,
     tight_mps: tuple[float, float] = (0.27, 0.4),
     duration_s: float = 150.0,
-    stop_after_tight: bool = False,
 ) -> SimpleNamespace:
     """A log of the plant (module docstring) with ``n_tight`` brisk tight turns.
 
@@ -87,16 +86,11 @@ def chuy_log(
         Range of their forward speed [m/s].
     duration_s : float
         Length [s].
-    stop_after_tight : bool
-        Stop for 2.5 s after each tight turn (commands 0).  The lagged drive then slows
-        along the turn's arc, drawing eq. (12)'s ``b(r)`` at the turn's radius until it is
-        below 1e-6 m/s, while the encoders, as the Pioneer's, read 0 below 2 mm/s.
 
     Returns
     -------
     SimpleNamespace
-        The log record (:func:`synth_logs.log_record`), with commands and pose, and the
-        plant's noise-free power as ``p_true``.
+        The log record (:func:`synth_logs.log_record`), with commands and pose.
     """
     rng = np.random.default_rng(seed)
     n = int(duration_s * HZ)
@@ -116,8 +110,6 @@ def chuy_log(
             v_cmd[i : i + k] = rng.uniform(0.3, 0.55)
         sign[i : i + k] = rng.choice([-1.0, 1.0])
         i, leg = i + k, leg + 1
-        if stop_after_tight and leg - 1 in tight:
-            i += int(2.5 * HZ)  # commands stay 0: a stop
     cl, cr = _sides(v_cmd, r_cmd, sign)
     cl, cr = np.round(cl, 2), np.round(cr, 2)  # the joystick's 0.01 m/s quantum
     a = (1.0 / HZ) / (0.1 + 1.0 / HZ)  # a 0.1 s first-order drive lag
@@ -140,10 +132,5 @@ def chuy_log(
     t = np.arange(n) / HZ
     vl_m = vl + ar1(rng, n, 0.004, 0.7)
     vr_m = vr + ar1(rng, n, 0.004, 0.7)
-    if stop_after_tight:  # the encoders' dead band
-        vl_m = np.where(np.abs(vl) < 2e-3, 0.0, vl_m)
-        vr_m = np.where(np.abs(vr) < 2e-3, 0.0, vr_m)
     p_m = p + ar1(rng, n, 0.4, 0.8)
-    rec = log_record(t, vl_m, vr_m, p_m, (cl, cr), 2.0 * HALF_SPREAD_M)
-    rec.p_true = p  # the plant's noise-free power [W], for the tests' reference values
-    return rec
+    return log_record(t, vl_m, vr_m, p_m, (cl, cr), 2.0 * HALF_SPREAD_M)

@@ -45,7 +45,6 @@ import numpy as np
 
 from ecoplan._typing import RngLike
 from ecoplan.diagnose.attribute import split_masks
-from ecoplan.diagnose.calibrate import settling
 from ecoplan.diagnose.checks import check_logs, effect_resolution
 from ecoplan.diagnose.effects.terrain import known_terrains, segmentation_models
 from ecoplan.diagnose.law_rival import calibrate_and_attribute
@@ -66,7 +65,6 @@ from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.where_time import TimeSegment, label_segments, where_time
 from ecoplan.errors import InputError
 from ecoplan.models.logged_power import logged_power_w
-from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams, vehicle
 
 __all__ = ["diagnose"]
@@ -106,14 +104,6 @@ def _with_case_tol(params: VehicleParams, tol_mps: float) -> VehicleParams:
         overrides = {**dict(params.overrides), "case_tol_mps": tol_mps}
         return source.params(params.terrain, overrides)  # type: ignore[no-any-return]
     return dataclasses.replace(params, case_tol_mps=tol_mps)
-
-
-#: How long after a wheeled log's last sample in motion (both side speeds within the encoder
-#: noise of 0 after it) the drive may still be slowing along its arc, drawing ``b(r)`` of
-#: eq. (12) [s]: the zoo's and the tests' wheeled plants (0.1 s drive lag) draw 3-5 W up to
-#: 1.3 s after the command stops, and the smoothed speeds fall within the noise of 0 before
-#: the encoders read 0.  Those samples are left out of the split (:func:`diagnose`).
-STOP_TAIL_S = 1.5
 
 
 def diagnose(
@@ -163,16 +153,6 @@ def diagnose(
     if tol > params.case_tol_mps:
         params = _with_case_tol(params, tol)
     frame = build_frame(log_list, params, block_s, snap_mps=params.case_tol_mps)
-    if isinstance(params, WheeledParams):
-        # the encoders read 0 (or within their noise of it) while a wheeled drive still slows
-        # along an arc and draws b(r) (calibrate.settling): no model of the logged speeds
-        # predicts those samples, so they are neither fitted (as in calibration) nor scored
-        tol = params.case_tol_mps
-        rest = (np.abs(frame.vl) <= tol) & (np.abs(frame.vr) <= tol)
-        zeroed = dataclasses.replace(
-            frame, vl=np.where(rest, 0.0, frame.vl), vr=np.where(rest, 0.0, frame.vr)
-        )
-        frame = frame.subset(~settling(zeroed, STOP_TAIL_S))
     train_m, test_m = split_masks(frame)
     if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
         raise InputError("log too short to diagnose: need at least 40 samples after the split")
