@@ -44,6 +44,15 @@ alone the local search stopped in the preset's basin on 4 of 5 synthetic logs wi
 slope exponents (MSE 0.84 W² where the true exponents give 0.09 W²,
 ``tests/test_structure.py``).  On the plant zoo's variant f (4 seeds) the rival changed no
 verdict: 62.5 / 75 / 100 / 70.1 % right / none / unexplained / reduction before and after.
+Session 11 measured whether the shape could turn a wheeled ``unexplained`` into ``none`` (a
+clean log's gap that the shape closes being structure): not on f.  On its clean logs s0 and
+s1 the halves disagree on all four exponents (training / held-out half: inner ``a_beta``
+3.19 / 2.57 and 3.29 / 2.80, inner ``b_beta`` 11.2 / 9.5 and 10.7 / 8.4, outer ``a_beta``
+2.54 / 2.26 and 2.53 / 2.35, outer ``b_beta`` 4.34 / 5.29 and 4.39 / 5.08), so the shape is
+never admitted; admitted anyway on s1 it moves the held-out gap from 0.637 to 0.572 W against
+a 0.324 W noise floor, 21 % of the gap above the noise (the rule would need 80 %).  Chuy's
+``(r + 1)^-beta`` cannot take the plant's ``r^-2`` decay over the radii a log visits, and
+each half's exponents follow the radii it visits.
 """
 
 from __future__ import annotations
