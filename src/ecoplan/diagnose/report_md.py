@@ -66,6 +66,12 @@ def _friction_law(d: Diagnosis) -> list[str]:
         else "**not kept**: Coulomb friction with the best effect explains the log better, so "
         "the diagnosis stands on Coulomb friction"
     )
+    refit = law.params.get("refit_exponent")
+    if kept and refit is not None:
+        choice += (
+            f"; refitted jointly with the named effect on the training split, the exponent "
+            f"is n = {refit:.2f}, which the final and corrected models carry"
+        )
     return [
         "## Friction law",
         "",
