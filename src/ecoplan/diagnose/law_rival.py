@@ -253,8 +253,7 @@ def refit_with_effect(
 
     def loss(n: float) -> float:
         data = prepare(train_f, dataclasses.replace(base, slip_exponent=n), prior=prior)
-        trial = kind(eff.theta_)
-        trial.theta_, trial.chi_ = eff.theta_, eff.chi_
+        trial = copy.copy(eff)  # its fitted state (θ, χ, an effect's own fitted segments)
         trial.coef_ = trial._fit_coef(data, eff.theta_)
         return _train_loss(trial, data)
 
