@@ -32,7 +32,7 @@ from ecoplan.diagnose.report import json_report
 from ecoplan.diagnose.report_md import report_markdown
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import vehicle
-from tracked_plant import GAUGE_M, HZ, PLANT, plant_power_w
+from tracked_plant import GAUGE_M, HZ, PLANT, lag, plant_power_w, spot_turn_commands
 
 #: The patch: friction and resistance factor inside ``PATCH_RADIUS_M`` of A (the origin).
 PATCH_FACTOR, PATCH_RADIUS_M = 1.5, 1.0
@@ -40,47 +40,10 @@ PATCH_FACTOR, PATCH_RADIUS_M = 1.5, 1.0
 LAW_N = 0.3
 
 
-def _lag(cmd: np.ndarray, tau_s: float = 0.4) -> np.ndarray:
-    """Side speed following its command through a first-order lag of ``tau_s``."""
-    a = 1.0 - np.exp(-1.0 / (HZ * tau_s))
-    v = np.zeros(cmd.size)
-    for i in range(1, cmd.size):
-        v[i] = v[i - 1] + a * (cmd[i] - v[i - 1])
-    return v
-
-
-def _commands(seed: int, duration_s: float = 240.0) -> tuple[np.ndarray, np.ndarray]:
-    """Spot turns there and back, fast at A and slow at B, straights between (module doc)."""
-    rng = np.random.default_rng(seed)
-    left: list[float] = []
-    right: list[float] = []
-
-    def hold(a: float, b: float, seconds: float) -> None:
-        k = int(seconds * HZ)
-        left.extend([a] * k)
-        right.extend([b] * k)
-
-    while len(left) < duration_s * HZ:
-        for speeds, lo, hi in (((0.3, 0.45), 1.5, 3.0), ((0.1, 0.2), 2.0, 4.0)):
-            s, d = float(rng.choice(speeds)), rng.uniform(lo, hi)
-            hold(-s, s, d)
-            hold(0.0, 0.0, 1.0)
-            hold(s, -s, d)  # back to the heading of the line
-            hold(0.0, 0.0, 1.0)
-            if speeds[0] > 0.2:  # from A out to B
-                v, go = rng.uniform(0.3, 0.5), rng.uniform(6.0, 9.0)
-                hold(v, v, go)
-            else:  # and back
-                hold(-v, -v, go)
-            hold(0.0, 0.0, 1.0)
-    size = int(duration_s * HZ)
-    return np.array(left[:size]), np.array(right[:size])
-
-
 def _log(seed: int, n: float, factor: float) -> SimpleNamespace:
     """The plant's log: side speeds, pose (eq. 12 at the plant's χ) and power with 10 W noise."""
-    cl, cr = _commands(seed)
-    vl, vr = _lag(cl), _lag(cr)
+    cl, cr = spot_turn_commands(seed)
+    vl, vr = lag(cl), lag(cr)
     wz = PLANT["chi"] * (vr - vl) / GAUGE_M  # ICRs at ±L / (2χ)
     yaw = np.cumsum(wz) / HZ
     v = 0.5 * (vl + vr)

@@ -5,6 +5,10 @@ track, Morales et al. 2009 §III-C, Fig. 5), ICRs at ``±L / (2χ)`` (eq. 12), a
 coefficient ``µ (s / s_ref)^n`` at each point's slip speed ``s = |wz| ρ`` (eq. 9; ``n = 0`` is
 Coulomb), traction resistance (eq. 18), driver terms (§III-C, the paper's steps) and η
 (eq. 20).  ``scale`` multiplies friction and resistance (a patch of other ground).
+
+The drive of the friction-law tests (:func:`spot_turn_commands`, :func:`lag`): spot turns at
+fast track speeds at A (0.3, 0.45 m/s), at slow ones at B (0.1, 0.2 m/s), straights between,
+through a first-order drive lag.
 """
 
 from __future__ import annotations
@@ -55,3 +59,48 @@ def ramp(cmd: np.ndarray, accel_mps2: float = 0.5) -> np.ndarray:
     for i in range(1, cmd.size):
         v[i] = v[i - 1] + np.clip(cmd[i] - v[i - 1], -step, step)
     return v
+
+
+def lag(cmd: np.ndarray, tau_s: float = 0.4) -> np.ndarray:
+    """Side speed following its command through a first-order lag of ``tau_s``."""
+    a = 1.0 - np.exp(-1.0 / (HZ * tau_s))
+    v = np.zeros(cmd.size)
+    for i in range(1, cmd.size):
+        v[i] = v[i - 1] + a * (cmd[i] - v[i - 1])
+    return v
+
+
+def spot_turn_commands(
+    seed: int, duration_s: float = 240.0, *, faster_later: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """Spot turns there and back, fast at A and slow at B, straights between (module doc).
+
+    ``faster_later``: each turn's speed is drawn from the lower of its two values in the
+    first half of the run and from the higher in the second (the yaw rates grow with time).
+    """
+    rng = np.random.default_rng(seed)
+    left: list[float] = []
+    right: list[float] = []
+
+    def hold(a: float, b: float, seconds: float) -> None:
+        k = int(seconds * HZ)
+        left.extend([a] * k)
+        right.extend([b] * k)
+
+    while len(left) < duration_s * HZ:
+        for speeds, lo, hi in (((0.3, 0.45), 1.5, 3.0), ((0.1, 0.2), 2.0, 4.0)):
+            s, d = float(rng.choice(speeds)), rng.uniform(lo, hi)
+            if faster_later:
+                s = speeds[int(len(left) >= duration_s * HZ / 2)]
+            hold(-s, s, d)
+            hold(0.0, 0.0, 1.0)
+            hold(s, -s, d)  # back to the heading of the line
+            hold(0.0, 0.0, 1.0)
+            if speeds[0] > 0.2:  # from A out to B
+                v, go = rng.uniform(0.3, 0.5), rng.uniform(6.0, 9.0)
+                hold(v, v, go)
+            else:  # and back
+                hold(-v, -v, go)
+            hold(0.0, 0.0, 1.0)
+    size = int(duration_s * HZ)
+    return np.array(left[:size]), np.array(right[:size])

@@ -6,6 +6,10 @@ imports nothing from ``ecoplan`` and was written without reading ecoplan's model
 that it cannot share a convention with the library by accident.  Logs are written in the
 README's CSV log format, the contract between the zoo and the diagnosis.
 
+Variant ``h`` (friction growing with slip as Coulomb plus a viscous term) is the development
+sibling of ``c`` (a power law in the slip speed): work on the friction law is measured on h,
+so that c, held out, stays a blind check.
+
 Modules: :mod:`.tracked` (eqs. 1-23 of the tracked paper), :mod:`.wheeled` (eqs. 12-15,
 Tables I-II), :mod:`.drive` (operator-like commands), :mod:`.plant` (variants, injected
 effects, logging).

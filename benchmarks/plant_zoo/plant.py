@@ -59,6 +59,13 @@ VARIANTS: dict[str, tuple[str, str]] = {
     "e": ("tracked", "mu, K, chi and driver terms 15-25 % off the paper"),
     "f": ("wheeled", "wheeled a(r), b(r) of another smooth family (r^-2 decay)"),
     "g": ("wheeled", "wheeled paper literally (Table I, eqs. 12-15)"),
+    # c's development sibling: friction grows with slip by another law, so that work on the
+    # slip law can be measured without looking at c (held out); after "g" in sorted order,
+    # so the seeds of a-g (``vi``) are unchanged
+    "h": (
+        "tracked",
+        "friction grows with slip, Coulomb plus viscous (mu (1 + s/0.4) / 2); c's dev sibling",
+    ),
 }
 
 #: Tracked (belt, terrain) per seed, cycled.
@@ -153,6 +160,8 @@ def _tracked_params(
         p = p.with_(nonregen_ramp_mps=0.1)
     elif variant == "c":
         p = p.with_(slip_exponent=0.3, slip_ref_mps=0.4)
+    elif variant == "h":
+        p = p.with_(slip_viscous_mps=0.4, slip_ref_mps=0.4)
     elif variant == "d":
         cx = float(rng.uniform(0.04, 0.06) * rng.choice([-1, 1]))
         cy = float(rng.uniform(0.08, 0.12) * rng.choice([-1, 1]))

@@ -22,7 +22,10 @@ Model, by equation of the paper:
   boundary; a ramp width can be set.
 - Total, eq. (20): ``P_T = (P_M + P_D) / eta`` with eta = 0.95 (data sheet, Sec. III-B).
 
-Deliberate departures (plant variants) are parameters of :class:`TrackedParams`.
+Deliberate departures (plant variants) are parameters of :class:`TrackedParams`.  Friction
+that grows with the slip speed comes in two forms: a power law ``mu (s / s_ref)^n``
+(variant c) and Coulomb plus a viscous term, ``mu (1 + s / s_v) / (1 + s_ref / s_v)``
+(variant h, c's development sibling: another shape, the same coefficient at ``s_ref``).
 """
 
 from __future__ import annotations
@@ -80,7 +83,12 @@ class TrackedParams:
         0 is Coulomb friction (eq. 8).  ``n > 0``: the friction coefficient grows with the slip
         speed ``s`` as ``mu (s / slip_ref_mps)^n``.
     slip_ref_mps : float
-        Reference slip speed of the slip-dependent law (m/s).
+        Reference slip speed of the slip-dependent laws (m/s).
+    slip_viscous_mps : float
+        0 is off.  ``s_v > 0``: Coulomb plus a viscous term, the coefficient at slip speed
+        ``s`` is ``mu (1 + s / s_v) / (1 + s_ref / s_v)`` (``mu`` at ``s_ref``); its local
+        exponent ``d ln(mu(s)) / d ln(s) = s / (s_v + s)`` grows with the slip, unlike the
+        power law's constant ``n``.  Not combined with ``slip_exponent``.
     cg_x_m, cg_y_m : float
         Centre of gravity in the paper's frame (X right, Y forward) (m); loads are
         distributed linearly over the eight contact points so that they balance the moment.
@@ -104,6 +112,7 @@ class TrackedParams:
     nonregen_ramp_mps: float = 0.0
     slip_exponent: float = 0.0
     slip_ref_mps: float = 0.4
+    slip_viscous_mps: float = 0.0
     cg_x_m: float = 0.0
     cg_y_m: float = 0.0
     icr_scale_left: float = 1.0
@@ -258,7 +267,14 @@ def friction_power(
     xy, load = contact_points(p)
     rho = np.hypot(xy[:, :, 0] - cx[:, None], xy[:, :, 1])  # (2, 4) distance to own ICR
     mass_factor = 1.0 + np.asarray(extra_mass_kg, dtype=float) / p.mass_kg
-    if p.slip_exponent == 0.0:
+    if p.slip_viscous_mps > 0.0:
+        if p.slip_exponent != 0.0:
+            raise ValueError("slip_viscous_mps and slip_exponent are not combined")
+        slip = wz[..., None, None] * rho  # slip speed of each point (m/s)
+        sv = p.slip_viscous_mps
+        mu_eff = (1.0 + slip / sv) / (1.0 + p.slip_ref_mps / sv)
+        out = p.mu * np.sum(load * mu_eff * slip, axis=(-2, -1))
+    elif p.slip_exponent == 0.0:
         s = float(np.sum(load * rho))
         out = p.mu * wz * s
     else:

@@ -38,6 +38,7 @@ from ecoplan.dynamics.drive import follow_commands
 from ecoplan.errors import InputError
 from ecoplan.io.yaml import error_at
 from ecoplan.models.power import PowerBreakdown
+from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import SideCoefficients
 from ecoplan.presets import VehicleParams, vehicle
 
@@ -181,6 +182,10 @@ def corrected_model(d: Diagnosis) -> CorrectedModel:
         return CorrectedModel(d.vehicle, d.terrain, d.calibration.params)
     eparams = {k: v for k, v in eff.params_.items() if k != "chi"}
     params = d.calibration.params
+    refit = d.calibration.changed.get("slip_exponent_with_effect")
+    # the kept friction law's exponent refitted with the effect (law_rival.refit_with_effect)
+    if refit is not None and isinstance(params, TrackedParams):
+        params = dataclasses.replace(params, slip_exponent=refit[1])
     if eff.chi_ is not None:
         params = dataclasses.replace(params, chi=eff.chi_)
     # the vehicle the effect drives (icr_asymmetry: its shifted ICRs)

@@ -39,6 +39,7 @@ from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import VehicleParams
 
 __all__ = [
+    "SLIP_HALF_LEVEL",
     "SLIP_LEVEL",
     "SLIP_MIN_EXPONENT",
     "SLIP_MIN_SPREAD",
@@ -62,6 +63,13 @@ SLIP_TURNING_MPS = 0.05
 SLIP_MIN_SPREAD = 1.5
 #: Significance of the likelihood-ratio test against Coulomb friction [-].
 SLIP_LEVEL = 0.01
+#: Significance at which each half of the log must reject Coulomb friction too [-].  Each
+#: half holds half the samples, so its likelihood-ratio statistic is about half the whole
+#: log's: at :data:`SLIP_LEVEL` a half missed a law the whole log rejected Coulomb for at
+#: ``lr`` 66-119 (plant zoo h, a Coulomb-plus-viscous law: halves at ``lr`` 5.0-6.4 with
+#: intervals overlapping the other half's).  Under Coulomb friction both halves reject at
+#: 5 % with probability 0.25 %, below the whole log's :data:`SLIP_LEVEL`.
+SLIP_HALF_LEVEL = 0.05
 #: Smallest exponent worth a law: the 95 % interval must lie above it [-].  At yaw rates a
 #: factor 3 apart, ``n = 0.05`` changes the ratio of their friction powers by 3^0.05, 6 %.
 SLIP_MIN_EXPONENT = 0.05
@@ -133,9 +141,10 @@ def structural_friction(frame: Frame, params: TrackedParams, chi: float) -> Fric
     * the law is material: the 95 % profile interval lies above :data:`SLIP_MIN_EXPONENT`,
       and
     * the two halves of the log (alternate time blocks, :attr:`Frame.block` parity) each
-      reject Coulomb alike, their intervals overlapping: an effect tied to part of the log
-      (a patch crossed in some blocks, a drift) bends the exponent on one half, not the
-      vehicle's law (issue 12, item 2's halves clause, applied to the structure).
+      reject Coulomb (at :data:`SLIP_HALF_LEVEL`) alike, their intervals overlapping: an
+      effect tied to part of the log (a patch crossed in some blocks, a drift) bends the
+      exponent on one half, not the vehicle's law (issue 12, item 2's halves clause,
+      applied to the structure).
 
     Otherwise the law stays Coulomb (``slip_exponent`` 0), the preset's convention.  On
     ecoplan's own blind-check generator (Coulomb, 24 tracked cases, 2 seeds per class) the
@@ -165,7 +174,9 @@ def structural_friction(frame: Frame, params: TrackedParams, chi: float) -> Fric
     if law.identified:
         halves = [_law_search(frame.subset(frame.block % 2 == k), base, chi) for k in (0, 1)]
         a, b = (h.interval for h in halves)
-        if not all(h.identified for h in halves) or a[1] < b[0] or b[1] < a[0]:
+        half_lr = float(chi2.ppf(1.0 - SLIP_HALF_LEVEL, 1))
+        agree = all(h.lr_stat > half_lr and h.exponent > 0.0 for h in halves)
+        if not agree or a[1] < b[0] or b[1] < a[0]:
             law = dataclasses.replace(law, params=base, identified=False)
     return law
 

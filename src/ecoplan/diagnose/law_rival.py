@@ -24,6 +24,20 @@ calibration's changed parameters).  Otherwise the base is Coulomb's and the diag
 exactly the one without the law (same calibration, same random stream).  Either way the
 choice is listed among the naming rule's alternatives as ``friction_law``
 (:meth:`LawRival.alternative`).
+
+**The exponent refitted with the effect** (:func:`refit_with_effect`).  Where the law is kept
+and an effect is named, the exponent identified on the base alone carries what the effect
+does to the friction power (an inertia's power at the turns' starts, a drift of η over the
+turning samples): the final model, base plus effect, would keep that bias.  The exponent is
+therefore searched again jointly with the named effect -- a grid then a bounded scalar
+search of ``n`` in [0, 1] minimising the **training** loss of the effect refitted at each
+``n`` (the effect's nonlinear parameter and χ held; its fit refits the base's linear terms
+with it, :mod:`ecoplan.diagnose.effects.base`), then the effect fitted in full at the best
+``n`` -- and kept only when it fits the training split better than the effect on the law's
+base did (nothing is chosen on held-out data).  The verdict is unchanged; the final model
+and its held-out gap are the refitted ones, and the refitted exponent is reported beside
+the base's (``refit_exponent`` in the ``friction_law`` alternative, and
+``slip_exponent_with_effect`` among the calibration's changed parameters).
 """
 
 from __future__ import annotations
@@ -37,19 +51,33 @@ import numpy as np
 
 from ecoplan._typing import FloatArray
 from ecoplan.diagnose.attribute import Attribution, attribute
-from ecoplan.diagnose.calibrate import Calibration
-from ecoplan.diagnose.effects import EffectData, prepare
+from ecoplan.diagnose.calibrate import Calibration, grid_then_bounded
+from ecoplan.diagnose.effects import Effect, EffectData, prepare
 from ecoplan.diagnose.friction_law import law_calibrations
 from ecoplan.diagnose.naming import Alternative
 from ecoplan.diagnose.replay import Frame
 from ecoplan.diagnose.stats import block_bootstrap
+from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import VehicleParams
 
-__all__ = ["BaseChoice", "LawRival", "best_explanation", "calibrate_and_attribute"]
+__all__ = [
+    "BaseChoice",
+    "LawRefit",
+    "LawRival",
+    "best_explanation",
+    "calibrate_and_attribute",
+    "final_effect_name",
+    "refit_with_effect",
+]
 
 #: Seed of the bootstrap that reports the law's p-value, apart from the diagnosis's own
 #: random stream (so that the report leaves every other figure as it was).
 RIVAL_SEED = 12
+#: Whether a kept law's exponent is refitted jointly with the named effect
+#: (:func:`refit_with_effect`); off reproduces the exponent fitted on the base alone.
+REFIT_WITH_EFFECT = True
+#: Grid of the joint exponent search (then a bounded scalar search around its best) [-].
+REFIT_GRID = 11
 
 
 @dataclass(frozen=True, slots=True)
@@ -73,6 +101,9 @@ class LawRival:
         (reported; the choice is the strict comparison of the two MAEs).
     kept : bool
         The law's base is the better one: the diagnosis stands on it.
+    refit_exponent : float or None
+        The exponent refitted jointly with the named effect (:func:`refit_with_effect`) [-];
+        None where there was no refit.
     """
 
     exponent: float
@@ -82,26 +113,57 @@ class LawRival:
     coulomb_after_w: float
     p_value: float
     kept: bool
+    refit_exponent: float | None = None
 
     def alternative(self) -> Alternative:
         """The choice as a naming-rule alternative named ``"friction_law"`` (for the report).
 
         ``after_w`` is the law base's best held-out MAE, ``reduction_w`` how much less it
         leaves than the Coulomb base's best; ``params`` hold the exponent, the Coulomb base's
-        best MAE and whether the law was kept (1) or not (0).
+        best MAE, whether the law was kept (1) or not (0) and, where it was refitted with
+        the named effect, ``refit_exponent``.
         """
+        params = {
+            "slip_exponent": self.exponent,
+            "coulomb_after_w": self.coulomb_after_w,
+            "kept": float(self.kept),
+        }
+        if self.refit_exponent is not None:
+            params["refit_exponent"] = self.refit_exponent
         return Alternative(
             "friction_law",
             self.law_after_w,
             self.coulomb_after_w - self.law_after_w,
             self.p_value,
-            {
-                "slip_exponent": self.exponent,
-                "coulomb_after_w": self.coulomb_after_w,
-                "kept": float(self.kept),
-            },
+            params,
             np.zeros(0),
         )
+
+
+@dataclass(frozen=True, slots=True)
+class LawRefit:
+    """The kept law's exponent refitted jointly with the named effect (module docstring).
+
+    Attributes
+    ----------
+    effect : str
+        The named effect.
+    exponent : float
+        The refitted exponent [-].
+    fitted : Effect
+        The effect fitted on the training split prepared at that exponent.
+    test : EffectData
+        The held-out split prepared at that exponent (what ``fitted`` predicts on).
+    train_loss, base_train_loss : float
+        Training loss of the refit and of the effect at the base's exponent [W²].
+    """
+
+    effect: str
+    exponent: float
+    fitted: Effect
+    test: EffectData
+    train_loss: float
+    base_train_loss: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -118,6 +180,9 @@ class BaseChoice:
         The attribution on it (with the rival, when there was one, among its alternatives).
     rival : LawRival or None
         The law against the effects; None where no law was identified.
+    refit : LawRefit or None
+        The law refitted with the named effect; None where the law was not kept, no effect
+        was named, or the refit did not fit the training split better.
     """
 
     calibration: Calibration
@@ -125,6 +190,83 @@ class BaseChoice:
     test: EffectData
     attribution: Attribution
     rival: LawRival | None
+    refit: LawRefit | None = None
+
+
+def final_effect_name(att: Attribution) -> str:
+    """The effect the final model carries: the verdict's (an ambiguous verdict's first).
+
+    ``"none"`` when the verdict names no fitted effect, or ``actuator_lag`` (a lag changes no
+    power at the measured speeds).
+    """
+    name = att.tied[0] if att.verdict == "ambiguous" and att.tied else att.verdict
+    if name == "actuator_lag" or name not in att.fitted:
+        return "none"
+    return name
+
+
+def _train_loss(eff: Effect, data: EffectData) -> float:
+    """Training loss of a fitted effect: the sum of squared power residuals [W²]."""
+    return float(np.sum((data.p - eff.predict(data)) ** 2))
+
+
+def refit_with_effect(
+    name: str,
+    eff: Effect,
+    cal: Calibration,
+    train_f: Frame,
+    test_f: Frame,
+    prior: VehicleParams,
+) -> LawRefit | None:
+    """The law's exponent refitted jointly with a named effect on the training split.
+
+    A grid (:data:`REFIT_GRID` points over [0, 1]) then a bounded scalar search of the
+    exponent ``n`` minimising the training loss of the effect refitted at ``n``: the base
+    prepared at ``n`` (:func:`~ecoplan.diagnose.effects.prepare`), the effect's nonlinear
+    parameter and χ held at ``eff``'s, its linear terms and the base's refitted jointly
+    (:meth:`~ecoplan.diagnose.effects.Effect.fit` with the parameter given).  The effect is
+    then fitted in full at the best ``n`` (its own searches again).  Nothing held out enters.
+
+    Parameters
+    ----------
+    name : str
+        The named effect.
+    eff : Effect
+        It, fitted on the law's base.
+    cal : Calibration
+        The law's calibration (``slip_exponent`` the base's exponent).
+    train_f, test_f : Frame
+        Training and held-out splits.
+    prior : TrackedParams
+        Preset parameters (the effects' prior).
+
+    Returns
+    -------
+    LawRefit or None
+        The refit; None when it does not fit the training split better than ``eff``.
+    """
+    if eff.chi_ is None or not isinstance(cal.params, TrackedParams):
+        return None
+    base = dataclasses.replace(cal.params, chi=eff.chi_)
+    n0 = cal.params.slip_exponent
+    kind = type(eff)
+
+    def loss(n: float) -> float:
+        data = prepare(train_f, dataclasses.replace(base, slip_exponent=n), prior=prior)
+        trial = copy.copy(eff)  # its fitted state (θ, χ, an effect's own fitted segments)
+        trial.coef_ = trial._fit_coef(data, eff.theta_)
+        return _train_loss(trial, data)
+
+    n_best = grid_then_bounded(loss, 0.0, 1.0, n_grid=REFIT_GRID, xatol=2e-3)
+    params = dataclasses.replace(cal.params, slip_exponent=n_best)
+    train = prepare(train_f, params, prior=prior)
+    refit = kind(eff.theta).fit(train)
+    before = _train_loss(eff, prepare(train_f, cal.params, prior=prior))
+    after = _train_loss(refit, train)
+    if not after < before or np.isclose(n_best, n0):
+        return None
+    test = prepare(test_f, params, prior=prior)
+    return LawRefit(name, n_best, refit, test, after, before)
 
 
 def best_explanation(att: Attribution, test: EffectData) -> tuple[str, FloatArray]:
@@ -217,11 +359,20 @@ def calibrate_and_attribute(
     _, _, _, p = block_bootstrap(c_r, law_r, block, np.random.default_rng(RIVAL_SEED))
     exponent = float(getattr(law.params, "slip_exponent", 0.0))
     rival = LawRival(exponent, law_name, law_mae, c_name, c_mae, p, law_mae < c_mae)
+    refit = None
     if rival.kept:
         cal, tr, te, att = law, law_tr, law_te, law_att
+        name = final_effect_name(att)
+        if REFIT_WITH_EFFECT and name != "none":
+            refit = refit_with_effect(name, att.fitted[name], law, train_f, test_f, params)
+        if refit is not None:
+            rival = dataclasses.replace(rival, refit_exponent=refit.exponent)
+            changed = {**cal.changed, "slip_exponent_with_effect": (exponent, refit.exponent)}
+            cal = dataclasses.replace(cal, changed=changed)
+            att = dataclasses.replace(att, fitted={**att.fitted, name: refit.fitted})
     else:
         cal, tr, te, att = coulomb, c_tr, c_te, c_att
         rng.bit_generator.state = rng_coulomb.bit_generator.state
     alternatives = [*att.alternatives, rival.alternative()]
     att = dataclasses.replace(att, alternatives=alternatives)
-    return BaseChoice(cal, tr, te, att, rival)
+    return BaseChoice(cal, tr, te, att, rival, refit)

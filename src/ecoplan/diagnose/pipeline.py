@@ -47,7 +47,7 @@ from ecoplan._typing import RngLike
 from ecoplan.diagnose.attribute import split_masks
 from ecoplan.diagnose.checks import check_logs, effect_resolution
 from ecoplan.diagnose.effects.terrain import known_terrains, segmentation_models
-from ecoplan.diagnose.law_rival import calibrate_and_attribute
+from ecoplan.diagnose.law_rival import calibrate_and_attribute, final_effect_name
 from ecoplan.diagnose.localise import (
     by_regime,
     over_space,
@@ -179,11 +179,11 @@ def diagnose(
         att = dataclasses.replace(att, confidence=min(att.confidence, 0.5))
     r_cal = test.p - att.fitted["none"].predict(test)
     gap_cal = float(np.mean(np.abs(r_cal)))
-    final_name = att.tied[0] if att.verdict == "ambiguous" and att.tied else att.verdict
-    if final_name == "actuator_lag" or final_name not in att.fitted:
-        final_name = "none"  # a lag changes no power at the measured speeds
+    final_name = final_effect_name(att)  # a lag changes no power at the measured speeds
     final = att.fitted[final_name]
-    r_fin = test.p - final.predict(test)
+    refit = base.refit  # a kept law refitted with the effect predicts at its own exponent
+    on = refit.test if refit is not None and refit.effect == final_name else test
+    r_fin = on.p - final.predict(on)
     _, lo, hi, _ = block_bootstrap(r_cal, r_fin, test_f.block.astype(np.float64), gen)
     dropped = int(sum(int(getattr(lg, "dropped_rows", 0) or 0) for lg in log_list))
     log_notes: list[str] = []
