@@ -37,6 +37,7 @@ from ecoplan.diagnose import law_rival
 from ecoplan.diagnose.corrected import corrected_model
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import json_report
+from ecoplan.diagnose.report_md import report_markdown
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.presets import vehicle
 from tracked_plant import GAUGE_M, HZ, PLANT, lag, plant_power_w, spot_turn_commands
@@ -94,6 +95,8 @@ def test_the_law_refitted_with_the_drift_brings_the_final_model_closer_to_the_pl
     assert d.calibration.changed["slip_exponent_with_effect"] == (n_base, n_refit)
     (entry,) = [a for a in json_report(d)["naming"]["alternatives"] if a["name"] == "friction_law"]
     assert entry["params"]["refit_exponent"] == pytest.approx(n_refit)
+    # and report.md says it, with the refitted exponent
+    assert f"the exponent is n = {n_refit:.2f}" in report_markdown(d)
     # the corrected model carries the refitted exponent
     assert corrected_model(d).params.slip_exponent == pytest.approx(n_refit)  # type: ignore[union-attr]
     err_refit = _final_error_w(d, truth)
