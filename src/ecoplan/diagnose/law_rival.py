@@ -217,6 +217,7 @@ def refit_with_effect(
     train_f: Frame,
     test_f: Frame,
     prior: VehicleParams,
+    base_train: EffectData | None = None,
 ) -> LawRefit | None:
     """The law's exponent refitted jointly with a named effect on the training split.
 
@@ -239,6 +240,8 @@ def refit_with_effect(
         Training and held-out splits.
     prior : TrackedParams
         Preset parameters (the effects' prior).
+    base_train : EffectData, optional
+        The training split already prepared on ``cal`` (prepared here when not given).
 
     Returns
     -------
@@ -261,7 +264,9 @@ def refit_with_effect(
     params = dataclasses.replace(cal.params, slip_exponent=n_best)
     train = prepare(train_f, params, prior=prior)
     refit = kind(eff.theta).fit(train)
-    before = _train_loss(eff, prepare(train_f, cal.params, prior=prior))
+    if base_train is None:
+        base_train = prepare(train_f, cal.params, prior=prior)
+    before = _train_loss(eff, base_train)
     after = _train_loss(refit, train)
     if not after < before or np.isclose(n_best, n0):
         return None
@@ -364,7 +369,9 @@ def calibrate_and_attribute(
         cal, tr, te, att = law, law_tr, law_te, law_att
         name = final_effect_name(att)
         if REFIT_WITH_EFFECT and name != "none":
-            refit = refit_with_effect(name, att.fitted[name], law, train_f, test_f, params)
+            refit = refit_with_effect(
+                name, att.fitted[name], law, train_f, test_f, params, base_train=law_tr
+            )
         if refit is not None:
             rival = dataclasses.replace(rival, refit_exponent=refit.exponent)
             changed = {**cal.changed, "slip_exponent_with_effect": (exponent, refit.exponent)}
