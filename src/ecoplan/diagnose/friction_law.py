@@ -45,6 +45,7 @@ __all__ = [
     "SLIP_MIN_SPREAD",
     "FrictionLawFit",
     "calibrate_with_law",
+    "calibration_with_exponent",
     "law_calibrations",
     "slip_excited",
     "structural_friction",
@@ -287,12 +288,42 @@ def law_calibrations(
     law = structural_friction(sub, start, cal.params.chi)
     if not law.identified:
         return cal, None
-    with_law = calibrate(frame, dataclasses.replace(start, slip_exponent=law.exponent))
+    return cal, calibration_with_exponent(frame, params, cal, law.exponent)
+
+
+def calibration_with_exponent(
+    frame: Frame, params: TrackedParams, cal: Calibration, exponent: float
+) -> Calibration:
+    """The calibration run again with the friction law at ``exponent`` (χ searched again).
+
+    Started from ``params`` with the non-regeneration onset ``cal`` (the calibration with
+    Coulomb friction) found; its ``changed`` lists, against ``params``, what either
+    calibration changed and ``slip_exponent``.
+
+    Parameters
+    ----------
+    frame : Frame
+        Training split.
+    params : TrackedParams
+        Preset parameters, with Coulomb friction.
+    cal : Calibration
+        The calibration with Coulomb friction.
+    exponent : float
+        The law's exponent [-].
+
+    Returns
+    -------
+    Calibration
+        The calibration with the law; ``mae_before_w`` is ``cal``'s.
+    """
+    assert isinstance(cal.params, TrackedParams)
+    start = dataclasses.replace(params, nonregen_onset_mps=cal.params.nonregen_onset_mps)
+    with_law = calibrate(frame, dataclasses.replace(start, slip_exponent=exponent))
     # against the parameters as given (tracked fields are plain numbers)
     keys = [*cal.changed, *with_law.changed, "slip_exponent"]
     pairs = {k: (float(getattr(params, k)), float(getattr(with_law.params, k))) for k in keys}
     changed = {k: ab for k, ab in pairs.items() if not np.isclose(*ab)}
-    return cal, Calibration(with_law.params, changed, cal.mae_before_w, with_law.mae_after_w)
+    return Calibration(with_law.params, changed, cal.mae_before_w, with_law.mae_after_w)
 
 
 def calibrate_with_law(

@@ -25,6 +25,15 @@ exactly the one without the law (same calibration, same random stream).  Either 
 choice is listed among the naming rule's alternatives as ``friction_law``
 (:meth:`LawRival.alternative`).
 
+**The law under a strong effect** (:mod:`ecoplan.diagnose.law_joint`).  A strong effect (a
+sensor delay, a slope) leaves its power in the base's residual and hides the law from the
+base-alone test.  Where that test identifies no law, the law is tested again on the training
+split jointly with the strongest candidate fitted on the Coulomb base; a law found there is
+held against the effects exactly as above (the rival's held-out choice is the guard against
+a place-bound effect), and reported with ``identified_under_effect`` in the ``friction_law``
+alternative.  Where the joint test does not open or does not identify the law, the diagnosis
+is the one without it (same calibration, same random stream).
+
 **The exponent refitted with the effect** (:func:`refit_with_effect`).  Where the law is kept
 and an effect is named, the exponent identified on the base alone carries what the effect
 does to the friction power (an inertia's power at the turns' starts, a drift of η over the
@@ -53,7 +62,8 @@ from ecoplan._typing import FloatArray
 from ecoplan.diagnose.attribute import Attribution, attribute
 from ecoplan.diagnose.calibrate import Calibration, grid_then_bounded
 from ecoplan.diagnose.effects import Effect, EffectData, prepare
-from ecoplan.diagnose.friction_law import law_calibrations
+from ecoplan.diagnose.friction_law import calibration_with_exponent, law_calibrations
+from ecoplan.diagnose.law_joint import joint_candidate, joint_law
 from ecoplan.diagnose.naming import Alternative
 from ecoplan.diagnose.replay import Frame
 from ecoplan.diagnose.stats import block_bootstrap
@@ -76,6 +86,10 @@ RIVAL_SEED = 12
 #: Whether a kept law's exponent is refitted jointly with the named effect
 #: (:func:`refit_with_effect`); off reproduces the exponent fitted on the base alone.
 REFIT_WITH_EFFECT = True
+#: Whether a law the base-alone test does not identify is tested jointly with the strongest
+#: candidate effect (:func:`~ecoplan.diagnose.law_joint.joint_law`); off reproduces the
+#: base-alone identification only.
+JOINT_LAW = True
 #: Grid of the joint exponent search (then a bounded scalar search around its best) [-].
 REFIT_GRID = 11
 
@@ -104,6 +118,9 @@ class LawRival:
     refit_exponent : float or None
         The exponent refitted jointly with the named effect (:func:`refit_with_effect`) [-];
         None where there was no refit.
+    joint_effect : str
+        The effect the law was identified under (:func:`~ecoplan.diagnose.law_joint.joint_law`)
+        where the base-alone test did not identify it; ``""`` where it did.
     """
 
     exponent: float
@@ -114,6 +131,7 @@ class LawRival:
     p_value: float
     kept: bool
     refit_exponent: float | None = None
+    joint_effect: str = ""
 
     def alternative(self) -> Alternative:
         """The choice as a naming-rule alternative named ``"friction_law"`` (for the report).
@@ -130,6 +148,8 @@ class LawRival:
         }
         if self.refit_exponent is not None:
             params["refit_exponent"] = self.refit_exponent
+        if self.joint_effect:
+            params["identified_under_effect"] = 1.0
         return Alternative(
             "friction_law",
             self.law_after_w,
@@ -306,6 +326,26 @@ def best_explanation(att: Attribution, test: EffectData) -> tuple[str, FloatArra
     return best_name, best_r
 
 
+def _law_under_effect(
+    coulomb: Calibration, att: Attribution, train_f: Frame, prior: VehicleParams
+) -> tuple[Calibration, str] | None:
+    """The law's calibration where the law is identified under the strongest candidate.
+
+    The candidate of :func:`~ecoplan.diagnose.law_joint.joint_candidate` on the Coulomb
+    base's attribution, tested with :func:`~ecoplan.diagnose.law_joint.joint_law` on the
+    training split; where identified, the calibration run again with the law at the joint
+    exponent (:func:`~ecoplan.diagnose.friction_law.calibration_with_exponent`) and the
+    candidate's name.  None otherwise.
+    """
+    name = joint_candidate(att)
+    if name is None or not isinstance(prior, TrackedParams):
+        return None
+    found = joint_law(name, att.fitted[name], coulomb.params, train_f, prior)
+    if found is None or not found.identified:
+        return None
+    return calibration_with_exponent(train_f, prior, coulomb, found.exponent), name
+
+
 def _on_base(
     cal: Calibration,
     train_f: Frame,
@@ -329,7 +369,12 @@ def calibrate_and_attribute(
     """Calibrate, attribute, and hold an identified friction law against the effects.
 
     Where no law is identified (:func:`~ecoplan.diagnose.friction_law.law_calibrations`),
-    the calibration and the attribution on it.  Where one is, both bases are attributed and
+    the calibration and the attribution on it -- unless the law is identified *under* the
+    strongest candidate effect of that attribution (:func:`~ecoplan.diagnose.law_joint.joint_law`,
+    on the training split): then the calibration is run again with the law at the joint
+    exponent and held against the Coulomb base as below (the Coulomb base's attribution
+    already done with ``rng``; the law's with a copy of ``rng`` taken before it).  Where the
+    law is identified, both bases are attributed and
     the law kept only when its base's best held-out explanation leaves strictly less than
     Coulomb's (:func:`best_explanation`, module docstring).  The Coulomb base is attributed
     with a copy of ``rng`` taken before the law's attribution; when it is chosen, ``rng`` is
@@ -352,18 +397,28 @@ def calibrate_and_attribute(
         The chosen base's calibration, splits and attribution, and the rival.
     """
     coulomb, law = law_calibrations(train_f, params)
+    joint = ""
     if law is None:
-        return BaseChoice(coulomb, *_on_base(coulomb, train_f, test_f, params, rng, effects), None)
-    rng_coulomb = copy.deepcopy(rng)
-    law_tr, law_te, law_att = _on_base(law, train_f, test_f, params, rng, effects)
-    c_tr, c_te, c_att = _on_base(coulomb, train_f, test_f, params, rng_coulomb, effects)
+        rng_law = copy.deepcopy(rng)
+        c_tr, c_te, c_att = _on_base(coulomb, train_f, test_f, params, rng, effects)
+        under = _law_under_effect(coulomb, c_att, train_f, params) if JOINT_LAW else None
+        if under is None:
+            return BaseChoice(coulomb, c_tr, c_te, c_att, None)
+        law, joint = under
+        rng_coulomb = copy.deepcopy(rng)
+        rng.bit_generator.state = rng_law.bit_generator.state
+        law_tr, law_te, law_att = _on_base(law, train_f, test_f, params, rng, effects)
+    else:
+        rng_coulomb = copy.deepcopy(rng)
+        law_tr, law_te, law_att = _on_base(law, train_f, test_f, params, rng, effects)
+        c_tr, c_te, c_att = _on_base(coulomb, train_f, test_f, params, rng_coulomb, effects)
     law_name, law_r = best_explanation(law_att, law_te)
     c_name, c_r = best_explanation(c_att, c_te)
     law_mae, c_mae = float(np.mean(np.abs(law_r))), float(np.mean(np.abs(c_r)))
     block = test_f.block.astype(np.float64)
     _, _, _, p = block_bootstrap(c_r, law_r, block, np.random.default_rng(RIVAL_SEED))
     exponent = float(getattr(law.params, "slip_exponent", 0.0))
-    rival = LawRival(exponent, law_name, law_mae, c_name, c_mae, p, law_mae < c_mae)
+    rival = LawRival(exponent, law_name, law_mae, c_name, c_mae, p, law_mae < c_mae, None, joint)
     refit = None
     if rival.kept:
         cal, tr, te, att = law, law_tr, law_te, law_att

@@ -72,10 +72,16 @@ def _friction_law(d: Diagnosis) -> list[str]:
             f"; refitted jointly with the named effect on the training split, the exponent "
             f"is n = {refit:.2f}, which the final and corrected models carry"
         )
+    under = (
+        " once the strongest candidate effect is fitted with it (on the base model alone, "
+        "that effect's power hid the law's shape)"
+        if law.params.get("identified_under_effect", 0.0) == 1.0
+        else ""
+    )
     return [
         "## Friction law",
         "",
-        f"The training split shows friction growing with slip speed, µ (s / s_ref)^n with "
+        f"The training split shows friction growing with slip speed{under}, µ (s / s_ref)^n with "
         f"n = {n:.2f}, rather than Coulomb's constant µ (Morales et al. 2009, eq. 8). Best "
         f"held-out MAE on each base: with the law {_f(law.after_w, 'W')}, with Coulomb "
         f"{_f(coulomb, 'W')}. The law was {choice}.",
