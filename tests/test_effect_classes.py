@@ -209,3 +209,27 @@ def test_terrain_change_reports_the_friction_scale_between_its_segments() -> Non
     after = [fitted[f"seg{j}_friction_factor"] for j in segs if fitted[f"seg{j}_t_start_s"] > 200]
     assert before and after
     assert float(np.median(after) / np.median(before)) == pytest.approx(1.3, rel=0.05)
+
+
+def test_refit_residual_is_the_least_squares_optimum_with_the_effect_held() -> None:
+    # Effect.refit_residual refits the linear terms (base and effect) at the fitted nonlinear
+    # parameter: on any sample subset its sum of squares is no larger than that of the
+    # coefficients fitted on the whole log (feasible there too), and on the whole log it is
+    # the fit's own residual (the fit's last step is the same least squares).
+    case = generate_case(
+        5, "inertia", params={"mass_kg": 1200.0, "yaw_inertia_kgm2": 150.0},
+        base_error=0.0, n_waypoint_runs=2, rate_hz=25.0,
+    )  # fmt: skip
+    veh = vehicle(case.vehicle, case.terrain)
+    data = prepare(build_frame(list(case.logs), veh), veh)
+    eff = make_effect("inertia")
+    with pytest.raises(InputError, match="not fitted"):
+        eff.refit_residual(data)
+    eff.fit(data)
+    full = data.at_chi(eff.chi_)
+    np.testing.assert_allclose(eff.refit_residual(full), full.p - eff.predict(full), atol=1e-6)
+    half = full.subset(np.arange(full.p.size) < full.p.size // 2)
+    held = float(np.sum((half.p - eff.predict(half)) ** 2))
+    refit = float(np.sum(eff.refit_residual(half) ** 2))
+    assert refit <= held * (1 + 1e-9)
+    assert refit < 0.999 * held  # the first half alone is fitted better than the whole log

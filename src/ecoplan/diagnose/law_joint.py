@@ -144,9 +144,7 @@ class _Loss:
         data = self.data(n, chi)
         if mask is not None:
             data = data.subset(mask)
-        theta = self.eff.theta_
-        coef = self.eff._fit_coef(data, theta)
-        return np.asarray(data.p - self.eff._predict(data, theta, coef), dtype=np.float64)
+        return self.eff.refit_residual(data)
 
     def sse(self, n: float, chi: float, mask: BoolArray | None = None) -> float:
         return float(np.sum(self.resid(n, chi, mask) ** 2))

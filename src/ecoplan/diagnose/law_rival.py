@@ -276,9 +276,7 @@ def refit_with_effect(
 
     def loss(n: float) -> float:
         data = prepare(train_f, dataclasses.replace(base, slip_exponent=n), prior=prior)
-        trial = copy.copy(eff)  # its fitted state (θ, χ, an effect's own fitted segments)
-        trial.coef_ = trial._fit_coef(data, eff.theta_)
-        return _train_loss(trial, data)
+        return float(np.sum(eff.refit_residual(data) ** 2))
 
     n_best = grid_then_bounded(loss, 0.0, 1.0, n_grid=REFIT_GRID, xatol=2e-3)
     params = dataclasses.replace(cal.params, slip_exponent=n_best)

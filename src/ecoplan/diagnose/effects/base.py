@@ -532,6 +532,19 @@ class Effect:
         d, coef = self._ready(data)
         return self._predict(d, self.theta_, coef)
 
+    def refit_residual(self, data: EffectData) -> FloatArray:
+        """Power residual on ``data`` with the linear terms refitted [W].
+
+        The fitted nonlinear parameter is held; the base model's linear terms and the
+        effect's are fitted again on ``data`` as prepared (its own χ and base parameters), as
+        the last step of :meth:`fit` does.  What a structural search of the base (e.g. the
+        friction law's exponent) minimises with the effect held.
+        """
+        if self.coef_ is None:
+            raise InputError(f"effect {self.name!r} is not fitted")
+        coef = self._fit_coef(data, self.theta_)
+        return np.asarray(data.p - self._predict(data, self.theta_, coef), dtype=np.float64)
+
     def base_part(self, data: EffectData) -> FloatArray:
         """The refitted base model's part of :meth:`predict` [W]."""
         d, coef = self._ready(data)
