@@ -60,7 +60,7 @@ import numpy as np
 
 from ecoplan._typing import FloatArray
 from ecoplan.diagnose.attribute import Attribution, attribute
-from ecoplan.diagnose.calibrate import Calibration, grid_then_bounded
+from ecoplan.diagnose.calibrate import Calibration, grid_then_bounded, search_subset
 from ecoplan.diagnose.effects import Effect, EffectData, prepare
 from ecoplan.diagnose.friction_law import calibration_with_exponent, law_calibrations
 from ecoplan.diagnose.law_joint import joint_candidate, joint_law
@@ -331,14 +331,18 @@ def _law_under_effect(
 
     The candidate of :func:`~ecoplan.diagnose.law_joint.joint_candidate` on the Coulomb
     base's attribution, tested with :func:`~ecoplan.diagnose.law_joint.joint_law` on the
-    training split; where identified, the calibration run again with the law at the joint
+    training split (its strided search subset,
+    :func:`~ecoplan.diagnose.calibrate.search_subset`, as the base-alone test); where
+    identified, the calibration run again with the law at the joint
     exponent (:func:`~ecoplan.diagnose.friction_law.calibration_with_exponent`) and the
     candidate's name.  None otherwise.
     """
     name = joint_candidate(att)
     if name is None or not isinstance(prior, TrackedParams):
         return None
-    found = joint_law(name, att.fitted[name], coulomb.params, train_f, prior)
+    # on the strided subset the base-alone test searches too (the same samples for a log of
+    # up to CAL_SEARCH_SAMPLES; an hour at 100 Hz would otherwise cost ~14 s of CPU here)
+    found = joint_law(name, att.fitted[name], coulomb.params, search_subset(train_f), prior)
     if found is None or not found.identified:
         return None
     return calibration_with_exponent(train_f, prior, coulomb, found.exponent), name
