@@ -26,7 +26,7 @@ from ecoplan.diagnose.friction_law import calibrate_with_law, structural_frictio
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.structure import structural_calibration
 from ecoplan.models.tracked import TrackedParams, dynamic_friction_views
-from ecoplan.presets import vehicle
+from law_prior import plant_prior as _prior
 from tracked_plant import HZ, S_REF_MPS, plant_friction_w, plant_power_w, ramp
 
 
@@ -59,13 +59,6 @@ def _log(
         v_left_cmd=cl, v_right_cmd=cr, x=None, y=None, yaw=None, wz=None,
     )  # fmt: skip
     return log, truth
-
-
-def _prior() -> TrackedParams:
-    # the plant's driver terms are the paper's steps (onset 0, §III-C): that structure is known
-    p = vehicle("auriga-beta-wide", "marble", overrides={"nonregen_onset_mps": 0.0})
-    assert isinstance(p, TrackedParams)
-    return p
 
 
 def _split(log: SimpleNamespace, params: TrackedParams):  # type: ignore[no-untyped-def]

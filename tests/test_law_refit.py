@@ -38,8 +38,7 @@ from ecoplan.diagnose.corrected import corrected_model
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import json_report
 from ecoplan.diagnose.report_md import report_markdown
-from ecoplan.models.tracked import TrackedParams
-from ecoplan.presets import vehicle
+from law_prior import plant_prior as _prior
 from tracked_plant import GAUGE_M, HZ, PLANT, lag, plant_power_w, spot_turn_commands
 
 #: The plant's law [-].
@@ -64,13 +63,6 @@ def _log(seed: int) -> tuple[SimpleNamespace, np.ndarray]:
         v_left_cmd=None, v_right_cmd=None, x=x, y=y, yaw=yaw, wz=wz,
     )  # fmt: skip
     return log, p
-
-
-def _prior() -> TrackedParams:
-    # the plant's driver terms are the paper's steps (onset 0, §III-C): that structure is known
-    p = vehicle("auriga-beta-wide", "marble", overrides={"nonregen_onset_mps": 0.0})
-    assert isinstance(p, TrackedParams)
-    return p
 
 
 def _final_error_w(d: object, truth: np.ndarray) -> float:

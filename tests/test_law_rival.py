@@ -30,8 +30,8 @@ from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.report import json_report
 from ecoplan.diagnose.report_md import report_markdown
-from ecoplan.models.tracked import TrackedParams
-from ecoplan.presets import vehicle
+from law_prior import friction_law_entry as _rival
+from law_prior import plant_prior as _prior
 from tracked_plant import GAUGE_M, HZ, PLANT, lag, plant_power_w, spot_turn_commands
 
 #: The patch: friction and resistance factor inside ``PATCH_RADIUS_M`` of A (the origin).
@@ -55,19 +55,6 @@ def _log(seed: int, n: float, factor: float) -> SimpleNamespace:
         t=np.arange(vl.size) / HZ, v_left=vl, v_right=vr, p_total=p,
         v_left_cmd=None, v_right_cmd=None, x=x, y=y, yaw=yaw, wz=wz,
     )  # fmt: skip
-
-
-def _prior() -> TrackedParams:
-    # the plant's driver terms are the paper's steps (onset 0, §III-C): that structure is known
-    p = vehicle("auriga-beta-wide", "marble", overrides={"nonregen_onset_mps": 0.0})
-    assert isinstance(p, TrackedParams)
-    return p
-
-
-def _rival(d: object) -> dict[str, float]:
-    alts = [a for a in d.attribution.alternatives if a.name == "friction_law"]  # type: ignore[attr-defined]
-    assert len(alts) == 1
-    return {**alts[0].params, "law_after_w": alts[0].after_w}
 
 
 @pytest.mark.slow
