@@ -33,7 +33,7 @@ from ecoplan.diagnose.report import json_report
 from ecoplan.diagnose.report_md import report_markdown
 from law_prior import friction_law_entry as _rival
 from law_prior import plant_prior as _prior
-from tracked_plant import GAUGE_M, HZ, PLANT, lag, plant_power_w, spot_turn_commands
+from tracked_plant import HZ, lag, plant_power_w, pose, spot_turn_commands
 
 #: The plant's law for the law logs [-].
 LAW_N = 0.5
@@ -45,10 +45,7 @@ def _log(seed: int, n: float) -> SimpleNamespace:
     """The plant's log: side speeds, pose (eq. 12) and power logged ``DELAY_S`` late."""
     cl, cr = spot_turn_commands(seed)
     vl, vr = lag(cl), lag(cr)
-    wz = PLANT["chi"] * (vr - vl) / GAUGE_M  # ICRs at ±L / (2χ)
-    yaw = np.cumsum(wz) / HZ
-    v = 0.5 * (vl + vr)
-    x, y = np.cumsum(v * np.cos(yaw)) / HZ, np.cumsum(v * np.sin(yaw)) / HZ
+    wz, yaw, x, y = pose(vl, vr)  # eq. 12 at the plant's χ
     p = plant_power_w(vl, vr, n)
     k = round(DELAY_S * HZ)
     p = np.concatenate([np.full(k, p[0]), p[:-k]])  # the logger's buffer

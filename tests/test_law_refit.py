@@ -39,7 +39,7 @@ from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import json_report
 from ecoplan.diagnose.report_md import report_markdown
 from law_prior import plant_prior as _prior
-from tracked_plant import GAUGE_M, HZ, PLANT, lag, plant_power_w, spot_turn_commands
+from tracked_plant import HZ, lag, plant_power_w, pose, spot_turn_commands
 
 #: The plant's law [-].
 LAW_N = 0.3
@@ -52,11 +52,8 @@ def _log(seed: int) -> tuple[SimpleNamespace, np.ndarray]:
     cl, cr = spot_turn_commands(seed, faster_later=True)
     vl, vr = lag(cl), lag(cr)
     t = np.arange(vl.size) / HZ
-    wz = PLANT["chi"] * (vr - vl) / GAUGE_M  # ICRs at ±L / (2χ), eq. 12
-    v = 0.5 * (vl + vr)
+    wz, yaw, x, y = pose(vl, vr)  # eq. 12 at the plant's χ
     p = plant_power_w(vl, vr, LAW_N) / (1.0 - DROP * t / t[-1])  # η(t), eq. 20
-    yaw = np.cumsum(wz) / HZ
-    x, y = np.cumsum(v * np.cos(yaw)) / HZ, np.cumsum(v * np.sin(yaw)) / HZ
     noise = np.random.default_rng(2000 + seed).normal(0.0, 10.0, vl.size)
     log = SimpleNamespace(
         t=t, v_left=vl, v_right=vr, p_total=p + noise,

@@ -32,7 +32,7 @@ from ecoplan.diagnose.report import json_report
 from ecoplan.diagnose.report_md import report_markdown
 from law_prior import friction_law_entry as _rival
 from law_prior import plant_prior as _prior
-from tracked_plant import GAUGE_M, HZ, PLANT, lag, plant_power_w, spot_turn_commands
+from tracked_plant import HZ, lag, plant_power_w, pose, spot_turn_commands
 
 #: The patch: friction and resistance factor inside ``PATCH_RADIUS_M`` of A (the origin).
 PATCH_FACTOR, PATCH_RADIUS_M = 1.5, 1.0
@@ -44,10 +44,7 @@ def _log(seed: int, n: float, factor: float) -> SimpleNamespace:
     """The plant's log: side speeds, pose (eq. 12 at the plant's χ) and power with 10 W noise."""
     cl, cr = spot_turn_commands(seed)
     vl, vr = lag(cl), lag(cr)
-    wz = PLANT["chi"] * (vr - vl) / GAUGE_M  # ICRs at ±L / (2χ)
-    yaw = np.cumsum(wz) / HZ
-    v = 0.5 * (vl + vr)
-    x, y = np.cumsum(v * np.cos(yaw)) / HZ, np.cumsum(v * np.sin(yaw)) / HZ
+    wz, yaw, x, y = pose(vl, vr)  # eq. 12 at the plant's χ
     scale = np.where(np.hypot(x, y) < PATCH_RADIUS_M, factor, 1.0)
     noise = np.random.default_rng(1000 + seed).normal(0.0, 10.0, vl.size)
     p = plant_power_w(vl, vr, n, scale) + noise

@@ -104,3 +104,14 @@ def spot_turn_commands(
             hold(0.0, 0.0, 1.0)
     size = int(duration_s * HZ)
     return np.array(left[:size]), np.array(right[:size])
+
+
+def pose(vl: np.ndarray, vr: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Yaw rate, yaw and position of the plant on its side speeds: ``wz, yaw, x, y``.
+
+    The ICRs at ±L / (2χ) at the plant's χ (Morales et al. 2009 eq. 12), integrated at ``HZ``.
+    """
+    wz = PLANT["chi"] * (vr - vl) / GAUGE_M
+    yaw = np.cumsum(wz) / HZ
+    v = 0.5 * (vl + vr)
+    return wz, yaw, np.cumsum(v * np.cos(yaw)) / HZ, np.cumsum(v * np.sin(yaw)) / HZ
