@@ -18,6 +18,7 @@ effects on held-out data (issue 12, item 2) before the base carries it.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
 
@@ -44,8 +45,10 @@ __all__ = [
     "SLIP_MIN_EXPONENT",
     "SLIP_MIN_SPREAD",
     "FrictionLawFit",
+    "best_exponent",
     "calibrate_with_law",
     "calibration_with_exponent",
+    "exponent_interval",
     "law_calibrations",
     "slip_excited",
     "structural_friction",
@@ -208,39 +211,52 @@ def _law_search(frame: Frame, base: TrackedParams, chi: float) -> FrictionLawFit
 SLIP_ALTERNATIONS = 2
 
 
-def _exponent_mse(frame: Frame, base: TrackedParams, chi: float, *, n: float) -> float:
+def _exponent_mse(frame: Frame, base: TrackedParams, chi: float, n: float) -> float:
     return fit_linear_at_chi(frame, dataclasses.replace(base, slip_exponent=n), chi)[1]
 
 
 def _best_exponent(frame: Frame, base: TrackedParams, chi: float) -> float:
-    """The exponent of least mean square error at χ: grid, then a bounded scalar search."""
+    """The exponent of least mean square error at χ (:func:`best_exponent`)."""
+    return best_exponent(partial(_exponent_mse, frame, base, chi))
+
+
+def best_exponent(loss: Callable[[float], float]) -> float:
+    """The exponent in [0, 1] of least ``loss(n)``.
+
+    :data:`SLIP_EXPONENT_GRID`, then a bounded scalar search between the best grid point's
+    neighbours (kept only where it is lower).
+    """
     grid = np.asarray(SLIP_EXPONENT_GRID)
-    vals = np.array([_exponent_mse(frame, base, chi, n=float(n)) for n in grid])
+    vals = np.array([loss(float(n)) for n in grid])
     i = int(np.argmin(vals))
-    best_n, best_mse = float(grid[i]), float(vals[i])
+    best_n, best_loss = float(grid[i]), float(vals[i])
     lo, hi = float(grid[max(i - 1, 0)]), float(grid[min(i + 1, grid.size - 1)])
     res = minimize_scalar(
-        lambda n: _exponent_mse(frame, base, chi, n=float(n)),
-        bounds=(lo, hi),
-        method="bounded",
-        options={"xatol": 2e-3},
+        lambda n: loss(float(n)), bounds=(lo, hi), method="bounded", options={"xatol": 2e-3}
     )
-    return float(res.x) if float(res.fun) < best_mse else best_n
+    return float(res.x) if float(res.fun) < best_loss else best_n
 
 
 def _profile_interval(
     frame: Frame, base: TrackedParams, chi: float, best_n: float, best_nll: float, n_eff: float
 ) -> tuple[float, float]:
-    """95 % profile-likelihood interval of the exponent in [0, 1] (χ and the rest held).
+    """95 % profile-likelihood interval of the exponent at χ (:func:`exponent_interval`)."""
+    return exponent_interval(partial(_exponent_mse, frame, base, chi), best_n, best_nll, n_eff)
 
-    The exponents where ``n_eff ln(mse)`` rises by at most the chi-square (1 degree of
-    freedom) 95 % quantile over its least value ``best_nll``; the bounds are found by
-    ``scipy.optimize.brentq`` on each side of ``best_n``.
+
+def exponent_interval(
+    loss: Callable[[float], float], best_n: float, best_nll: float, n_eff: float
+) -> tuple[float, float]:
+    """95 % profile-likelihood interval of the exponent in [0, 1] (everything else held).
+
+    The exponents where ``n_eff ln(loss(n))`` (``loss`` a mean or a sum of squares) rises by at
+    most the chi-square (1 degree of freedom) 95 % quantile over its least value ``best_nll``
+    at ``best_n``; the bounds are found by ``scipy.optimize.brentq`` on each side of ``best_n``.
     """
     level = float(chi2.ppf(0.95, 1))
 
     def excess(n: float) -> float:
-        return float(n_eff * np.log(_exponent_mse(frame, base, chi, n=n)) - best_nll - level)
+        return float(n_eff * np.log(max(loss(n), 1e-300)) - best_nll - level)
 
     ends = []
     for edge in (0.0, 1.0):

@@ -28,7 +28,6 @@ from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
-from scipy.optimize import brentq, minimize_scalar
 from scipy.stats import chi2
 
 from ecoplan._typing import BoolArray
@@ -37,10 +36,11 @@ from ecoplan.diagnose.calibrate import CHI_BOUNDS, grid_then_bounded
 from ecoplan.diagnose.effects import Effect, EffectData, prepare
 from ecoplan.diagnose.friction_law import (
     SLIP_ALTERNATIONS,
-    SLIP_EXPONENT_GRID,
     SLIP_HALF_LEVEL,
     SLIP_LEVEL,
     SLIP_MIN_EXPONENT,
+    best_exponent,
+    exponent_interval,
     slip_excited,
 )
 from ecoplan.diagnose.replay import Frame
@@ -154,44 +154,20 @@ def _sse_at_chi(loss: _Loss, chi: float, n: float) -> float:
     return loss.sse(n, chi)
 
 
-def _best_n(f: Callable[[float], float]) -> float:
-    """Least of ``f`` over the exponent in [0, 1]: the law's grid, then a bounded search."""
-    grid = np.asarray(SLIP_EXPONENT_GRID)
-    vals = np.array([f(float(n)) for n in grid])
-    i = int(np.argmin(vals))
-    lo, hi = float(grid[max(i - 1, 0)]), float(grid[min(i + 1, grid.size - 1)])
-    res = minimize_scalar(
-        lambda n: f(float(n)), bounds=(lo, hi), method="bounded", options={"xatol": 2e-3}
-    )
-    return float(res.x) if float(res.fun) < float(vals[i]) else float(grid[i])
-
-
-def _interval(f: Callable[[float], float], best_n: float, n_eff: float) -> tuple[float, float]:
-    """95 % profile-likelihood interval of the exponent in [0, 1] (``f`` the SSE at n)."""
-    level = float(chi2.ppf(0.95, 1))
-    best_nll = n_eff * np.log(max(f(best_n), 1e-300))
-
-    def excess(n: float) -> float:
-        return float(n_eff * np.log(max(f(n), 1e-300)) - best_nll - level)
-
-    ends = []
-    for edge in (0.0, 1.0):
-        if excess(edge) <= 0.0:
-            ends.append(edge)
-        else:
-            ends.append(float(brentq(excess, min(edge, best_n), max(edge, best_n), xtol=1e-3)))
-    return ends[0], ends[1]
+def _interval(sse: Callable[[float], float], n: float, n_eff: float) -> tuple[float, float]:
+    """95 % profile interval of the exponent on the sum of squares ``sse`` (least at ``n``)."""
+    return exponent_interval(sse, n, n_eff * float(np.log(max(sse(n), 1e-300))), n_eff)
 
 
 def _test(
     loss: _Loss, chi: float, mask: BoolArray | None = None
 ) -> tuple[float, float, tuple[float, float]]:
     """Exponent at χ, likelihood ratio against ``n = 0`` and interval, on ``mask``'s samples."""
-    n = _best_n(lambda m: loss.sse(m, chi, mask))
+    n = best_exponent(lambda m: loss.sse(m, chi, mask))
     sse0, sse_n = loss.sse(0.0, chi, mask), loss.sse(n, chi, mask)
     n_eff = effective_samples(loss.resid(n, chi, mask))
     lr = float(n_eff * np.log(max(sse0, 1e-300) / max(sse_n, 1e-300)))
-    return n, lr, _interval(lambda m: loss.sse(m, chi, mask), n, n_eff)
+    return n, lr, _interval(partial(loss.sse, chi=chi, mask=mask), n, n_eff)
 
 
 def joint_law(
@@ -245,14 +221,14 @@ def joint_law(
     chi0 = float(eff.chi_)
     n, chi = 0.0, chi0
     for _ in range(SLIP_ALTERNATIONS):  # the exponent at χ, then χ at the exponent
-        n = _best_n(partial(_sse_at_chi, loss, chi))
+        n = best_exponent(partial(_sse_at_chi, loss, chi))
         chi = grid_then_bounded(partial(loss.sse, n), *CHI_BOUNDS)
     sse0 = min(loss.sse(0.0, chi0), loss.sse(0.0, chi))
-    n = _best_n(lambda m: loss.sse(m, chi))
+    n = best_exponent(lambda m: loss.sse(m, chi))
     sse_n = loss.sse(n, chi)
     n_eff = effective_samples(loss.resid(n, chi))
     lr = float(n_eff * np.log(max(sse0, 1e-300) / max(sse_n, 1e-300)))
-    interval = _interval(lambda m: loss.sse(m, chi), n, n_eff)
+    interval = _interval(partial(_sse_at_chi, loss, chi), n, n_eff)
     identified = lr > float(chi2.ppf(1.0 - SLIP_LEVEL, 1)) and n > 0.0
     identified = identified and interval[0] >= SLIP_MIN_EXPONENT
     half_lr: tuple[float, ...] = ()
