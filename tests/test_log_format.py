@@ -159,6 +159,21 @@ def test_round_trip_is_exact(tmp_path: Path) -> None:
     assert back.run_id == "run-1" and back.notes == log.notes and back.dropped_rows == 0
 
 
+def test_power_sampling_is_read_written_and_checked(tmp_path: Path) -> None:
+    rows = "t,v_left,v_right,p_total\n0,0.1,0.1,100\n0.05,0.1,0.1,100\n"
+    assert read_log_csv(_write(tmp_path, rows)).power_sampling == "row"  # the default
+    log = read_log_csv(_write(tmp_path, "# power_sampling: interval_mean\n" + rows))
+    assert log.power_sampling == "interval_mean"
+    back = read_log_csv(write_log_csv(log, tmp_path / "back.csv"))
+    assert back.power_sampling == "interval_mean"
+    # a value outside the format names the file's line and the values it knows
+    with pytest.raises(LogFormatError, match=r"line 2: power_sampling 'mean'.*interval_mean"):
+        read_log_csv(_write(tmp_path, "# run_id: r\n# power_sampling: mean\n" + rows))
+    with pytest.raises(LogFormatError, match="power_sampling 'average'"):
+        Log(t=np.array([0.0, 1.0]), v_left=np.zeros(2), v_right=np.zeros(2),
+            p_total=np.zeros(2), power_sampling="average")  # fmt: skip
+
+
 def test_write_refuses_to_overwrite(tmp_path: Path) -> None:
     log = _full_log()
     p = write_log_csv(log, tmp_path / "a.csv")

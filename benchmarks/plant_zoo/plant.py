@@ -8,8 +8,10 @@ Pipeline of :func:`make_case` (internal step 0.01 s):
 4. electrical power of the variant's plant with the effect injected *physically* (a terrain
    patch changes mu and K under the robot, a slope adds ``m g sin(alpha)`` times the uphill
    speed, a saturated supply slows the tracks, ...);
-5. logging at 20 Hz: power averaged over each 50 ms sample (a watt-hour meter), coloured
-   (AR(1)) noise on power, speeds, yaw rate and pose, dropped samples.
+5. logging at 20 Hz: power averaged over each 50 ms sample (a watt-hour meter), the other
+   columns sampled at the sample's end, coloured (AR(1)) noise on power, speeds, yaw rate and
+   pose, dropped samples.  The log states how its power was taken, as a logger's driver
+   would (``# power_sampling: interval_mean``, the log format's metadata line).
 
 The effect names are the diagnosis's ten candidates, ``none``, and three effects outside its
 library (``ripple``, ``payload``, ``power_gain``).  The truth never enters the log file.
@@ -415,7 +417,13 @@ def make_case(variant: str, effect: str, seed: int, duration_s: float = 180.0) -
     keep[0] = keep[-1] = True
     cols = {k: np.asarray(v[keep], dtype=float) for k, v in cols.items()}
     run_id = f"zoo-{variant}-{effect}-s{seed}"
-    meta = {"run_id": run_id, "source": "benchmarks/plant_zoo", "vehicle": vehicle}
+    # the logger's power is each window's mean: a log states it (ecoplan's `power_sampling`)
+    meta = {
+        "run_id": run_id,
+        "source": "benchmarks/plant_zoo",
+        "vehicle": vehicle,
+        "power_sampling": "interval_mean",
+    }
     fx_all = {**plant_info, **fx}
     return Case(
         variant=variant,

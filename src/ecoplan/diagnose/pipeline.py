@@ -67,7 +67,13 @@ from ecoplan.errors import InputError
 from ecoplan.models.logged_power import logged_power_w
 from ecoplan.presets import VehicleParams, vehicle
 
-__all__ = ["diagnose"]
+__all__ = ["INTERVAL_MEAN_NOTE", "diagnose"]
+
+#: What the report says of a log whose power is each interval's mean (its ``power_sampling``).
+INTERVAL_MEAN_NOTE = (
+    "power_sampling: interval_mean -- the power is the mean over the sample interval before "
+    "each row; the speeds (and commands, pose) were read at the interval's middle"
+)
 
 
 def _rng(rng: RngLike) -> np.random.Generator:
@@ -188,7 +194,10 @@ def diagnose(
     dropped = int(sum(int(getattr(lg, "dropped_rows", 0) or 0) for lg in log_list))
     log_notes: list[str] = []
     for lg in log_list:
-        for note in getattr(lg, "notes", ()) or ():
+        notes = list(getattr(lg, "notes", ()) or ())
+        if getattr(lg, "power_sampling", "row") == "interval_mean":
+            notes.append(INTERVAL_MEAN_NOTE)
+        for note in notes:
             if note not in log_notes:
                 log_notes.append(str(note))
     return Diagnosis(

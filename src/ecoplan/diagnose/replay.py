@@ -82,6 +82,23 @@ def _opt(log: object, name: str, n: int) -> FloatArray | None:
     return arr
 
 
+#: Optional columns read at the power's time with the side speeds (``build_frame``).
+_LEAD_COLUMNS = ("v_left_cmd", "v_right_cmd", "x", "y", "yaw", "wz")
+
+
+def _at_lead(t: FloatArray, y: FloatArray, lead_s: float, angle: bool = False) -> FloatArray:
+    """``y`` read ``lead_s`` before each sample (linear, first value held); as is at 0.
+
+    An ``angle`` [rad] is interpolated unwrapped and wrapped back to (-π, π].
+    """
+    if lead_s == 0.0:
+        return y
+    if not angle:
+        return np.asarray(np.interp(t - lead_s, t, y), dtype=np.float64)
+    at = np.interp(t - lead_s, t, np.unwrap(y))
+    return np.asarray(np.angle(np.exp(1j * at)), dtype=np.float64)
+
+
 def smooth_derivative(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> FloatArray:
     """Time derivative of a noisy signal by a Savitzky-Golay filter (quadratic, ``window_s``).
 
@@ -334,6 +351,18 @@ def build_frame(
         Window of the zero-phase smoothing of the measured side speeds [s] (0: none).  The
         power model is static in the speeds: encoder noise would otherwise turn into model
         noise (and flip the motion cases of Fig. 3 at standstill).
+    snap_mps : float
+        Speed quantum the measured speeds are snapped to (:func:`snap_speeds`; 0: none).
+
+    Notes
+    -----
+    A log whose power is the mean over the sample interval before each row
+    (``power_sampling == "interval_mean"``, :data:`~ecoplan.dynamics.log.POWER_SAMPLINGS`)
+    has every other column read at the interval's middle -- half the run's median sample
+    interval earlier, linearly interpolated in the run's own clock (the first value held) --
+    so that the power models, static in the side speeds, meet the speeds the power stands
+    for.  Read at the row's time instead, the power lags the speeds by half an interval,
+    most at the turns' starts and ends where the friction power moves fastest.
 
     Returns
     -------
@@ -365,10 +394,14 @@ def build_frame(
                 raise InputError(f"log {i} column {name!r} has NaN or inf values")
         if not np.all(np.diff(t) > 0):
             raise InputError(f"log {i} column 't' is not strictly increasing")
-        vl = smooth(t, vl, smooth_s)
-        vr = smooth(t, vr, smooth_s)
+        interval_mean = getattr(log, "power_sampling", "row") == "interval_mean"
+        lead = 0.5 * float(np.median(np.diff(t))) if interval_mean else 0.0
+        side = {k: _opt(log, k, n) for k in _LEAD_COLUMNS}
+        side = {k: None if a is None else _at_lead(t, a, lead, k == "yaw") for k, a in side.items()}
+        vl = smooth(t, _at_lead(t, vl, lead), smooth_s)
+        vr = smooth(t, _at_lead(t, vr, lead), smooth_s)
         if snap_mps > 0.0:
-            cl, cr = _opt(log, "v_left_cmd", n), _opt(log, "v_right_cmd", n)
+            cl, cr = side["v_left_cmd"], side["v_right_cmd"]
             if cl is not None and cr is not None:
                 cl = follow_commands(t, cl, params.accel_max_mps2)
                 cr = follow_commands(t, cr, params.accel_max_mps2)
@@ -390,12 +423,12 @@ def build_frame(
         cols["ax"].append(smooth_derivative(t, tw.vx))
         cols["alpha"].append(smooth_derivative(t, tw.wz))
         cols["dp"].append(smooth_derivative(t, p))
-        opt["x"].append(_opt(log, "x", n))
-        opt["y"].append(_opt(log, "y", n))
-        opt["yaw"].append(_opt(log, "yaw", n))
-        opt["wz_log"].append(_opt(log, "wz", n))
-        opt["vl_cmd"].append(_opt(log, "v_left_cmd", n))
-        opt["vr_cmd"].append(_opt(log, "v_right_cmd", n))
+        opt["x"].append(side["x"])
+        opt["y"].append(side["y"])
+        opt["yaw"].append(side["yaw"])
+        opt["wz_log"].append(side["wz"])
+        opt["vl_cmd"].append(side["v_left_cmd"])
+        opt["vr_cmd"].append(side["v_right_cmd"])
         x, y, yaw = opt["x"][-1], opt["y"][-1], opt["yaw"][-1]
         if x is not None and y is not None and yaw is not None:
             w = POSE_SMOOTH_S

@@ -67,6 +67,7 @@ __all__ = [
     "MAX_PLAUSIBLE_SPEED_MPS",
     "OPTIONAL_COLUMNS",
     "OPTIONAL_FLOAT_COLUMNS",
+    "POWER_SAMPLINGS",
     "REQUIRED_COLUMNS",
     "SPEED_COLUMNS",
     "Column",
@@ -163,6 +164,11 @@ ALIASES: Mapping[str, str] = {a: c.name for c in COLUMNS for a in c.aliases}
 #: Side speeds above this magnitude [m/s] are taken for a unit error (mm/s, rpm, ...).
 MAX_PLAUSIBLE_SPEED_MPS = 20.0
 
+#: How the logged power was taken (``# power_sampling:`` in a CSV log): ``"row"``, the power
+#: at the row's time (the default); ``"interval_mean"``, the mean over the sample interval
+#: before the row (an energy counter or an averaging current sensor read at every row).
+POWER_SAMPLINGS = ("row", "interval_mean")
+
 _NAMES = frozenset(c.name for c in COLUMNS)
 
 
@@ -206,6 +212,10 @@ class Log:
         Rows dropped by the reader for a missing value in an optional column.
     notes : tuple of str
         Assumptions and remarks (bus voltage, ignored columns, dropped rows, ...).
+    power_sampling : str
+        How ``p_total`` was taken (:data:`POWER_SAMPLINGS`): at the row's time (``"row"``,
+        default) or as the mean over the sample interval before the row (``"interval_mean"``;
+        the diagnosis then reads the speeds at the interval's middle).
     extra : mapping of str to ndarray
         Further numeric columns outside the format (the simulator's motion ``case`` and
         power breakdown ``p_friction``, ...), one value per sample, written after the
@@ -231,6 +241,7 @@ class Log:
     run_id: str = ""
     dropped_rows: int = 0
     notes: tuple[str, ...] = ()
+    power_sampling: str = "row"
     extra: Mapping[str, npt.NDArray[Any]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -247,6 +258,11 @@ class Log:
             raise LogFormatError(f"{self.source}: a log needs at least 2 samples, got {n}")
         if self.dropped_rows < 0:
             raise LogFormatError(f"{self.source}: dropped_rows must be >= 0")
+        if self.power_sampling not in POWER_SAMPLINGS:
+            raise LogFormatError(
+                f"{self.source}: power_sampling {self.power_sampling!r} is not one of "
+                f"{', '.join(POWER_SAMPLINGS)}"
+            )
         object.__setattr__(self, "notes", tuple(self.notes))
         object.__setattr__(self, "extra", self._checked_extra(n))
         cols = {c: getattr(self, c) for c in FLOAT_COLUMNS}

@@ -2,9 +2,11 @@
 
 A log file has one header row, SI units and REP-103 frames; its columns are those of
 :data:`ecoplan.dynamics.log.COLUMNS` (or their aliases), in any order.  Lines starting
-with ``#`` *before* the header are metadata (``# run_id: ...``, ``# note: ...``); blank
-lines are skipped.  Any other column (e.g. the simulator's ``case`` or ``p_friction``)
-is ignored by the reader and named in :attr:`~ecoplan.dynamics.log.Log.notes`.
+with ``#`` *before* the header are metadata (``# run_id: ...``, ``# note: ...``,
+``# power_sampling: row | interval_mean``, how the power was taken,
+:data:`~ecoplan.dynamics.log.POWER_SAMPLINGS`); blank lines are skipped.  Any other
+column (e.g. the simulator's ``case`` or ``p_friction``) is ignored by the reader and named
+in :attr:`~ecoplan.dynamics.log.Log.notes`.
 
 Validation (every failure is a :class:`~ecoplan.errors.LogFormatError` whose one-line
 message names the file, the column and/or the 1-based line number of the file):
@@ -46,6 +48,7 @@ from ecoplan.dynamics.log import (
     COLUMNS,
     FLOAT_COLUMNS,
     OPTIONAL_FLOAT_COLUMNS,
+    POWER_SAMPLINGS,
     REQUIRED_COLUMNS,
     Log,
     StrArray,
@@ -71,6 +74,7 @@ class _Head:
     line: int
     run_id: str | None = None
     notes: list[str] = field(default_factory=list)
+    power_sampling: str = "row"
 
 
 @dataclass(slots=True)
@@ -104,6 +108,7 @@ def _read_head(lines: list[str], source: str) -> _Head:
     """Metadata lines, then the header row (names mapped from aliases and checked)."""
     run_id: str | None = None
     notes: list[str] = []
+    sampling = "row"
     for k, raw in enumerate(lines):
         if not raw.replace(",", "").strip():
             continue
@@ -113,10 +118,17 @@ def _read_head(lines: list[str], source: str) -> _Head:
                 run_id = value.strip()
             elif key.strip() == "note":
                 notes.append(value.strip())
+            elif key.strip() == "power_sampling":
+                sampling = value.strip()
+                if sampling not in POWER_SAMPLINGS:
+                    raise LogFormatError(
+                        f"{_where(source, k + 1)}: power_sampling {sampling!r} is not one of "
+                        f"{', '.join(POWER_SAMPLINGS)}"
+                    )
             continue
         names = [c.strip() for c in next(csv.reader([raw]))]
         header = _canonical_header(names, _where(source, k + 1), notes)
-        return _Head(header, k + 1, run_id, notes)
+        return _Head(header, k + 1, run_id, notes, sampling)
     raise LogFormatError(f"{source}: empty file (no header row)")
 
 
@@ -343,6 +355,7 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
         run_id=run_id if run_id is not None else (head.run_id or p.stem),
         dropped_rows=int(drop.sum()),
         notes=tuple(notes),
+        power_sampling=head.power_sampling,
     )
 
 
@@ -400,6 +413,8 @@ def write_log_csv(log: Log, path: str | os.PathLike[str], *, overwrite: bool = F
         with p.open("w", newline="", encoding="utf-8") as fh:
             if log.run_id:
                 fh.write(f"# run_id: {log.run_id}\n")
+            if log.power_sampling != "row":
+                fh.write(f"# power_sampling: {log.power_sampling}\n")
             for note in log.notes:
                 fh.write("# note: " + note.replace("\n", " ") + "\n")
             fh.write(",".join(columns) + "\n")
