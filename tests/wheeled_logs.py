@@ -10,7 +10,9 @@ cruises on straights and wide arcs (5-8 m) in 5 s legs and now and then turns br
 
 Two supply effects, written here: a cap (where the power the lagged speeds need exceeds it,
 both sides slow down at the same radius until the power is the cap, solved with ``brentq``)
-and a braking side that returns a share of its power to the battery.
+and a braking side that returns a share of its power to the battery.  Two changes in time:
+an efficiency that falls steadily by a share ``drop`` over the run (the battery draws
+``P / (1 - drop t / T)``), and a meter whose gain jumps by ``gain`` at ``t_gain``.
 """
 
 from __future__ import annotations
@@ -69,6 +71,9 @@ def chuy_log(
     n_tight: int = 4,
     tight_mps: tuple[float, float] = (0.27, 0.4),
     duration_s: float = 150.0,
+    eta_drop: float = 0.0,
+    gain_step: tuple[float, float] | None = None,
+    lag_s: float = 0.1,
 ) -> SimpleNamespace:
     """A log of the plant (module docstring) with ``n_tight`` brisk tight turns.
 
@@ -86,6 +91,12 @@ def chuy_log(
         Range of their forward speed [m/s].
     duration_s : float
         Length [s].
+    eta_drop : float
+        Share by which the efficiency falls linearly over the run [-] (0: none).
+    gain_step : (float, float), optional
+        ``(gain, t_gain_s)``: the logged power multiplied by ``gain`` from ``t_gain_s`` on.
+    lag_s : float
+        The drive's first-order lag [s] (0: the drive follows the quantised commands).
 
     Returns
     -------
@@ -112,7 +123,7 @@ def chuy_log(
         i, leg = i + k, leg + 1
     cl, cr = _sides(v_cmd, r_cmd, sign)
     cl, cr = np.round(cl, 2), np.round(cr, 2)  # the joystick's 0.01 m/s quantum
-    a = (1.0 / HZ) / (0.1 + 1.0 / HZ)  # a 0.1 s first-order drive lag
+    a = (1.0 / HZ) / (lag_s + 1.0 / HZ)  # a first-order drive lag (0.1 s by default)
     vl = np.asarray(lfilter([a], [1.0, a - 1.0], cl))
     vr = np.asarray(lfilter([a], [1.0, a - 1.0], cr))
     v = 0.5 * (vl + vr)
@@ -130,6 +141,9 @@ def chuy_log(
             )
             vl[j], vr[j], p[j] = k * vl[j], k * vr[j], cap_w
     t = np.arange(n) / HZ
+    p = p / (1.0 - eta_drop * t / duration_s)
+    if gain_step is not None:
+        p = np.where(t >= gain_step[1], gain_step[0] * p, p)
     vl_m = vl + ar1(rng, n, 0.004, 0.7)
     vr_m = vr + ar1(rng, n, 0.004, 0.7)
     p_m = p + ar1(rng, n, 0.4, 0.8)

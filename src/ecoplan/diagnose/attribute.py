@@ -415,7 +415,10 @@ def attribute(
     )
     named = tied[0] if verdict == "ambiguous" and tied else verdict
     named_after = next((sc.after for sc in power_scores if sc.name == named), None)
-    alternatives = fit_alternatives(train, test, r0, rng, shape=named_after is not None)
+    trend = named in EFFECTS and EFFECTS[named].trend_in_time
+    alternatives = fit_alternatives(
+        train, test, r0, rng, shape=named_after is not None, trend=trend
+    )
     structure = regeneration_structure(fitted.get(named), test)
     if structure is not None:  # a wheeled regeneration is a structure of a(r), b(r)
         r_reg = residuals[named]

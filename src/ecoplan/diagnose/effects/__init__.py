@@ -52,6 +52,7 @@ from ecoplan.diagnose.effects.outside import (
     PeriodicDisturbance,
     SpikeTrain,
     TimeStep,
+    TimeStepOnTrend,
     TrackTensionStep,
 )
 from ecoplan.diagnose.effects.registry import (
@@ -100,6 +101,7 @@ __all__ = [
     "TerrainChange",
     "TerrainPatch",
     "TimeStep",
+    "TimeStepOnTrend",
     "TrackTensionStep",
     "base_power_w",
     "effect_base_design",

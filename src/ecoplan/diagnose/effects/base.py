@@ -335,6 +335,9 @@ class Effect:
     #: Fitted as levels over segments of the log's time, so a step in time is one of its
     #: own cases, not a rival explanation (:mod:`ecoplan.diagnose.naming`).
     segments_in_time: ClassVar[bool] = False
+    #: A steady trend in time (a drift of the whole power with the log's clock): a step in
+    #: time is its rival only where the step adds to the trend (:mod:`ecoplan.diagnose.naming`).
+    trend_in_time: ClassVar[bool] = False
 
     def __init__(self, theta: Any = None) -> None:
         self.theta = theta

@@ -13,12 +13,15 @@ Fitted only, as the diagnosis's alternative to place-bound and drifting effects:
 * ``time_step(t_step_s, friction_factor, rest_factor)`` -- from ``t_step`` on (session clock)
   the friction power and the rest of the base power are scaled: a payload loaded or a meter's
   gain changed mid-run.  Such a change is tied to *time*, not to a place.
+* ``time_step_on_trend`` -- the same step on top of a steady trend of the whole power in time
+  (``P_base (1 + β t)``, ``efficiency_drift``'s fit): what a step adds to a trend, the test
+  between a change that jumps and one that grows steadily.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -35,7 +38,14 @@ from ecoplan.diagnose.effects.base import (
 from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.presets import VehicleParams
 
-__all__ = ["TIME_STEP_EDGE", "PeriodicDisturbance", "SpikeTrain", "TimeStep", "TrackTensionStep"]
+__all__ = [
+    "TIME_STEP_EDGE",
+    "PeriodicDisturbance",
+    "SpikeTrain",
+    "TimeStep",
+    "TimeStepOnTrend",
+    "TrackTensionStep",
+]
 
 #: Share of the samples a :class:`TimeStep` leaves on each side of its step at least [-].
 TIME_STEP_EDGE = 0.1
@@ -152,7 +162,7 @@ class TimeStep(Effect):
 
     name = "time_step"
     in_library = False
-    parameters = (
+    parameters: ClassVar[tuple[Parameter, ...]] = (
         Parameter("t_step_s", "s", -math.inf, math.inf, "time of the step (session clock)"),
         Parameter("friction_factor", "-", 0.0, math.inf, "friction scale after the step"),
         Parameter("rest_factor", "-", 0.0, math.inf, "scale of the rest of the power after it"),
@@ -204,3 +214,39 @@ class TimeStep(Effect):
             "friction_factor": 1.0 + float(coef[k]) * eta,
             "rest_factor": 1.0 + float(coef[k + 1]),
         }
+
+
+class TimeStepOnTrend(TimeStep):
+    """A :class:`TimeStep` on top of a steady trend ``P_base (1 + β t)`` (outside, fitted only).
+
+    The encompassing model of a drift in time (``efficiency_drift``, fitted as ``P_base (1 +
+    β t)`` on the session clock) and a step in time: the naming rule
+    (:func:`~ecoplan.diagnose.naming.naming_rule`) holds a step against a trend by what the
+    step adds *to* the trend on the held-out split.  A power that grows steadily with time
+    leaves nothing for a step to add; a jump (a meter's gain, a payload) leaves the trend's
+    misfit on both sides of it, which the step takes up.  The step time is searched with the
+    trend in place.
+    """
+
+    name = "time_step_on_trend"
+    parameters: ClassVar[tuple[Parameter, ...]] = (
+        *TimeStep.parameters,
+        Parameter("trend_per_s", "1/s", -math.inf, math.inf, "relative change of the power per s"),
+    )
+
+    @classmethod
+    def apply(  # noqa: D102
+        cls, params: Params, vehicle: VehicleParams, motion: MotionLike
+    ) -> FloatArray:
+        t_step, f_fr, f_rest, trend = cls.values(params)
+        step = {"t_step_s": t_step, "friction_factor": f_fr, "rest_factor": f_rest}
+        p0 = base_power_w(vehicle, motion.v_left, motion.v_right)
+        return np.asarray(TimeStep.apply(step, vehicle, motion) + trend * motion.t * p0)
+
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        trend = (data.base_w * data.t_rel)[:, None]
+        return np.column_stack([super().columns(data, theta), trend])
+
+    def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
+        trend = float(coef[-1]) if coef.size > data.X.shape[1] else 0.0
+        return {**super()._name_params(data, theta, coef), "trend_per_s": trend}

@@ -438,6 +438,7 @@ class EfficiencyDrift(Effect):
     """
 
     name = "efficiency_drift"
+    trend_in_time = True
     parameters = (
         Parameter(
             "eta_rate_per_s",
