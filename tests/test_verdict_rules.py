@@ -222,7 +222,7 @@ def test_tracked_regeneration_returns_a_share_of_the_loss_when_the_dragged_side_
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize(("variant", "seed"), [("a", 0), ("b", 0), ("b", 1)])
+@pytest.mark.parametrize(("variant", "seed"), [("a", 0), ("a", 1), ("b", 0), ("b", 1)])
 def test_a_regenerating_tracked_drive_is_named_with_its_share(
     tmp_path: Path, variant: str, seed: int
 ) -> None:
@@ -230,8 +230,15 @@ def test_a_regenerating_tracked_drive_is_named_with_its_share(
     case = plant_zoo.make_case(variant, "regeneration", seed)
     path = plant_zoo.write_log(case, tmp_path / "log.csv")
     d = diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=seed)
-    assert d.verdict == "regeneration"
     reg = d.attribution.scores[0]
+    assert reg.name == "regeneration" and reg.significant
+    # named -- or refused only where a step in time explains the held-out split as well, as
+    # the naming rule says (a and b seed 0, read at the power's own time, `power_sampling:
+    # interval_mean`: the step 14.2 W against regeneration's 14.1 W on a), and said so
+    tie = "time_step explains the held-out gap as well as regeneration"
+    assert d.verdict == "regeneration" or (
+        d.verdict == "unexplained" and tie in d.attribution.reason
+    )
     # share of the *preset's* loss: the zoo's plant k_nr (its `nonregen_n`, variant e 15-25 %
     # off the paper's 162 N) times (1 - fraction) is what is left
     k_plant = case.effect_params.get("nonregen_n", 162.0)
