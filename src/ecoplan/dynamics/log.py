@@ -73,6 +73,7 @@ __all__ = [
     "Column",
     "Log",
     "StrArray",
+    "check_power_sampling",
     "check_values",
 ]
 
@@ -169,6 +170,22 @@ MAX_PLAUSIBLE_SPEED_MPS = 20.0
 #: before the row (an energy counter or an averaging current sensor read at every row).
 POWER_SAMPLINGS = ("row", "interval_mean")
 
+
+def check_power_sampling(value: str, where: str) -> str:
+    """``value`` if it is one of :data:`POWER_SAMPLINGS`; else a one-line error naming ``where``.
+
+    Raises
+    ------
+    LogFormatError
+        ``value`` is not a known way of taking the power.
+    """
+    if value not in POWER_SAMPLINGS:
+        raise LogFormatError(
+            f"{where}: power_sampling {value!r} is not one of {', '.join(POWER_SAMPLINGS)}"
+        )
+    return value
+
+
 _NAMES = frozenset(c.name for c in COLUMNS)
 
 
@@ -258,11 +275,7 @@ class Log:
             raise LogFormatError(f"{self.source}: a log needs at least 2 samples, got {n}")
         if self.dropped_rows < 0:
             raise LogFormatError(f"{self.source}: dropped_rows must be >= 0")
-        if self.power_sampling not in POWER_SAMPLINGS:
-            raise LogFormatError(
-                f"{self.source}: power_sampling {self.power_sampling!r} is not one of "
-                f"{', '.join(POWER_SAMPLINGS)}"
-            )
+        check_power_sampling(self.power_sampling, self.source)
         object.__setattr__(self, "notes", tuple(self.notes))
         object.__setattr__(self, "extra", self._checked_extra(n))
         cols = {c: getattr(self, c) for c in FLOAT_COLUMNS}

@@ -48,10 +48,10 @@ from ecoplan.dynamics.log import (
     COLUMNS,
     FLOAT_COLUMNS,
     OPTIONAL_FLOAT_COLUMNS,
-    POWER_SAMPLINGS,
     REQUIRED_COLUMNS,
     Log,
     StrArray,
+    check_power_sampling,
     check_values,
 )
 from ecoplan.errors import LogFormatError
@@ -119,12 +119,7 @@ def _read_head(lines: list[str], source: str) -> _Head:
             elif key.strip() == "note":
                 notes.append(value.strip())
             elif key.strip() == "power_sampling":
-                sampling = value.strip()
-                if sampling not in POWER_SAMPLINGS:
-                    raise LogFormatError(
-                        f"{_where(source, k + 1)}: power_sampling {sampling!r} is not one of "
-                        f"{', '.join(POWER_SAMPLINGS)}"
-                    )
+                sampling = check_power_sampling(value.strip(), _where(source, k + 1))
             continue
         names = [c.strip() for c in next(csv.reader([raw]))]
         header = _canonical_header(names, _where(source, k + 1), notes)
