@@ -415,6 +415,24 @@ def test_rosbag_round_trip_on_a_common_time_base(tmp_path: Path) -> None:
     assert len(truth["t"]) == 41
 
 
+def test_rosbag_power_stated_as_interval_means_is_stamped_at_their_middles(
+    tmp_path: Path,
+) -> None:
+    _write_bag(tmp_path / "bag")
+    log = read_rosbag(tmp_path / "bag", _topic_map(power_sampling="interval_mean"))
+    # each 10 Hz battery message, the mean over the 0.1 s before it, stands for 0.05 s earlier:
+    # the power at a row's time is the message 0.05 s later (the ramp is linear); the power
+    # stream now starts first (-0.045 s), so the common time base starts at the wheels' 0 s
+    t_abs = log.t
+    assert t_abs[-1] <= 4.005 - 0.05 + 1e-9
+    np.testing.assert_allclose(log.p_total, 24.0 * (5.0 + 2.0 * (t_abs + 0.05)), rtol=1e-6)
+    np.testing.assert_allclose(log.v_left, 0.1 * (2.0 + 0.5 * t_abs), atol=1e-6)
+    assert log.power_sampling == "row"  # the stamps already say where the power stands
+    assert any("interval_mean" in n for n in log.notes)
+    with pytest.raises(LogFormatError, match="power_sampling"):
+        _topic_map(power_sampling="window")
+
+
 def test_rosbag_rate_nan_and_missing_topic(tmp_path: Path) -> None:
     _write_bag(tmp_path / "bag", battery_nan_at=3)
     log = read_rosbag(tmp_path / "bag", _topic_map(rate_hz=50.0))

@@ -14,7 +14,7 @@ import math
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
@@ -86,6 +86,7 @@ class _TopicMapSchema(BaseModel):
     wz: FieldRef | None = None
     rate_hz: float | None = Field(default=None, gt=0.0, le=10000.0)
     use_header_stamp: bool = True
+    power_sampling: Literal["row", "interval_mean"] = "row"
 
     @model_validator(mode="after")
     def _consistent(self) -> _TopicMapSchema:
@@ -134,6 +135,12 @@ class TopicMap(_TopicMapSchema):
     use_header_stamp : bool
         Time-stamp messages by ``header.stamp`` when they have one (else, and for
         messages without a header, by the bag's receive time).
+    power_sampling : {"row", "interval_mean"}
+        ``"interval_mean"``: each power message is the mean over the interval since the one
+        before (an energy counter, an averaging current sensor), so it is stamped at that
+        interval's middle before resampling (the first at half the median interval); the
+        log's power then stands for its row's time, as ``"row"``, and a note says so.  The
+        CSV format states the same with ``# power_sampling: interval_mean``.
     """
 
     def __init__(self, **data: Any) -> None:
@@ -350,6 +357,17 @@ def _read_series(
     return series
 
 
+def _interval_middles(ts: FloatArray) -> FloatArray:
+    """Middles of the intervals the stamps ``ts`` close (the first: half the median earlier).
+
+    >>> _interval_middles(np.array([0.1, 0.2, 0.3, 0.5])).round(3).tolist()
+    [0.05, 0.15, 0.25, 0.4]
+    """
+    gaps = np.diff(ts)
+    first = float(np.median(gaps)) if gaps.size else 0.0
+    return np.asarray(ts - 0.5 * np.concatenate([[first], gaps]), dtype=np.float64)
+
+
 def _resample(
     series: dict[str, list[tuple[float, float]]], topics: TopicMap, source: str, run_id: str
 ) -> Log:
@@ -371,6 +389,8 @@ def _resample(
             )
         if column == "yaw":
             vals = np.unwrap(vals)
+        if column == "p_total" and topics.power_sampling == "interval_mean":
+            ts = _interval_middles(ts)
         clean[column] = (ts, vals)
     t0 = max(ts[0] for ts, _ in clean.values())
     t1 = min(ts[-1] for ts, _ in clean.values())
@@ -386,6 +406,11 @@ def _resample(
     if "yaw" in cols:
         cols["yaw"] = np.arctan2(np.sin(cols["yaw"]), np.cos(cols["yaw"]))
     notes.append(f"resampled to {rate:g} Hz by linear interpolation; t = 0 at bag time {t0:.9f} s")
+    if topics.power_sampling == "interval_mean":
+        notes.append(
+            "p_total: each message the mean power over the interval since the one before "
+            "(power_sampling: interval_mean), stamped at that interval's middle before resampling"
+        )
     if topics.battery_topic is not None:
         notes.append(
             f"p_total = {topics.battery_current_sign:+g} x voltage x current of "
