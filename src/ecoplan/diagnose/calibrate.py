@@ -292,7 +292,9 @@ def fit_linear_at_chi(
         p = with_linear_params(p, d.names, _solve(d, frame.p, prior, envelope, TRACKED_RIDGE))
     else:
         prior, envelope = _wheeled_theta(p), _envelope_design(p)
-        fit = frame.subset(radius_resolved(frame.vl, frame.vr) & ~settling(frame))
+        fit = frame.subset(
+            radius_resolved(frame.vl, frame.vr) & ~settling(frame, rest_mps=p.case_tol_mps)
+        )
         # the bounds keep the signs of ``params``' alphas on every pass: read from the pass
         # before, an alpha that landed on 0 would let the next pass flip a(r)'s direction
         ref = p
@@ -406,15 +408,19 @@ def radius_resolved(vl: FloatArray, vr: FloatArray) -> BoolArray:
 SETTLE_S = 1.0
 
 
-def settling(frame: Frame, settle_s: float = SETTLE_S) -> BoolArray:
+def settling(frame: Frame, settle_s: float = SETTLE_S, rest_mps: float = 0.0) -> BoolArray:
     """Samples at rest less than ``settle_s`` after the run's last moving sample.
 
     Encoders read zero below a few mm/s, while a wheeled drive slowing along an arc still
     draws ``b(r)`` (wheeled eq. 12 at ``v -> 0``): on the zoo's wheeled plant 3-5 W for about a
     second after each stop, which a fit of the power-up term (the only one at rest) took for
     0.3 W of constant draw.  The wheeled coefficients are fitted without these samples.
+
+    At rest means both side speeds within ``rest_mps`` of zero: pass the vehicle's
+    ``case_tol_mps``, below which its power model puts the robot at rest (the frame's
+    smoothed speeds leave about a millimetre per second on the samples the encoders read zero).
     """
-    moving = (np.abs(frame.vl) + np.abs(frame.vr)) > 0.0
+    moving = (np.abs(frame.vl) > rest_mps) | (np.abs(frame.vr) > rest_mps)
     last = np.where(moving, frame.t, -np.inf)
     out = np.zeros(frame.n, dtype=bool)
     for r in np.unique(frame.run):

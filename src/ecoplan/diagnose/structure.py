@@ -157,7 +157,7 @@ def _radius_and_fit_mask(frame: Frame, params: WheeledParams) -> tuple[FloatArra
     v, w = np.abs(tw.vx), np.abs(tw.wz)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(w > 1e-12, v / w, np.inf)
-    return r, radius_resolved(frame.vl, frame.vr) & ~settling(frame)
+    return r, radius_resolved(frame.vl, frame.vr) & ~settling(frame, rest_mps=params.case_tol_mps)
 
 
 def _with_beta(params: WheeledParams, beta: FloatArray) -> WheeledParams:
