@@ -59,6 +59,7 @@ from ecoplan.diagnose.replay import (
     LogLike,
     build_frame,
     case_tolerance,
+    power_is_interval_mean,
     replay_residuals,
 )
 from ecoplan.diagnose.result import Diagnosis
@@ -250,7 +251,7 @@ def diagnose(
         log_notes.append(settling_note(int(np.count_nonzero(stops)), frame.n))
     for lg in log_list:
         notes = list(getattr(lg, "notes", ()) or ())
-        if getattr(lg, "power_sampling", "row") == "interval_mean":
+        if power_is_interval_mean(lg):
             notes.append(INTERVAL_MEAN_NOTE)
         for note in notes:
             if note not in log_notes:

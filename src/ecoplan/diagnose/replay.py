@@ -40,6 +40,7 @@ __all__ = [
     "build_frame",
     "case_tolerance",
     "hold_radius",
+    "power_is_interval_mean",
     "replay_residuals",
     "smooth",
     "smooth_derivative",
@@ -330,6 +331,14 @@ def case_tolerance(logs: Sequence[LogLike], smooth_s: float = 0.3) -> float:
     return float(np.clip(4.0 * sigma * gain, 1e-3, 0.05))
 
 
+def power_is_interval_mean(log: LogLike) -> bool:
+    """Whether ``log`` states its power as each interval's mean (``power_sampling``).
+
+    Records without the attribute (a reader's namespace) sample the power at the row's time.
+    """
+    return getattr(log, "power_sampling", "row") == "interval_mean"
+
+
 def build_frame(
     logs: Sequence[LogLike],
     params: VehicleParams,
@@ -394,8 +403,7 @@ def build_frame(
                 raise InputError(f"log {i} column {name!r} has NaN or inf values")
         if not np.all(np.diff(t) > 0):
             raise InputError(f"log {i} column 't' is not strictly increasing")
-        interval_mean = getattr(log, "power_sampling", "row") == "interval_mean"
-        lead = 0.5 * float(np.median(np.diff(t))) if interval_mean else 0.0
+        lead = 0.5 * float(np.median(np.diff(t))) if power_is_interval_mean(log) else 0.0
         side = {k: _opt(log, k, n) for k in _LEAD_COLUMNS}
         side = {k: None if a is None else _at_lead(t, a, lead, k == "yaw") for k, a in side.items()}
         vl = smooth(t, _at_lead(t, vl, lead), smooth_s)
