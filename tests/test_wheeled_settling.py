@@ -19,11 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.signal import lfilter
 
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.dynamics.log import Log
-from wheeled_logs import HALF_SPREAD_M, HZ, ar1, battery_w
+from wheeled_logs import HALF_SPREAD_M, HZ, ar1, battery_w, drive
 
 #: Below this forward speed the plant's motor controller cuts the current [m/s].
 CUT_MPS = 1e-4
@@ -49,14 +48,7 @@ def _stop_and_go(seed: int, duration_s: float = 150.0) -> tuple[Log, np.ndarray,
         cl[i : i + k], cr[i : i + k] = v - w * HALF_SPREAD_M, v + w * HALF_SPREAD_M
         i += k + int(rng.uniform(2.5, 4.0) * HZ)
     cl, cr = np.round(cl, 2), np.round(cr, 2)  # 0.01 m/s command quantum
-    a = (1.0 / HZ) / (0.1 + 1.0 / HZ)  # first-order drive lag, 0.1 s
-    vl = np.asarray(lfilter([a], [1.0, a - 1.0], cl))
-    vr = np.asarray(lfilter([a], [1.0, a - 1.0], cr))
-    v = 0.5 * (vl + vr)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.where(
-            np.abs(vr - vl) > 1e-12, HALF_SPREAD_M * np.abs(vl + vr) / np.abs(vr - vl), np.inf
-        )
+    vl, vr, v, r = drive(cl, cr, 0.1)  # a first-order drive lag, 0.1 s
     p = np.where(v > CUT_MPS, battery_w(v, r), 0.0)
     vl_m = np.where(np.abs(vl) < RESOLVE_MPS, 0.0, vl + ar1(rng, n, SPEED_NOISE_MPS, 0.7))
     vr_m = np.where(np.abs(vr) < RESOLVE_MPS, 0.0, vr + ar1(rng, n, SPEED_NOISE_MPS, 0.7))

@@ -63,6 +63,23 @@ def ar1(rng: np.random.Generator, n: int, sd: float, phi: float) -> np.ndarray:
     return np.asarray(lfilter([1.0], [1.0, -phi], e))
 
 
+def drive(
+    cl: np.ndarray, cr: np.ndarray, lag_s: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Side speeds through a first-order lag ``lag_s`` [s], forward speed and radius [m].
+
+    Returns ``(v_left, v_right, v, r)``; ``r`` is inf where the sides run equal.
+    """
+    a = (1.0 / HZ) / (lag_s + 1.0 / HZ)
+    vl = np.asarray(lfilter([a], [1.0, a - 1.0], cl))
+    vr = np.asarray(lfilter([a], [1.0, a - 1.0], cr))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(
+            np.abs(vr - vl) > 1e-9, HALF_SPREAD_M * np.abs(vl + vr) / np.abs(vr - vl), np.inf
+        )
+    return vl, vr, 0.5 * (vl + vr), r
+
+
 def chuy_log(
     seed: int,
     *,
@@ -123,14 +140,7 @@ def chuy_log(
         i, leg = i + k, leg + 1
     cl, cr = _sides(v_cmd, r_cmd, sign)
     cl, cr = np.round(cl, 2), np.round(cr, 2)  # the joystick's 0.01 m/s quantum
-    a = (1.0 / HZ) / (lag_s + 1.0 / HZ)  # a first-order drive lag (0.1 s by default)
-    vl = np.asarray(lfilter([a], [1.0, a - 1.0], cl))
-    vr = np.asarray(lfilter([a], [1.0, a - 1.0], cr))
-    v = 0.5 * (vl + vr)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.where(
-            np.abs(vr - vl) > 1e-9, HALF_SPREAD_M * np.abs(vl + vr) / np.abs(vr - vl), np.inf
-        )
+    vl, vr, v, r = drive(cl, cr, lag_s)
     p = battery_w(v, r, regen)
     if cap_w is not None:
         for j in np.flatnonzero(p > cap_w):  # the drive slows at the same radius until P = cap
