@@ -136,11 +136,11 @@ class TopicMap(_TopicMapSchema):
         Time-stamp messages by ``header.stamp`` when they have one (else, and for
         messages without a header, by the bag's receive time).
     power_sampling : {"row", "interval_mean"}
-        ``"interval_mean"``: each power message is the mean over the interval since the one
-        before (an energy counter, an averaging current sensor), so it is stamped at that
-        interval's middle before resampling (the first at half the median interval); the
-        log's power then stands for its row's time, as ``"row"``, and a note says so.  The
-        CSV format states the same with ``# power_sampling: interval_mean``.
+        ``"interval_mean"``: each power message is the mean over the interval before it (an
+        energy counter, an averaging current sensor), so it is stamped half the stream's
+        median interval earlier, at its window's middle, before resampling; the log's power
+        then stands for its row's time, as ``"row"``, and a note says so.  The CSV format
+        states the same with ``# power_sampling: interval_mean``.
     """
 
     def __init__(self, **data: Any) -> None:
@@ -358,14 +358,17 @@ def _read_series(
 
 
 def _interval_middles(ts: FloatArray) -> FloatArray:
-    """Middles of the intervals the stamps ``ts`` close (the first: half the median earlier).
+    """The stamps ``ts`` moved half their median interval earlier: the averaging windows' middles.
+
+    The sensor's window is its own: a lost message does not widen it (as the CSV reading of
+    ``interval_mean``, :func:`ecoplan.diagnose.replay.build_frame`).
 
     >>> _interval_middles(np.array([0.1, 0.2, 0.3, 0.5])).round(3).tolist()
-    [0.05, 0.15, 0.25, 0.4]
+    [0.05, 0.15, 0.25, 0.45]
     """
     gaps = np.diff(ts)
-    first = float(np.median(gaps)) if gaps.size else 0.0
-    return np.asarray(ts - 0.5 * np.concatenate([[first], gaps]), dtype=np.float64)
+    half = 0.5 * float(np.median(gaps)) if gaps.size else 0.0
+    return np.asarray(ts - half, dtype=np.float64)
 
 
 def _resample(
@@ -408,8 +411,8 @@ def _resample(
     notes.append(f"resampled to {rate:g} Hz by linear interpolation; t = 0 at bag time {t0:.9f} s")
     if topics.power_sampling == "interval_mean":
         notes.append(
-            "p_total: each message the mean power over the interval since the one before "
-            "(power_sampling: interval_mean), stamped at that interval's middle before resampling"
+            "p_total: each message the mean power over the interval before it (power_sampling: "
+            "interval_mean), stamped half the median interval earlier before resampling"
         )
     if topics.battery_topic is not None:
         notes.append(
