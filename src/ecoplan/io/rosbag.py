@@ -14,13 +14,20 @@ import math
 import os
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    field_validator,
+    model_validator,
+)
 
 from ecoplan._typing import FloatArray
-from ecoplan.dynamics.log import FLOAT_COLUMNS, Log
+from ecoplan.dynamics.log import FLOAT_COLUMNS, POWER_SAMPLINGS, Log
 from ecoplan.errors import LogFormatError
 from ecoplan.io.yaml import LineMap, format_validation, read_text, read_yaml
 
@@ -86,7 +93,15 @@ class _TopicMapSchema(BaseModel):
     wz: FieldRef | None = None
     rate_hz: float | None = Field(default=None, gt=0.0, le=10000.0)
     use_header_stamp: bool = True
-    power_sampling: Literal["row", "interval_mean"] = "row"
+    power_sampling: str = "row"
+
+    @field_validator("power_sampling")
+    @classmethod
+    def _known_sampling(cls, value: str) -> str:
+        """One of the log format's :data:`~ecoplan.dynamics.log.POWER_SAMPLINGS`."""
+        if value not in POWER_SAMPLINGS:
+            raise ValueError(f"{value!r} is not one of {', '.join(POWER_SAMPLINGS)}")
+        return value
 
     @model_validator(mode="after")
     def _consistent(self) -> _TopicMapSchema:
