@@ -83,12 +83,12 @@ import time
 
 import numpy as np
 
-from ecoplan.diagnose.attribute import GAP_OVER_FLOOR, attribute, split_masks
+from ecoplan.diagnose.attribute import GAP_OVER_FLOOR, attribute
 from ecoplan.diagnose.calibrate import calibrate
 from ecoplan.diagnose.effects import EffectData, NoEffect, TerrainChange, prepare
 from ecoplan.diagnose.effects.terrain import known_terrain_errors, known_terrains
-from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.replay import Frame, build_frame
+from ecoplan.diagnose.pipeline import diagnose, diagnosis_split
+from ecoplan.diagnose.replay import Frame
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.where_time import known_terrain_path, label_segments
@@ -227,10 +227,15 @@ def significant(r_cal: np.ndarray, r_after: np.ndarray, test_f: Frame, level: fl
 
 
 def _splits(mix: Log, params: VehicleParams) -> tuple[Frame, Frame, EffectData, EffectData]:
-    """The diagnosis's split of a mix, calibrated on its training half: frames and data."""
-    frame = build_frame([mix], params)
-    train_m, test_m = split_masks(frame)
-    train_f, test_f = frame.subset(train_m), frame.subset(test_m)
+    """The diagnosis's split of a mix, calibrated on its training half: frames and data.
+
+    The frame and halves are the diagnosis's own
+    (:func:`~ecoplan.diagnose.pipeline.diagnosis_split`: the case tolerance from the encoder
+    noise, the samples no model of the logged speeds can predict left out).
+    """
+    split = diagnosis_split([mix], params)
+    params = split.params
+    train_f, test_f = split.frame.subset(split.train), split.frame.subset(split.test)
     cal = calibrate(train_f, params)
     return (
         train_f,

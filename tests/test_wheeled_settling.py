@@ -20,8 +20,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.pipeline import diagnose, diagnosis_split
 from ecoplan.dynamics.log import Log
+from ecoplan.presets import vehicle
 from wheeled_logs import HALF_SPREAD_M, HZ, ar1, battery_w, drive
 
 #: Below this forward speed the plant's motor controller cuts the current [m/s].
@@ -93,3 +94,16 @@ def test_settling_power_is_left_out_and_said(seed: int) -> None:
     assert a.verdict in ("none", "actuator_lag")
     if a.verdict == "actuator_lag":
         assert 0.05 < a.fitted["actuator_lag"].params_["tau_s"] < 0.2
+
+
+def test_the_benchmarks_split_is_the_diagnosis_split() -> None:
+    """``diagnosis_split`` is what ``diagnose`` works on (the mixes benchmark measures on it)."""
+    log, p, _ = _stop_and_go(2, duration_s=60.0)
+    split = diagnosis_split([log], vehicle("pioneer-3at", "asphalt"))
+    read_zero = (log.v_left == 0.0) & (log.v_right == 0.0)
+    assert np.any(split.stops & read_zero & (p > 1.0))  # the settling samples are there
+    assert not np.any((split.train | split.test) & split.stops)
+    assert not np.any(split.train & split.test)
+    d = diagnose(log, "pioneer-3at", "asphalt")
+    np.testing.assert_array_equal(d.test_mask, split.test)
+    assert split.params.case_tol_mps == d.calibration.params.case_tol_mps

@@ -70,7 +70,14 @@ from ecoplan.models.logged_power import logged_power_w
 from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams, vehicle
 
-__all__ = ["INTERVAL_MEAN_NOTE", "diagnose", "settling_note", "unresolved_stops"]
+__all__ = [
+    "INTERVAL_MEAN_NOTE",
+    "DiagnosisSplit",
+    "diagnose",
+    "diagnosis_split",
+    "settling_note",
+    "unresolved_stops",
+]
 
 #: What the report says of a log whose power is each interval's mean (its ``power_sampling``).
 INTERVAL_MEAN_NOTE = (
@@ -163,6 +170,65 @@ def _with_case_tol(params: VehicleParams, tol_mps: float) -> VehicleParams:
     return dataclasses.replace(params, case_tol_mps=tol_mps)
 
 
+@dataclasses.dataclass(frozen=True)
+class DiagnosisSplit:
+    """The diagnosis's view of its logs: one frame and its two halves.
+
+    Attributes
+    ----------
+    params : TrackedParams or WheeledParams
+        The vehicle, with the motion-case tolerance the logs' encoder noise calls for
+        (:func:`~ecoplan.diagnose.replay.case_tolerance`) where it exceeds the vehicle's.
+    frame : Frame
+        Every log on one time base, speeds snapped to rest within that tolerance.
+    train, test : ndarray of bool
+        The two halves (:func:`~ecoplan.diagnose.attribute.split_masks`), both without
+        ``stops``.
+    stops : ndarray of bool
+        Samples left out of both halves (:func:`unresolved_stops`).
+    """
+
+    params: VehicleParams
+    frame: Frame
+    train: BoolArray
+    test: BoolArray
+    stops: BoolArray
+
+
+def diagnosis_split(
+    logs: Sequence[LogLike], params: VehicleParams, block_s: float | None = None
+) -> DiagnosisSplit:
+    """The frame and the split :func:`diagnose` works on, for a caller that needs the same.
+
+    The one place where the diagnosis turns logs into its frame and halves: the case
+    tolerance from the encoder noise, the frame, the time-block (or run) split, and the
+    samples no model of the logged speeds can predict left out of both halves.
+    ``benchmarks/borealtc_mixes.py`` measures its ceilings on this split, so that they are the
+    diagnosis's and cannot drift from it.
+
+    Parameters
+    ----------
+    logs : sequence of Log
+        Runs, already checked (:func:`~ecoplan.diagnose.checks.check_logs`).
+    params : TrackedParams or WheeledParams
+        The vehicle.
+    block_s : float, optional
+        Time-block length for the split [s].
+
+    Returns
+    -------
+    DiagnosisSplit
+        Parameters with the logs' case tolerance, the frame and the halves.
+    """
+    tol = case_tolerance(logs)
+    if tol > params.case_tol_mps:
+        params = _with_case_tol(params, tol)
+    frame = build_frame(logs, params, block_s, snap_mps=params.case_tol_mps)
+    train_m, test_m = split_masks(frame)
+    stops = unresolved_stops(frame, params)
+    return DiagnosisSplit(params, frame, train_m & ~stops, test_m & ~stops, stops)
+
+
 def diagnose(
     logs: Sequence[LogLike] | LogLike,
     vehicle_name: str | VehicleParams,
@@ -206,14 +272,14 @@ def diagnose(
         name = params.source.name if params.source is not None else params.name
     log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item]
     checked = check_logs(log_list, params)
-    tol = case_tolerance(log_list)
-    if tol > params.case_tol_mps:
-        params = _with_case_tol(params, tol)
-    frame = build_frame(log_list, params, block_s, snap_mps=params.case_tol_mps)
-    train_m, test_m = split_masks(frame)
-    stops = unresolved_stops(frame, params)
-    train_m &= ~stops
-    test_m &= ~stops
+    split = diagnosis_split(log_list, params, block_s)
+    params, frame, train_m, test_m, stops = (
+        split.params,
+        split.frame,
+        split.train,
+        split.test,
+        split.stops,
+    )
     if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
         raise InputError("log too short to diagnose: need at least 40 samples after the split")
     replay = replay_residuals(
