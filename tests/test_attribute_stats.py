@@ -17,7 +17,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from statsmodels.stats.diagnostic import acorr_ljungbox
 
-from ecoplan.diagnose.stats import block_bootstrap, coloured_noise_floor, ljung_box
+from ecoplan.diagnose.stats import (
+    block_bootstrap,
+    coloured_noise_floor,
+    ljung_box,
+    speed_noise_floor,
+)
 
 
 def _ar1(n: int, phi: float, seed: int) -> np.ndarray:
@@ -124,3 +129,36 @@ def test_coloured_noise_floor_ignores_slow_model_error_and_run_joins() -> None:
     mae, phi_hat = coloured_noise_floor(x, run)
     assert phi_hat < 0.1
     assert mae == pytest.approx(10.0, rel=0.08)
+
+
+def test_speed_noise_through_a_linear_model_adds_in_quadrature() -> None:
+    # P = c (v_l + v_r): speed noise of std s on each side moves P by N(0, c s sqrt 2); with a
+    # Gaussian meter noise of MAE m (std m sqrt(pi/2)) the two add in quadrature, and the MAE
+    # of the sum is its std times sqrt(2/pi)
+    c, s, m = 40.0, 0.005, 0.3
+    rng = np.random.default_rng(1)
+    vl, vr = rng.uniform(0.1, 0.6, 4000), rng.uniform(0.1, 0.6, 4000)
+    got = speed_noise_floor(m, lambda a, b: c * (a + b), vl, vr, s)
+    std = math.hypot(m * math.sqrt(math.pi / 2.0), c * s * math.sqrt(2.0))
+    assert got == pytest.approx(std * math.sqrt(2.0 / math.pi), rel=0.02)
+    # samples at rest carry no speed noise (the encoders read zero): the meter's floor there
+    half = np.arange(vl.size) < vl.size // 2
+    part = speed_noise_floor(m, lambda a, b: c * (a + b), vl, vr, s, moving=half)
+    assert part == pytest.approx(0.5 * (m + got), rel=0.02)
+    assert speed_noise_floor(m, lambda a, b: c * (a + b), vl, vr, 0.0) == m
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    floor=st.floats(0.01, 20.0),
+    sigma=st.floats(0.0, 0.05),
+    k=st.floats(-50.0, 50.0),
+)
+def test_speed_noise_never_lowers_the_floor(floor: float, sigma: float, k: float) -> None:
+    # E|e + d| >= E|e| for a symmetric unimodal e and any d: a kinked, steep model included
+    rng = np.random.default_rng(0)
+    vl, vr = rng.uniform(-0.5, 0.5, 300), rng.uniform(-0.5, 0.5, 300)
+    got = speed_noise_floor(
+        floor, lambda a, b: np.abs(k * (b - a)) / (0.05 + np.abs(a + b)), vl, vr, sigma
+    )
+    assert got >= floor * (1.0 - 1e-9)

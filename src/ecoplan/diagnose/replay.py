@@ -33,6 +33,7 @@ from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import VehicleParams
 
 __all__ = [
+    "CASE_TOL_SIGMAS",
     "POSE_SMOOTH_S",
     "Frame",
     "LogLike",
@@ -305,6 +306,11 @@ def hold_radius(
     return vl, vr
 
 
+#: Smoothed speed-noise standard deviations in the motion-case tolerance
+#: (:func:`case_tolerance`); the diagnosis reads the speeds' noise back from it.
+CASE_TOL_SIGMAS = 4.0
+
+
 def case_tolerance(logs: Sequence[LogLike], smooth_s: float = 0.3) -> float:
     """Speed tolerance for the motion cases that the encoder noise calls for [m/s].
 
@@ -328,7 +334,7 @@ def case_tolerance(logs: Sequence[LogLike], smooth_s: float = 0.3) -> float:
     gain = 1.0
     if smooth_s > 0.0 and win > 3:
         gain = float(np.sqrt(np.sum(savgol_coeffs(win, 2) ** 2)))
-    return float(np.clip(4.0 * sigma * gain, 1e-3, 0.05))
+    return float(np.clip(CASE_TOL_SIGMAS * sigma * gain, 1e-3, 0.05))
 
 
 def power_is_interval_mean(log: LogLike) -> bool:
