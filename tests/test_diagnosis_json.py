@@ -50,6 +50,7 @@ def test_json_has_exactly_the_stable_shape(effect: str) -> None:
         assert 0.0 <= w["error_share"] <= 1.0 and 0.0 <= w["time_share"] <= 1.0
     # the evidence of the naming rule: both alternatives, each with its held-out MAE
     assert [a["name"] for a in obj["naming"]["alternatives"]] == ["structural", "time_step"]
+    assert all(isinstance(a["halves_note"], str) for a in obj["naming"]["alternatives"])
     assert all(isinstance(a["after"], float) for a in obj["naming"]["alternatives"])
     assert isinstance(obj["naming"]["reason"], str)
 

@@ -119,6 +119,27 @@ def test_a_significant_step_in_time_turns_none_into_unexplained() -> None:
     assert _rule("none", noise + 5.0, [small], gap_w=gap, level=0.004)[0] == "none"
 
 
+def test_a_step_the_two_halves_do_not_find_is_set_aside() -> None:
+    # a step whose halves disagree (time or factors, naming.halves_check) is model error that
+    # clusters in one stretch of the log, not a change in time: it neither turns `none` into
+    # `unexplained` nor overrules a name it ties with
+    rng = np.random.default_rng(4)
+    noise = rng.normal(0.0, 10.0, 800)
+    gap = float(np.mean(np.abs(noise + 5.0)))
+    note = "its t_step_s differs between the halves of the split: 11.9 against 18.8 (p = 0.002)"
+    step = Alternative("time_step", 8.0, 0.2 * gap, 1e-6, {"t_step_s": 90.0}, noise)
+    apart = dataclasses.replace(step, halves_note=note)
+    assert _rule("none", noise + 5.0, [step], gap_w=gap, level=0.004)[0] == "unexplained"
+    assert _rule("none", noise + 5.0, [apart], gap_w=gap, level=0.004) == ("none", "")
+    tie = _alternative("time_step", noise + rng.normal(0.0, 1.0, 800))
+    assert _rule("terrain_patch", noise, [tie])[0] == "unexplained"
+    tie_apart = dataclasses.replace(tie, halves_note=note)
+    assert _rule("terrain_patch", noise, [tie_apart]) == ("terrain_patch", "")
+    # the structure is still held against the name when the step is set aside
+    flat = _alternative("structural", 0.99 * noise)
+    assert _rule("terrain_patch", noise, [tie_apart, flat])[0] == "none"
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize(("variant", "seed"), [("a", 0), ("b", 0), ("e", 0)])
 def test_a_gain_change_mid_run_is_a_time_not_a_place(
@@ -138,6 +159,8 @@ def test_a_gain_change_mid_run_is_a_time_not_a_place(
     assert abs(step.params["rest_factor"] - gain) < 0.06
     assert abs(step.params["friction_factor"] - gain) < 0.15
     assert step.after_w < d.gap_calibrated_w
+    # a change at an instant is in both halves of the split (they interleave time blocks)
+    assert step.halves_note == ""
 
 
 @pytest.mark.slow

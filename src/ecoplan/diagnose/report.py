@@ -28,9 +28,11 @@ keys), ``where_time_terrain`` (the most likely terrain of each of those segments
 vehicle preset's terrains, in the same order; empty when the vehicle has one terrain or was
 given as parameters), ``naming`` (the explanations outside the library the verdict's
 effect had to beat, :mod:`ecoplan.diagnose.naming`: ``{"reason", "alternatives": [{"name",
-"after", "p_value", "params"}], "halves"}``, ``reason`` the one line on why an effect was not
-named, empty when none was overruled; ``halves`` the named power-channel effect's parameters
-fitted on each half of the split, ``{"effect", "agree", "p_value", "note", "params": [{"name",
+"after", "p_value", "params", "halves_note"}], "halves"}``, ``reason`` the one line on why an
+effect was not named, empty when none was overruled; ``halves_note`` why the halves of the
+split do not find the same step in time (the step is then set aside), else empty;
+``halves`` the named power-channel effect's parameters fitted on each half of the split,
+``{"effect", "agree", "p_value", "note", "params": [{"name",
 "train", "train_ci", "test", "test_ci", "agree"}]}`` with 95 % intervals, null when no such
 effect was named), ``tied`` (names of an ambiguous verdict), ``log`` (runs,
 duration, dropped rows, split, the readers' ``notes`` -- assumptions such as the bus voltage,
@@ -171,6 +173,7 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
                     "after": _num(a.after_w),
                     "p_value": _num(a.p_value),
                     "params": {k: _num(v) for k, v in a.params.items()},
+                    "halves_note": a.halves_note,
                 }
                 for a in att.alternatives
             ],
