@@ -261,9 +261,8 @@ def _with_speed_noise(floor: float, test: EffectData) -> float:
     the meter's 0.32 W; the floor with the speed noise is 0.43 W there (0.32 W without it).
     Tracked, the model is linear in the speeds and in ``|ω|`` (Morales et al. 2009 §III); the
     speed noise moves its floor by 1.6-2.3 % on the zoo's clean Auriga logs (variants a and h,
-    seeds 0-1), far inside the floor estimate's
-    own spread (about 20 %, :func:`~ecoplan.diagnose.stats.coloured_noise_floor`): its floor
-    stays the meter's alone.
+    seeds 0-1), far inside the floor estimate's own spread (about 20 %,
+    :func:`~ecoplan.diagnose.stats.coloured_noise_floor`): its floor stays the meter's alone.
     """
     params = test.params
     if not isinstance(params, WheeledParams):

@@ -366,9 +366,9 @@ def _step_halves_note(step: Effect, train: EffectData, test: EffectData) -> str:
     check = halves_check(step, train, test)
     if check.agree:
         return ""
-    worst = check.worst()
     if check.note:
         return check.note
+    worst = check.worst()
     if worst is None:
         return "the halves differ"
     return (

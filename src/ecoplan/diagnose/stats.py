@@ -183,7 +183,7 @@ def speed_noise_floor(
     rng = np.random.default_rng(seed)
     p0 = np.asarray(power_w(vl[m], vr[m]), dtype=np.float64)
     s = floor_w * math.sqrt(math.pi / 2.0)
-    total = float(np.sum(np.full(vl.size - int(np.count_nonzero(m)), floor_w)))
+    at_rest = floor_w * (vl.size - p0.size)  # the meter's noise alone there
     acc = 0.0
     for _ in range(SPEED_NOISE_DRAWS):
         el = rng.normal(0.0, sigma_mps, p0.size)
@@ -192,8 +192,7 @@ def speed_noise_floor(
         z = d / s
         e_abs = s * math.sqrt(2.0 / math.pi) * np.exp(-0.5 * z**2) + d * (1.0 - 2.0 * norm.sf(z))
         acc += float(np.sum(e_abs))
-    total += acc / SPEED_NOISE_DRAWS
-    return total / vl.size
+    return (at_rest + acc / SPEED_NOISE_DRAWS) / vl.size
 
 
 def prewhiten(residual: FloatArray, phi: float, run: FloatArray | None = None) -> FloatArray:
