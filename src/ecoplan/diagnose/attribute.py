@@ -56,7 +56,7 @@ from ecoplan.diagnose.naming import (
     naming_rule,
     stated_bars,
 )
-from ecoplan.diagnose.replay import CASE_TOL_SIGMAS, POSE_SMOOTH_S, Frame
+from ecoplan.diagnose.replay import CASE_TOL_SIGMAS, POSE_SMOOTH_S, Frame, in_motion
 from ecoplan.diagnose.stats import (
     block_bootstrap,
     coloured_noise_floor,
@@ -269,7 +269,7 @@ def _with_speed_noise(floor: float, test: EffectData) -> float:
         return floor
     f = test.frame
     tol = params.case_tol_mps
-    moving = (np.abs(f.vl) > tol) | (np.abs(f.vr) > tol)
+    moving = in_motion(f.vl, f.vr, tol)
 
     def power(vl: FloatArray, vr: FloatArray) -> FloatArray:
         return np.asarray(params.power(vl, vr).total_w, dtype=np.float64)

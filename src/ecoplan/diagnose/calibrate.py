@@ -40,7 +40,7 @@ import numpy as np
 from scipy.optimize import lsq_linear, minimize_scalar
 
 from ecoplan._typing import BoolArray, FloatArray
-from ecoplan.diagnose.replay import Frame, smooth_derivative
+from ecoplan.diagnose.replay import Frame, in_motion, smooth_derivative
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import SideCoefficients, WheeledParams, side_power
@@ -131,7 +131,7 @@ def _wheeled_columns(
     v = np.abs(tw.vx)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
-    moving = (np.abs(vl) > params.case_tol_mps) | (np.abs(vr) > params.case_tol_mps)
+    moving = in_motion(vl, vr, params.case_tol_mps)
     if signs is None:
         pb = params.power(vl, vr)
         left_inner = tw.wz > 0.0
@@ -420,7 +420,7 @@ def settling(frame: Frame, settle_s: float = SETTLE_S, rest_mps: float = 0.0) ->
     ``case_tol_mps``, below which its power model puts the robot at rest (the frame's
     smoothed speeds leave about a millimetre per second on the samples the encoders read zero).
     """
-    moving = (np.abs(frame.vl) > rest_mps) | (np.abs(frame.vr) > rest_mps)
+    moving = in_motion(frame.vl, frame.vr, rest_mps)
     last = np.where(moving, frame.t, -np.inf)
     out = np.zeros(frame.n, dtype=bool)
     for r in np.unique(frame.run):

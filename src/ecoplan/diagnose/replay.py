@@ -41,6 +41,7 @@ __all__ = [
     "build_frame",
     "case_tolerance",
     "hold_radius",
+    "in_motion",
     "power_is_interval_mean",
     "replay_residuals",
     "smooth",
@@ -211,6 +212,15 @@ def smooth(t: FloatArray, y: FloatArray, window_s: float = 0.3) -> FloatArray:
 def _window(t: FloatArray, window_s: float) -> int:
     dt = float(np.median(np.diff(t))) if t.size > 1 else 1.0
     return max(round(window_s / dt) | 1, 3)
+
+
+def in_motion(vl: FloatArray, vr: FloatArray, tol_mps: float) -> BoolArray:
+    """Samples where either side runs faster than ``tol_mps``: not at rest for the models.
+
+    >>> in_motion(np.array([0.0, 0.002, 0.0]), np.array([0.0, 0.0, -0.01]), 0.005).tolist()
+    [False, False, True]
+    """
+    return np.asarray((np.abs(vl) > tol_mps) | (np.abs(vr) > tol_mps), dtype=bool)
 
 
 def snap_speeds(
