@@ -162,3 +162,24 @@ def test_speed_noise_never_lowers_the_floor(floor: float, sigma: float, k: float
         floor, lambda a, b: np.abs(k * (b - a)) / (0.05 + np.abs(a + b)), vl, vr, sigma
     )
     assert got >= floor * (1.0 - 1e-9)
+
+
+def test_the_speed_noise_reaches_a_tracked_floor_too() -> None:
+    """The encoders' noise is the same physics on tracks: the tracked floor carries it too.
+
+    Auriga-β's power is linear in the side speeds and in ``|ω|`` (Morales et al. 2009 §III): a
+    few mm/s of speed noise move it by about a watt, a small part of the floor of the 15 W meter
+    noise (``15 sqrt(2 / pi)``, 12 W, the MAE of white noise of that size).
+    """
+    from ecoplan.diagnose.attribute import _with_speed_noise
+    from ecoplan.diagnose.effects import prepare
+    from ecoplan.diagnose.pipeline import diagnosis_split
+    from ecoplan.presets import vehicle
+    from ecoplan.synth.cases import generate_case
+
+    case = generate_case(3, "none", vehicle="auriga-beta-narrow")
+    split = diagnosis_split(list(case.logs), vehicle(case.vehicle, case.terrain))
+    test = prepare(split.frame.subset(split.test), split.params)
+    floor = 15.0 * math.sqrt(2.0 / math.pi)
+    got = _with_speed_noise(floor, test)
+    assert floor < got < 1.1 * floor
