@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from ecoplan.errors import InputError
 from ecoplan.models import COMPONENTS, WheeledParams, side_power, vr_to_tracks
-from ecoplan.models.wheeled import decay_curve, wheeled_power_vr
+from ecoplan.models.wheeled import SideCoefficients, decay_curve, side_power_basis, wheeled_power_vr
 from ecoplan.presets import vehicle
 
 # Table I (asphalt), columns a_inf, a_alpha, a_beta, b_inf, b_alpha, b_beta
@@ -190,3 +190,33 @@ def test_spot_turn_splits_the_two_fits_evenly(terrain: str) -> None:
     q = _p(terrain).power(-0.5, 0.5)
     for side in (p.left_w, p.right_w, q.left_w, q.right_w):
         assert float(side) == pytest.approx(mean, rel=1e-9)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    coef=st.lists(st.floats(-500.0, 500.0), min_size=4, max_size=4),
+    betas=st.tuples(st.floats(0.1, 12.0), st.floats(0.1, 12.0)),
+    seed=st.integers(0, 10_000),
+)
+def test_the_linear_basis_of_eq_12_rebuilds_the_side_power(
+    coef: list[float], betas: tuple[float, float], seed: int
+) -> None:
+    """``coef @ side_power_basis`` is eq. (12) written out by hand, and :func:`side_power`.
+
+    Reference: ``a_inf v + a_alpha (r + 1)^-a_beta v + b_inf + b_alpha (r + 1)^-b_beta``
+    (Chuy et al. 2009, eqs. 12-15), radii from 0 to straight (``inf``).
+    """
+    g = np.random.default_rng(seed)
+    r = np.concatenate([g.uniform(0.0, 30.0, 50), [0.0, np.inf]])
+    v = g.uniform(0.0, 0.9, r.size)
+    a_inf, a_alpha, b_inf, b_alpha = coef
+    a_beta, b_beta = betas
+    by_hand = (
+        a_inf * v + a_alpha * (r + 1.0) ** -a_beta * v + b_inf + b_alpha * (r + 1.0) ** -b_beta
+    )
+    basis = side_power_basis(r, v, a_beta, b_beta)
+    assert basis.shape == (4, r.size)
+    got = np.asarray(coef) @ basis
+    side = SideCoefficients(a_inf, a_alpha, a_beta, b_inf, b_alpha, b_beta)
+    np.testing.assert_allclose(got, by_hand, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(got, side_power(r, v, side), rtol=1e-12, atol=1e-9)

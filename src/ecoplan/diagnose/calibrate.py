@@ -43,7 +43,7 @@ from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.diagnose.replay import Frame, in_motion, smooth_derivative
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.tracked import TrackedParams
-from ecoplan.models.wheeled import SideCoefficients, WheeledParams, side_power
+from ecoplan.models.wheeled import SideCoefficients, WheeledParams, side_power_basis
 from ecoplan.presets import VehicleParams
 
 __all__ = [
@@ -141,11 +141,8 @@ def _wheeled_columns(
     cols = []
     names = []
     for s_idx, (side_name, side) in enumerate((("inner", params.inner), ("outer", params.outer))):
-        for j, coef in enumerate(_SIDE_LINEAR):
-            unit = np.zeros(6)
-            unit[j if j < 2 else j + 1] = 1.0
-            unit[2], unit[5] = side.a_beta, side.b_beta
-            col = side_power(r, v, SideCoefficients(*unit))
+        basis = side_power_basis(r, v, side.a_beta, side.b_beta)  # in _SIDE_LINEAR's order
+        for coef, col in zip(_SIDE_LINEAR, basis, strict=True):
             cols.append(np.where(moving, signs[s_idx] * col, 0.0))
             names.append(f"{side_name}.{coef}")
     cols.append(np.ones(vl.size))

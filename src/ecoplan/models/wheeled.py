@@ -59,6 +59,7 @@ __all__ = [
     "WheeledParams",
     "decay_curve",
     "side_power",
+    "side_power_basis",
     "wheeled_power",
     "wheeled_power_vr",
 ]
@@ -135,6 +136,22 @@ def side_power(r_m: ArrayLike, v_mps: ArrayLike, side: SideCoefficients) -> Floa
     a = decay_curve(r_m, side.a_inf, side.a_alpha, side.a_beta)
     b = decay_curve(r_m, side.b_inf, side.b_alpha, side.b_beta)
     return a * np.asarray(v_mps, dtype=np.float64) + b
+
+
+def side_power_basis(r_m: ArrayLike, v_mps: ArrayLike, a_beta: float, b_beta: float) -> FloatArray:
+    """The linear basis of wheeled eq. (12) at fixed decay exponents, shape ``(4, n)``.
+
+    ``P(r, v) = a_inf v + a_alpha (r + 1)^-a_beta v + b_inf + b_alpha (r + 1)^-b_beta``
+    (eqs. 12-15): the rows are ``v``, ``(r + 1)^-a_beta v``, ``1`` and ``(r + 1)^-b_beta``, in
+    the order ``a_inf, a_alpha, b_inf, b_alpha``, so that ``coef @ basis`` is
+    :func:`side_power` with those coefficients.  What a least-squares fit of the linear
+    coefficients needs (``ecoplan.diagnose.calibrate``), with two powers per side instead
+    of one :func:`side_power` per coefficient.
+    """
+    v = np.broadcast_to(np.asarray(v_mps, dtype=np.float64), np.shape(r_m))
+    a = decay_curve(r_m, 0.0, 1.0, a_beta)
+    b = decay_curve(r_m, 0.0, 1.0, b_beta)
+    return np.stack([v, a * v, np.ones_like(v), b])
 
 
 @dataclass(frozen=True, slots=True)
