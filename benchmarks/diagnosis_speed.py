@@ -5,6 +5,10 @@ Generates a session of about one hour at 100 Hz with :func:`ecoplan.synth.cases.
 :func:`ecoplan.diagnose.pipeline.diagnose` on it.  Target: under 30 s.  Run with one BLAS thread::
 
     OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 .venv/bin/python benchmarks/diagnosis_speed.py
+
+``--vehicle pioneer-3at`` times the wheeled path on the same kind of session (the small-radius
+shape search of the naming rule's structural alternative dominates it; session 16 measured
+it far above the target).
 """
 
 from __future__ import annotations
@@ -28,9 +32,21 @@ def main() -> int:
     ap.add_argument("--runs", type=int, default=40, help="A->B runs in the session")
     ap.add_argument("--rate", type=float, default=100.0, help="sample rate [Hz]")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument(
+        "--vehicle",
+        default="auriga-beta-narrow",
+        help="preset the session is generated for (pioneer-3at: the wheeled path, on asphalt)",
+    )
     args = ap.parse_args()
+    terrain = "asphalt"
     case = generate_case(
-        args.seed, "inertia", "moderate", n_waypoint_runs=args.runs, rate_hz=args.rate
+        args.seed,
+        "inertia",
+        "moderate",
+        vehicle=args.vehicle,
+        terrain=terrain,
+        n_waypoint_runs=args.runs,
+        rate_hz=args.rate,
     )
     n = sum(len(lg) for lg in case.logs)
     dur_h = sum(lg.duration_s for lg in case.logs) / 3600.0
