@@ -38,13 +38,12 @@ def main() -> int:
         help="preset the session is generated for (pioneer-3at: the wheeled path, on asphalt)",
     )
     args = ap.parse_args()
-    terrain = "asphalt"
     case = generate_case(
         args.seed,
         "inertia",
         "moderate",
         vehicle=args.vehicle,
-        terrain=terrain,
+        terrain="asphalt",
         n_waypoint_runs=args.runs,
         rate_hz=args.rate,
     )

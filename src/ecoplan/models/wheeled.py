@@ -139,7 +139,7 @@ def side_power(r_m: ArrayLike, v_mps: ArrayLike, side: SideCoefficients) -> Floa
 
 
 def side_power_basis(r_m: ArrayLike, v_mps: ArrayLike, a_beta: float, b_beta: float) -> FloatArray:
-    """The linear basis of wheeled eq. (12) at fixed decay exponents, shape ``(4, n)``.
+    """The linear basis of wheeled eq. (12) at fixed decay exponents, shape ``(4, *shape)``.
 
     ``P(r, v) = a_inf v + a_alpha (r + 1)^-a_beta v + b_inf + b_alpha (r + 1)^-b_beta``
     (eqs. 12-15): the rows are ``v``, ``(r + 1)^-a_beta v``, ``1`` and ``(r + 1)^-b_beta``, in
@@ -148,9 +148,9 @@ def side_power_basis(r_m: ArrayLike, v_mps: ArrayLike, a_beta: float, b_beta: fl
     coefficients needs (``ecoplan.diagnose.calibrate``), with two powers per side instead
     of one :func:`side_power` per coefficient.
     """
-    v = np.broadcast_to(np.asarray(v_mps, dtype=np.float64), np.shape(r_m))
-    a = decay_curve(r_m, 0.0, 1.0, a_beta)
-    b = decay_curve(r_m, 0.0, 1.0, b_beta)
+    r, v = np.broadcast_arrays(np.asarray(r_m, dtype=np.float64), np.asarray(v_mps, np.float64))
+    a = decay_curve(r, 0.0, 1.0, a_beta)
+    b = decay_curve(r, 0.0, 1.0, b_beta)
     return np.stack([v, a * v, np.ones_like(v), b])
 
 
