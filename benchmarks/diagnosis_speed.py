@@ -8,7 +8,8 @@ Generates a session of about one hour at 100 Hz with :func:`ecoplan.synth.cases.
 
 ``--vehicle pioneer-3at`` times the wheeled path on the same kind of session (the small-radius
 shape search of the naming rule's structural alternative dominates it; session 16 measured
-273 s per hour, then 58 s with the search on at most 8 000 samples: still above the target).
+273 s per hour, then 58 s with the search on at most 8 000 samples; session 17 27 s, with the
+search on 4 000, the calibration's bounded fits on the QR factor and fewer sign passes).
 """
 
 from __future__ import annotations

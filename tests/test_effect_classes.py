@@ -14,7 +14,10 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy.optimize import least_squares
+from scipy.stats import median_abs_deviation
 
 from ecoplan.diagnose.corrected import CorrectedModel
 from ecoplan.diagnose.effects import (
@@ -147,6 +150,16 @@ def test_robust_scale_is_the_normal_consistent_mad() -> None:
     r = np.array([1.0, 2.0, 3.0, 4.0, 100.0])
     # median 3, absolute deviations 2 1 0 1 97 -> MAD 1, scaled by 1 / Phi^-1(3/4)
     assert robust_scale(r) == pytest.approx(1.0 / 0.6744897501960817)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.lists(st.floats(-1e6, 1e6, allow_nan=False, allow_infinity=False), min_size=1, max_size=200)
+)
+def test_robust_scale_equals_scipys_normal_mad(values: list[float]) -> None:
+    # robust_scale writes the MAD with np.median; scipy's own function is the reference
+    r = np.asarray(values)
+    assert robust_scale(r) == median_abs_deviation(r, scale="normal")
 
 
 def test_huber_irls_reaches_the_least_squares_huber_minimiser() -> None:

@@ -133,11 +133,7 @@ def _wheeled_columns(
         r = np.where(np.abs(tw.wz) > 1e-12, v / np.abs(tw.wz), np.inf)
     moving = in_motion(vl, vr, params.case_tol_mps)
     if signs is None:
-        pb = params.power(vl, vr)
-        left_inner = tw.wz > 0.0
-        p_in = np.where(left_inner, pb.left_w, pb.right_w)
-        p_out = np.where(left_inner, pb.right_w, pb.left_w)
-        signs = np.stack([np.where(p_in < 0, -1.0, 1.0), np.where(p_out < 0, -1.0, 1.0)])
+        signs = _wheeled_signs(vl, vr, params)
     cols = []
     names = []
     for s_idx, (side_name, side) in enumerate((("inner", params.inner), ("outer", params.outer))):
@@ -149,6 +145,21 @@ def _wheeled_columns(
     names.append("p_powerup_w")
     lower, upper = wheeled_bounds(params)
     return BaseDesign(np.column_stack(cols), tuple(names), lower, upper)
+
+
+def _wheeled_signs(vl: FloatArray, vr: FloatArray, params: WheeledParams) -> FloatArray:
+    """Signs of the inner and outer sides' power at ``params``, shape ``(2, n)`` (+1 or -1).
+
+    The battery draw is ``|P|`` per side (wheeled eq. 12), so the linear design multiplies
+    each side's basis by the sign of that side's power (a braking side's basis enters
+    negated).
+    """
+    tw = tracks_to_twist(vl, vr, params.icr)
+    pb = params.power(vl, vr)
+    left_inner = tw.wz > 0.0
+    p_in = np.where(left_inner, pb.left_w, pb.right_w)
+    p_out = np.where(left_inner, pb.right_w, pb.left_w)
+    return np.stack([np.where(p_in < 0, -1.0, 1.0), np.where(p_out < 0, -1.0, 1.0)])
 
 
 def wheeled_bounds(params: WheeledParams) -> tuple[FloatArray, FloatArray]:
@@ -231,6 +242,11 @@ def _solve(
         e = envelope * np.sqrt(ridge * design.X.shape[0] / envelope.shape[0])
         a = np.vstack([a, e / scale])
         b = np.concatenate([y, e @ prior])
+    if a.shape[0] > 4 * a.shape[1]:
+        # ``|A x - b|^2 = |R x - Q^T b|^2 + const`` (thin QR): BVLS solves the same problem on
+        # a k x k system instead of refactoring the n x k one at every active-set change
+        q, r = np.linalg.qr(a)
+        a, b = r, q.T @ b
     res = lsq_linear(a, b, bounds=(design.lower * scale, design.upper * scale), method="bvls")
     return np.asarray(res.x / scale, dtype=np.float64)
 
@@ -296,9 +312,16 @@ def fit_linear_at_chi(
         # before, an alpha that landed on 0 would let the next pass flip a(r)'s direction
         ref = p
         lower, upper = wheeled_bounds(ref)
+        # the design depends on the coefficients only through the sides' power signs: once a
+        # pass leaves them as they were, every later pass would solve the same problem again
+        used: FloatArray | None = None
         for _ in range(3):
-            d = dataclasses.replace(base_design(fit, p), lower=lower, upper=upper)
+            signs = _wheeled_signs(fit.vl, fit.vr, p)
+            if used is not None and np.array_equal(signs, used):
+                break
+            d = dataclasses.replace(base_design(fit, p, signs), lower=lower, upper=upper)
             p = with_linear_params(ref, d.names, _solve(d, fit.p, prior, envelope, WHEELED_RIDGE))
+            used = signs
     pred = p.power(frame.vl, frame.vr).total_w
     return p, float(np.mean((frame.p - pred) ** 2))
 
