@@ -316,6 +316,7 @@ def fit_linear_at_chi(
         # pass leaves them as they were, every later pass would solve the same problem again
         used: FloatArray | None = None
         for _ in range(3):
+            assert isinstance(p, WheeledParams)
             signs = _wheeled_signs(fit.vl, fit.vr, p)
             if used is not None and np.array_equal(signs, used):
                 break
