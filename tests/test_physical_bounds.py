@@ -8,6 +8,8 @@
   (Chuy et al. 2009, eqs. 14-15): straight power never falls with speed, even on a log whose
   power does (the BorealTC FLOORING fit gave ``a_inf`` 7.5 -> -206 and power falling from 167 W
   at 0.1 m/s to 23 W at 0.5 m/s before).
+* The calibration's bounded fit (BVLS on the thin QR factor of a tall design) reaches the
+  optimum of the whole bounded problem.
 """
 
 from __future__ import annotations
@@ -18,8 +20,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.optimize import lsq_linear
 
-from ecoplan.diagnose.calibrate import calibrate, wheeled_bounds
+from ecoplan.diagnose.calibrate import BaseDesign, _solve, calibrate, wheeled_bounds
 from ecoplan.diagnose.effects import regenerated_w
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.dynamics.log import Log
@@ -124,3 +127,36 @@ def test_borealtc_flooring_calibration_is_physical_and_finite() -> None:
     p = _straight_power(cal, speeds)
     assert np.all(np.isfinite(p)) and np.all(p >= 0.0)
     assert np.all(np.diff(p) >= -1e-9)  # before: 167 W at 0.1 m/s, 23 W at 0.5 m/s
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 10_000),
+    n=st.integers(40, 400),
+    k=st.integers(2, 7),
+    ridge=st.sampled_from([0.0, 0.1]),
+)
+def test_the_bounded_fit_reaches_the_optimum_of_the_whole_problem(
+    seed: int, n: int, k: int, ridge: float
+) -> None:
+    # _solve factors a tall design (thin QR) before BVLS; the reference is scipy's other
+    # bounded solver (trust-region reflective) on the uncompressed, unscaled rows written
+    # here, penalty rows included
+    rng = np.random.default_rng(seed)
+    X = rng.normal(size=(n, k)) * rng.uniform(0.01, 100.0, size=k)
+    y = X @ rng.normal(size=k) + rng.normal(size=n)
+    lower = np.where(rng.random(k) < 0.5, 0.0, -np.inf)
+    upper = np.where(rng.random(k) < 0.3, 0.5, np.inf)
+    upper = np.maximum(upper, lower + 0.1)
+    env = rng.normal(size=(9, k))
+    prior = rng.normal(size=k)
+    design = BaseDesign(X, tuple(f"c{i}" for i in range(k)), lower, upper)
+    x = _solve(design, y, prior, env, ridge)
+    assert np.all(x >= lower - 1e-9) and np.all(x <= upper + 1e-9)
+    w = np.sqrt(ridge * n / env.shape[0])
+    a_full = np.vstack([X, w * env])
+    b_full = np.concatenate([y, w * (env @ prior)])
+    ref = lsq_linear(a_full, b_full, bounds=(lower, upper), method="trf", tol=1e-12).x
+    cost = float(np.sum((a_full @ x - b_full) ** 2))
+    ref_cost = float(np.sum((a_full @ ref - b_full) ** 2))
+    assert cost <= ref_cost * (1.0 + 1e-7) + 1e-9
