@@ -264,8 +264,9 @@ def robust_scale(residual: FloatArray) -> float:
 
     :func:`scipy.stats.median_abs_deviation` with ``scale="normal"``: the median absolute
     deviation scaled to a Gaussian's standard deviation, written with ``np.median`` the way
-    scipy computes it (its array-API wrapper cost a wheeled session's diagnosis about 3 s per
-    hour of log in 3 000 calls; ``tests/test_effect_classes.py`` checks it against scipy).
+    scipy computes it (its array-API wrapper cost 1.7 s of the 42 s that the 0.91 h wheeled
+    session of ``benchmarks/diagnosis_speed.py`` took, in about 3 000 calls;
+    ``tests/test_effect_classes.py`` checks it against scipy).
     """
     r = np.asarray(residual, dtype=np.float64)
     if not r.size:
