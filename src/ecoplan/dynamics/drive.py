@@ -168,12 +168,13 @@ def follow_commands(
     gains = np.minimum(dts, tau_s) / tau_s if tau_s > 0.0 else np.ones_like(dts)
     if c.ndim == 1:  # scalar loop: a python float loop beats numpy on 0-d arrays
         cl = c.tolist()
-        out = [0.0] * len(cl)
-        v = out[0] = cl[0] if v0 is None else float(np.asarray(v0))
-        for i, (d, g) in enumerate(zip(lim.tolist(), gains.tolist(), strict=True), start=1):
-            step = (cl[i - 1] - v) * g
+        v = cl[0] if v0 is None else float(np.asarray(v0))
+        out = [v]
+        append = out.append
+        for ci, d, g in zip(cl[:-1], lim.tolist(), gains.tolist(), strict=True):
+            step = (ci - v) * g
             v += d if step > d else (-d if step < -d else step)
-            out[i] = v
+            append(v)
         return np.asarray(out, dtype=np.float64)
     res = np.empty_like(c)
     vb = (
