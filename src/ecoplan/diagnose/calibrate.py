@@ -61,6 +61,7 @@ __all__ = [
     "settling",
     "structural_onset",
     "wheeled_bounds",
+    "wheeled_fit_rows",
     "wheeled_prior",
     "with_linear_params",
 ]
@@ -289,13 +290,15 @@ def wheeled_prior(
 
 
 def fit_linear_at_chi(
-    frame: Frame, params: VehicleParams, chi: float
+    frame: Frame, params: VehicleParams, chi: float, rows: BoolArray | None = None
 ) -> tuple[VehicleParams, float]:
     """Fit the linear coefficients at a fixed χ; returns the parameters and the mean square error.
 
     The coefficients are pulled towards ``params``' own (:data:`TRACKED_RIDGE`,
     :data:`WHEELED_RIDGE`, see :func:`_solve`); the structure (onset, decay exponents, η) is
-    ``params``'.
+    ``params``'.  A wheeled fit uses the samples ``rows`` of ``frame``, by default those at
+    resolved radii outside settling stops (:func:`wheeled_fit_rows`): a search that fits the
+    same frame many times passes that mask once.
     """
     p = dataclasses.replace(params, chi=chi)
     if isinstance(p, TrackedParams):
@@ -305,9 +308,7 @@ def fit_linear_at_chi(
         p = with_linear_params(p, d.names, _solve(d, frame.p, prior, envelope, TRACKED_RIDGE))
     else:
         prior, envelope = _wheeled_theta(p), _envelope_design(p)
-        fit = frame.subset(
-            radius_resolved(frame.vl, frame.vr) & ~settling(frame, rest_mps=p.case_tol_mps)
-        )
+        fit = frame.subset(wheeled_fit_rows(frame, p) if rows is None else rows)
         # the bounds keep the signs of ``params``' alphas on every pass: read from the pass
         # before, an alpha that landed on 0 would let the next pass flip a(r)'s direction
         ref = p
@@ -325,6 +326,14 @@ def fit_linear_at_chi(
             used = signs
     pred = p.power(frame.vl, frame.vr).total_w
     return p, float(np.mean((frame.p - pred) ** 2))
+
+
+def wheeled_fit_rows(frame: Frame, params: WheeledParams) -> BoolArray:
+    """Samples a wheeled fit uses: resolved radii (:func:`radius_resolved`), no settling stops.
+
+    The stops are :func:`settling` at ``params.case_tol_mps``.
+    """
+    return radius_resolved(frame.vl, frame.vr) & ~settling(frame, rest_mps=params.case_tol_mps)
 
 
 def grid_then_bounded(

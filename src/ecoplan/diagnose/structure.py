@@ -71,9 +71,8 @@ from ecoplan.diagnose.calibrate import (
     calibrate,
     fit_linear_at_chi,
     onset_informative_samples,
-    radius_resolved,
-    settling,
     structural_onset,
+    wheeled_fit_rows,
 )
 from ecoplan.diagnose.friction_law import calibrate_with_law
 from ecoplan.diagnose.replay import Frame
@@ -166,7 +165,7 @@ def _radius_and_fit_mask(frame: Frame, params: WheeledParams) -> tuple[FloatArra
     v, w = np.abs(tw.vx), np.abs(tw.wz)
     with np.errstate(divide="ignore", invalid="ignore"):
         r = np.where(w > 1e-12, v / w, np.inf)
-    return r, radius_resolved(frame.vl, frame.vr) & ~settling(frame, rest_mps=params.case_tol_mps)
+    return r, wheeled_fit_rows(frame, params)
 
 
 def _with_beta(params: WheeledParams, beta: FloatArray) -> WheeledParams:
@@ -195,7 +194,7 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
     :data:`BETA_BOUNDS`) around the bounded linear fit of the coefficients at each trial
     (:func:`ecoplan.diagnose.calibrate.fit_linear_at_chi`, pulled towards ``params``' own
     coefficients), on the samples whose radius is resolved
-    (:func:`ecoplan.diagnose.calibrate.radius_resolved`, settling stops left out; at most
+    (:func:`ecoplan.diagnose.calibrate.wheeled_fit_rows`: settling stops left out; at most
     :data:`SHAPE_SEARCH_SAMPLES` of them, strided), weakly
     pulled towards ``params``' exponents (:data:`BETA_PRIOR_WEIGHT`).  Their 95 % intervals
     come from the curvature of the profile log-likelihood ``n_eff / 2 ln(mse)``, with
@@ -231,13 +230,14 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
             p0, dict(zip(_BETA_NAMES, beta0.tolist(), strict=True)), {}, (), _BETA_NAMES, n_small
         )
     sub = _strided(frame, resolved)
+    rows = wheeled_fit_rows(sub, p0)  # the same for every trial shape
     lb0 = np.log(beta0)
-    mse0 = fit_linear_at_chi(sub, p0, chi)[1]
+    mse0 = fit_linear_at_chi(sub, p0, chi, rows)[1]
     bounds = [(float(np.log(BETA_BOUNDS[0])), float(np.log(BETA_BOUNDS[1])))] * 4
 
     def objective(lb: FloatArray, free: BoolArray) -> float:
         full = np.where(free, lb, lb0)
-        mse = _trial_mse(sub, _with_beta(p0, np.exp(full)), chi)
+        mse = _trial_mse(sub, _with_beta(p0, np.exp(full)), chi, rows)
         if not np.isfinite(mse):
             return _UNFIT
         return float(mse / mse0 + BETA_PRIOR_WEIGHT * np.sum((full - lb0) ** 2))
@@ -260,7 +260,7 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
         ]
         res = min(runs, key=lambda r: float(r.fun))
         lb = np.where(free, res.x, lb0)
-        half = _log_half_widths(sub, p0, chi, lb)
+        half = _log_half_widths(sub, p0, chi, lb, rows)
         keep = free & (half < BETA_MAX_LOG_HALF_WIDTH)
         if np.array_equal(keep, free):
             break
@@ -293,8 +293,10 @@ def wheeled_shape(frame: Frame, params: WheeledParams, chi: float) -> ShapeFit:
     )
 
 
-def _trial_mse(frame: Frame, params: WheeledParams, chi: float) -> float:
-    """MSE of the linear fit at a trial shape [W^2]; inf when that fit fails.
+def _trial_fit(
+    frame: Frame, params: WheeledParams, chi: float, rows: BoolArray | None = None
+) -> tuple[WheeledParams | None, float]:
+    """The linear fit at a trial shape and its MSE [W^2]; ``(None, inf)`` when that fit fails.
 
     At some shapes scipy's BVLS meets a degenerate active set (a zero step, which it divides
     by) and returns nan coefficients, which the parameters refuse: such a shape is no
@@ -302,9 +304,18 @@ def _trial_mse(frame: Frame, params: WheeledParams, chi: float) -> float:
     """
     try:
         with np.errstate(divide="ignore", invalid="ignore"):
-            return fit_linear_at_chi(frame, params, chi)[1]
+            p, mse = fit_linear_at_chi(frame, params, chi, rows)
     except InputError:
-        return float("inf")
+        return None, float("inf")
+    assert isinstance(p, WheeledParams)
+    return p, mse
+
+
+def _trial_mse(
+    frame: Frame, params: WheeledParams, chi: float, rows: BoolArray | None = None
+) -> float:
+    """MSE of :func:`_trial_fit` [W^2]; inf when the fit fails."""
+    return _trial_fit(frame, params, chi, rows)[1]
 
 
 def _grid_starts(
@@ -341,16 +352,18 @@ def _grid_starts(
     return [lb for _, lb in points[:BETA_STARTS]]
 
 
-def _log_half_widths(frame: Frame, params: WheeledParams, chi: float, lb: FloatArray) -> FloatArray:
+def _log_half_widths(
+    frame: Frame, params: WheeledParams, chi: float, lb: FloatArray, rows: BoolArray | None = None
+) -> FloatArray:
     """95 % half-widths of ``ln beta`` from the profile log-likelihood's curvature."""
-    if not np.isfinite(_trial_mse(frame, _with_beta(params, np.exp(lb)), chi)):
+    p, mse = _trial_fit(frame, _with_beta(params, np.exp(lb)), chi, rows)
+    if p is None or not np.isfinite(mse):
         return np.full(4, np.inf)
-    p, mse = fit_linear_at_chi(frame, _with_beta(params, np.exp(lb)), chi)
     resid = frame.p - p.power(frame.vl, frame.vr).total_w
     n_eff = effective_samples(resid)
 
     def nll(x: FloatArray) -> float:
-        mse = _trial_mse(frame, _with_beta(params, np.exp(x)), chi)
+        mse = _trial_mse(frame, _with_beta(params, np.exp(x)), chi, rows)
         return 0.5 * n_eff * float(np.log(mse)) if np.isfinite(mse) else np.nan
 
     h = 0.05
