@@ -8,7 +8,8 @@ README's CSV log format, the contract between the zoo and the diagnosis.
 
 Variant ``h`` (friction growing with slip as Coulomb plus a viscous term) is the development
 sibling of ``c`` (a power law in the slip speed): work on the friction law is measured on h,
-so that c, held out, stays a blind check.
+so that c, held out, stays a blind check.  Variant ``i`` (the wheeled paper literally, on its
+Table II vinyl floor) is ``g``'s (Table I, asphalt) in the same way.
 
 Modules: :mod:`.tracked` (eqs. 1-23 of the tracked paper), :mod:`.wheeled` (eqs. 12-15,
 Tables I-II), :mod:`.drive` (operator-like commands), :mod:`.plant` (variants, injected

@@ -34,7 +34,7 @@ Imports numpy only and the zoo's own modules, like the rest of the zoo.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -194,13 +194,12 @@ def icr_offset_snr(variant: str, seed: int, duration_s: float = 180.0) -> IcrOff
         half = asym_p.icr_x_m
         dp = tracked.total_power(asym_p, vl, vr) - tracked.total_power(sym_p, vl, vr)
     else:
-        fam = "rational" if variant == "f" else "chuy"
-        wp = wheeled.WheeledParams(family=fam)
+        wp = plant.wheeled_plant(variant)[0]
         cmd_l, cmd_r = drive.operator_commands(
             rng_drive, kind, duration_s, plant.DT_S, wheeled_params=wp
         )
-        asym_w = wheeled.WheeledParams(family=fam, icr_scale_left=sl, icr_scale_right=sr)
-        sym_w = wheeled.WheeledParams(family=fam, icr_scale_left=sym, icr_scale_right=sym)
+        asym_w = replace(wp, icr_scale_left=sl, icr_scale_right=sr)
+        sym_w = replace(wp, icr_scale_left=sym, icr_scale_right=sym)
         vl, vr = plant._lag(cmd_l, plant.DRIVE_LAG_S), plant._lag(cmd_r, plant.DRIVE_LAG_S)
         v_a, w = wheeled.forward_speed(asym_w, vl, vr), wheeled.yaw_rate(asym_w, vl, vr)
         v_s = wheeled.forward_speed(sym_w, vl, vr)
@@ -294,13 +293,9 @@ def refit_snr(variant: str, effect: str, seed: int, duration_s: float = 180.0) -
     if plant.VARIANTS[variant][0] != "wheeled" or effect == "power_saturation":
         raise ValueError(f"refit_snr: wheeled variants, not {variant!r} / {effect!r}")
     case = plant.make_case(variant, effect, seed, duration_s)
-    fam = "rational" if variant == "f" else "chuy"
+    wp = plant.wheeled_plant(variant)[0]
     cmd_l, cmd_r = drive.operator_commands(
-        np.random.default_rng([seed, 1]),
-        "wheeled",
-        duration_s,
-        plant.DT_S,
-        wheeled_params=wheeled.WheeledParams(family=fam),
+        np.random.default_rng([seed, 1]), "wheeled", duration_s, plant.DT_S, wheeled_params=wp
     )
     tau = case.effect_params.get("tau_s", plant.DRIVE_LAG_S)
     vl, vr = plant._lag(cmd_l, tau), plant._lag(cmd_r, tau)
@@ -310,15 +305,15 @@ def refit_snr(variant: str, effect: str, seed: int, duration_s: float = 180.0) -
     kept = index.astype(int)
 
     def residual(x: FloatArray) -> FloatArray:
-        p = wheeled.WheeledParams(
+        p = replace(
+            wp,
             inner=(x[0], x[1], x[2], x[3], x[4], x[5]),
             outer=(x[6], x[7], x[8], x[9], x[10], x[11]),
-            family=fam,
         )
         pw = wheeled.total_power(p, vl, vr)[: m * step].reshape(m, step).mean(axis=1)
         return np.asarray(pw[kept] - case.true_power_w, dtype=float)
 
-    x0 = np.array(wheeled.TABLE_I_INNER + wheeled.TABLE_I_OUTER, dtype=float)
+    x0 = np.array(wp.inner + wp.outer, dtype=float)
     lower = np.full(12, -np.inf)
     lower[[2, 5, 8, 11]] = 0.05  # decay exponents stay positive: a(r), b(r) decay with r
     fit = least_squares(

@@ -19,7 +19,7 @@ library (``ripple``, ``payload``, ``power_gain``).  The truth never enters the l
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -68,6 +68,10 @@ VARIANTS: dict[str, tuple[str, str]] = {
         "tracked",
         "friction grows with slip, Coulomb plus viscous (mu (1 + s/0.4) / 2); c's dev sibling",
     ),
+    # g's development sibling: the wheeled paper literally on its other terrain, so that work
+    # on the wheeled diagnosis can be measured without looking at g (held out); after "h" in
+    # sorted order, so the seeds of a-h are unchanged
+    "i": ("wheeled", "wheeled paper literally on vinyl (Table II, eqs. 12-15); g's dev sibling"),
 }
 
 #: Tracked (belt, terrain) per seed, cycled.
@@ -150,6 +154,18 @@ def _lag(x: FloatArray, tau_s: float) -> FloatArray:
     """First-order lag with time constant ``tau_s`` at step :data:`DT_S`, starting at rest."""
     a = DT_S / (tau_s + DT_S)
     return np.asarray(lfilter([a], [1.0, a - 1.0], x), dtype=float)
+
+
+def wheeled_plant(variant: str) -> tuple[wheeled.WheeledParams, str]:
+    """The wheeled variant's plant and the terrain name of its table.
+
+    f: Table I (asphalt) in another smooth family; g: the paper literally, Table I
+    (asphalt); i: the paper literally, Table II (vinyl floor).
+    """
+    if variant == "i":
+        inner, outer = wheeled.TABLE_II_INNER, wheeled.TABLE_II_OUTER
+        return wheeled.WheeledParams(inner=inner, outer=outer), "vinyl"
+    return wheeled.WheeledParams(family="rational" if variant == "f" else "chuy"), "asphalt"
 
 
 def _tracked_params(
@@ -281,10 +297,8 @@ def make_case(variant: str, effect: str, seed: int, duration_s: float = 180.0) -
         vehicle, v_top, mass = f"auriga-beta-{belt}", tp.v_max_mps, tp.mass_kg
         inertia_z = mass * (0.7**2 + 1.2**2) / 12.0
     else:
-        terrain = "asphalt"
         tp = tracked.TrackedParams()
-        fam = "rational" if variant == "f" else "chuy"
-        wp = wheeled.WheeledParams(family=fam)
+        wp, terrain = wheeled_plant(variant)
         plant_info = {}
         vehicle, v_top, mass = "pioneer-3at", wp.v_max_mps, wp.mass_kg
         inertia_z = mass * (0.5**2 + 0.5**2) / 12.0
@@ -296,9 +310,7 @@ def make_case(variant: str, effect: str, seed: int, duration_s: float = 180.0) -
     vl, vr = _lag(cmd_l, tau), _lag(cmd_r, tau)
     if effect == "icr_asymmetry":
         tp = tp.with_(icr_scale_left=fx["scale_left"], icr_scale_right=fx["scale_right"])
-        wp = wheeled.WheeledParams(
-            family=wp.family, icr_scale_left=fx["scale_left"], icr_scale_right=fx["scale_right"]
-        )
+        wp = replace(wp, icr_scale_left=fx["scale_left"], icr_scale_right=fx["scale_right"])
 
     def base_power(
         vl_: FloatArray,
