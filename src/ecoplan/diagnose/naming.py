@@ -111,6 +111,7 @@ from ecoplan.diagnose.effects.data import segments
 from ecoplan.diagnose.effects.fitting import PLACE_AGREEMENT, PlaceHalves
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.structure import wheeled_structural_alternative
+from ecoplan.diagnose.text import watts
 from ecoplan.errors import InputError
 from ecoplan.models.wheeled import WheeledParams
 
@@ -287,7 +288,7 @@ def bar_reason(verdict: str, best: tuple[str, float] | None, bars: dict[str, flo
         )
     if after_w > bar:
         return (
-            f"{name} leaves {after_w:.1f} W held out, more than the {bar:.1f} W its labelled "
+            f"{name} leaves {watts(after_w)} held out, more than the {watts(bar)} its labelled "
             "known terrains' models leave on runs they were not fitted on (and not near the "
             "noise)"
         )
@@ -452,7 +453,7 @@ def naming_rule(
         ):
             reason = (
                 f"a step in time at t = {step.params.get('t_step_s', float('nan')):.1f} s "
-                f"closes {step.reduction_w:.1f} W of the {gap_w:.1f} W gap; no effect of the "
+                f"closes {watts(step.reduction_w)} of the {watts(gap_w)} gap; no effect of the "
                 "library does"
             )
             return "unexplained", 1.0 - step.p_value, (), step.residual_w, reason
@@ -478,7 +479,7 @@ def naming_rule(
             _, _, _, p = block_bootstrap(res_after, alt.residual_w, blk, rng)
             reason = (
                 f"{alt.name} explains the held-out gap as well as {named} "
-                f"({alt.after_w:.1f} W against {named_after_w:.1f} W)"
+                f"({watts(alt.after_w)} against {watts(named_after_w)})"
             )
             return alt.verdict, 1.0 - p, (), alt.residual_w, reason
     return name, conf, tied, res_after, ""
@@ -695,7 +696,8 @@ def halves_check(effect: Effect, train: EffectData, test: EffectData) -> HalvesC
         note = (
             f"disc ({ax:.2f}, {ay:.2f}) m, R {ar:.2f} m on the training half, ({bx:.2f}, "
             f"{by:.2f}) m, R {br:.2f} m searched on the held-out half alone; extra power "
-            f"inside {place.train_extra_w:+.1f} W and {place.test_extra_w:+.1f} W; signed "
+            f"inside {watts(place.train_extra_w, signed=True)} and "
+            f"{watts(place.test_extra_w, signed=True)}; signed "
             f"correlation of the samples inside {place.rho:+.2f} (one place from "
             f"{PLACE_AGREEMENT:.2f})"
         )

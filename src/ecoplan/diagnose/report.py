@@ -52,6 +52,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
+from ecoplan.diagnose.text import watts
 from ecoplan.errors import InputError
 from ecoplan.io.yaml import LineMap, format_validation
 
@@ -303,9 +304,9 @@ def summary(d: Diagnosis) -> str:
     lines = [
         f"Diagnosis of {d.n_runs} log(s), {d.duration_s:.0f} s, against {d.preset.name} "
         f"(held-out split by {d.split}; {d.dropped_rows} row(s) dropped by the reader)",
-        f"gap (held-out MAE): preset {d.gap_preset_w:.1f} W -> calibrated "
-        f"{d.gap_calibrated_w:.1f} W -> final {d.gap_final_w:.1f} W "
-        f"(noise floor ~{att.noise_floor_w:.1f} W)",
+        f"gap (held-out MAE): preset {watts(d.gap_preset_w)} -> calibrated "
+        f"{watts(d.gap_calibrated_w)} -> final {watts(d.gap_final_w)} "
+        f"(noise floor ~{watts(att.noise_floor_w)})",
     ]
     rp = d.replay
     parts = [
@@ -321,13 +322,13 @@ def summary(d: Diagnosis) -> str:
     lines.append("replay of the preset: " + "; ".join(parts))
     if d.calibration.changed:
         ch = ", ".join(f"{k} {a:.3g}->{b:.3g}" for k, (a, b) in d.calibration.changed.items())
-        lines.append(f"calibration closes {d.gap_preset_w - d.gap_calibrated_w:.1f} W: {ch}")
+        lines.append(f"calibration closes {watts(d.gap_preset_w - d.gap_calibrated_w)}: {ch}")
     top = sorted(d.where, key=lambda w: -(w.error_share - w.time_share))[:4]
     lines.append("where (error share vs time share, most over-represented first):")
     for w in top:
         lines.append(
             f"  {w.regime:24s} {100 * w.error_share:5.1f} % of |error| in "
-            f"{100 * w.time_share:5.1f} % of time (MAE {w.mae_w:.1f} W)"
+            f"{100 * w.time_share:5.1f} % of time (MAE {watts(w.mae_w)})"
         )
     lines.append("which (held-out, ranked):")
     for s in att.scores[:6]:
@@ -336,17 +337,17 @@ def summary(d: Diagnosis) -> str:
         lines.append(
             f" {star}{s.name:28s} {s.reduction_pct:6.1f} % of {s.channel} "
             f"({s.before:.3g} -> {s.after:.3g} {unit}, p={s.p_value:.2g}) "
-            f"power {s.power_before_w:.1f} -> {s.power_after_w:.1f} W"
+            f"power {watts(s.power_before_w)} -> {watts(s.power_after_w)}"
         )
     verdict = att.verdict + (f" ({' / '.join(att.tied)})" if att.tied else "")
     lines.append(f"verdict: {verdict}  confidence {att.confidence:.2f}")
     red = d.gap_calibrated_w - d.gap_final_w
     pct = 100.0 * red / d.gap_calibrated_w if d.gap_calibrated_w else 0.0
     lines.append(
-        f"how far: {d.gap_calibrated_w:.1f} -> {d.gap_final_w:.1f} W ({pct:.1f} %, 95 % CI of "
-        f"the reduction {d.final_ci_w[0]:.1f} .. {d.final_ci_w[1]:.1f} W)"
+        f"how far: {watts(d.gap_calibrated_w)} -> {watts(d.gap_final_w)} ({pct:.1f} %, 95 % CI "
+        f"of the reduction {watts(d.final_ci_w[0])} .. {watts(d.final_ci_w[1])})"
         + (
-            f"; best pair {'+'.join(att.pair)}: {att.pair_after_w:.1f} W"
+            f"; best pair {'+'.join(att.pair)}: {watts(att.pair_after_w)}"
             if att.pair and att.pair_after_w is not None
             else ""
         )
@@ -371,7 +372,7 @@ def summary(d: Diagnosis) -> str:
         for seg in d.where_time[:12]:
             lines.append(
                 f"  {seg.run:24s} {seg.t_start_s:9.2f} .. {seg.t_end_s:9.2f} s  "
-                f"{seg.excess_w:+8.1f} W"
+                f"{watts(seg.excess_w, signed=True):>10s}"
             )
         if len(d.where_time) > 12:
             lines.append(f"  ... {len(d.where_time) - 12} more in where_time.csv / the JSON")

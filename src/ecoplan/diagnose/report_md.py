@@ -11,6 +11,8 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ecoplan.diagnose.text import watts
+
 if TYPE_CHECKING:
     from ecoplan.diagnose.result import Diagnosis
 
@@ -34,6 +36,8 @@ _MISSING_SIGNAL = {
 
 
 def _f(x: float, unit: str = "", nd: int = 1) -> str:
+    if unit == "W":
+        return watts(x)
     return f"{x:.{nd}f}{(' ' + unit) if unit else ''}"
 
 
@@ -186,8 +190,8 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
         labels = d.where_time_terrain or ("-",) * len(d.where_time)
         for seg, lab in zip(d.where_time[:30], labels, strict=False):
             out.append(
-                f"| {seg.run} | {seg.t_start_s:.2f} | {seg.t_end_s:.2f} | {seg.excess_w:+.1f} W "
-                f"| {lab} |"
+                f"| {seg.run} | {seg.t_start_s:.2f} | {seg.t_end_s:.2f} "
+                f"| {watts(seg.excess_w, signed=True)} | {lab} |"
             )
         out += [""]
     out += ["## Candidates (held out, best first)", ""]
