@@ -5,9 +5,10 @@ papers, sharing no code with ecoplan) with one effect injected physically: one o
 in-library effects, ``none``, or one of three effects outside the library (``ripple``,
 ``payload``, ``power_gain``).  The log is written in the README's CSV format, read back with
 ecoplan's own reader and diagnosed against the matching preset (``auriga-beta-wide`` /
-``-narrow`` on ``marble`` / ``asphalt``, ``pioneer-3at`` on ``asphalt``)::
+``-narrow`` on ``marble`` / ``asphalt``, ``pioneer-3at`` on ``asphalt``, or on ``vinyl`` for
+variant i, whose plant uses the wheeled paper's Table II)::
 
-    .venv/bin/python benchmarks/plant_zoo_diagnosis.py --jobs 2                 # 7 x 14 x 4
+    .venv/bin/python benchmarks/plant_zoo_diagnosis.py --jobs 2                 # 9 x 14 x 4
     .venv/bin/python benchmarks/plant_zoo_diagnosis.py --variants a --seeds 4 --jobs 2
     .venv/bin/python benchmarks/plant_zoo_diagnosis.py --variants a,g --seeds 2 --duration 60
     .venv/bin/python benchmarks/plant_zoo_diagnosis.py --variants f,g --excitation-only
