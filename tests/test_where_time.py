@@ -9,6 +9,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import json
+import math
 from functools import cache
 
 import numpy as np
@@ -20,7 +21,7 @@ from ecoplan.app.diagnose import diagnose_logs
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report import to_json_dict
 from ecoplan.diagnose.result import Diagnosis
-from ecoplan.diagnose.where_time import where_time, write_where_time_csv
+from ecoplan.diagnose.where_time import TimeSegment, where_time, write_where_time_csv
 from ecoplan.dynamics.log import Log
 from ecoplan.synth.cases import generate_case
 
@@ -90,7 +91,7 @@ def test_where_time_json_csv_and_figure(tmp_path) -> None:  # type: ignore[no-un
     path = write_where_time_csv(d.where_time, tmp_path / "w.csv")
     with path.open() as fh:
         rows = list(csv.reader(fh))
-    assert rows[0] == ["run", "t_start_s", "t_end_s", "excess_w"]
+    assert rows[0] == ["run", "t_start_s", "t_end_s", "excess_w", "excess_se_w"]
     assert len(rows) == len(d.where_time) + 1
     json.dumps(obj)
 
@@ -100,7 +101,11 @@ def test_cli_out_writes_where_time_files(tmp_path) -> None:  # type: ignore[no-u
     paths = [str(p) for p in case.write(tmp_path / "logs")]
     out = tmp_path / "out"
     diagnose_logs(paths, case.vehicle, case.terrain, out_dir=out)
-    assert (out / "where_time.csv").read_text().startswith("run,t_start_s,t_end_s,excess_w")
+    assert (
+        (out / "where_time.csv")
+        .read_text()
+        .startswith("run,t_start_s,t_end_s,excess_w,excess_se_w")
+    )
     assert (out / "where_time.png").stat().st_size > 1000
 
 
@@ -154,3 +159,22 @@ def test_terrain_change_needs_no_pose_and_leaves_logs_with_pose_to_terrain_patch
     d = diagnose(list(case.logs), case.vehicle, case.terrain)
     assert "terrain_change" in d.attribution.unavailable
     assert TerrainChange.available(d.test_frame) is False
+
+
+def test_segment_standard_error_is_the_noise_over_root_samples() -> None:
+    # white noise of 10 W at 10 Hz around a 50 W step at 60 s: each half holds 600 samples,
+    # so its mean is known to 10 / sqrt(600) = 0.41 W (by hand), and the step is ~60 of them
+    rng = np.random.default_rng(3)
+    t = np.arange(0.0, 120.0, 0.1)
+    r = np.where(t < 60.0, 0.0, 50.0) + rng.normal(0.0, 10.0, t.size)
+    segs = where_time(t, r, np.zeros(t.size, dtype=int), ["run0"])
+    assert len(segs) == 2
+    for seg in segs:
+        n = int(np.sum((t >= seg.t_start_s) & (t <= seg.t_end_s)))
+        assert seg.excess_se_w is not None
+        assert seg.excess_se_w == pytest.approx(10.0 / np.sqrt(n), rel=0.3)
+        assert abs(seg.excess_z) > 30.0
+    # a stretch cut on noise alone sits within its scatter
+    quiet = TimeSegment("run0", 0.0, 1.0, 0.5, 1.0)
+    assert quiet.excess_z == pytest.approx(0.5)
+    assert math.isnan(TimeSegment("run0", 0.0, 1.0, 0.5).excess_z)

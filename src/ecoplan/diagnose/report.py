@@ -368,11 +368,16 @@ def summary(d: Diagnosis) -> str:
     if att.unavailable:
         lines.append(f"needs signals the log lacks: {', '.join(att.unavailable)}")
     if d.where_time:
-        lines.append("where in time (log's own clock; residual level minus the session's):")
+        lines.append(
+            "where in time (log's own clock; residual level minus the session's, in standard "
+            "errors of the stretch's mean):"
+        )
         for seg in d.where_time[:12]:
+            z = seg.excess_z
             lines.append(
                 f"  {seg.run:24s} {seg.t_start_s:9.2f} .. {seg.t_end_s:9.2f} s  "
                 f"{watts(seg.excess_w, signed=True):>10s}"
+                + ("" if math.isnan(z) else f"  {z:+6.1f} SE")
             )
         if len(d.where_time) > 12:
             lines.append(f"  ... {len(d.where_time) - 12} more in where_time.csv / the JSON")

@@ -7,6 +7,7 @@ input's stated assumptions (the bus voltage of current-only logs, ignored column
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -181,18 +182,31 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
     if d.where_time:
         out += [
             "In each log's own time (`where_time.csv`, `where_time.png`): stretches where the "
-            "calibrated residual changes level; excess = the stretch's mean residual minus the "
-            "session's (positive: the robot draws more than the model).",
+            "calibrated residual changes level or ripple, or (with a vehicle file's terrains) "
+            "where the power moves between the known terrains' levels; excess = the stretch's "
+            "mean residual minus the session's (positive: the robot draws more than the "
+            "model), and the same in standard errors of that mean (the scatter of the run's "
+            "1 s means).",
             "",
-            "| run | from [s] | to [s] | excess | likely terrain |",
-            "|---|---|---|---|---|",
+            "| run | from [s] | to [s] | excess | excess / SE | likely terrain |",
+            "|---|---|---|---|---|---|",
         ]
         labels = d.where_time_terrain or ("-",) * len(d.where_time)
         for seg, lab in zip(d.where_time[:30], labels, strict=False):
+            z = seg.excess_z
             out.append(
                 f"| {seg.run} | {seg.t_start_s:.2f} | {seg.t_end_s:.2f} "
-                f"| {watts(seg.excess_w, signed=True)} | {lab} |"
+                f"| {watts(seg.excess_w, signed=True)} | {'-' if math.isnan(z) else f'{z:+.1f}'} "
+                f"| {lab} |"
             )
+        quiet = sum(abs(s.excess_z) < 2.0 for s in d.where_time)
+        if quiet:
+            out += [
+                "",
+                f"{quiet} of these {len(d.where_time)} stretches have a level within two "
+                "standard errors of the session's: their level is not a departure (they were "
+                "cut where the ripple, a known terrain's level or a neighbour's level changed).",
+            ]
         out += [""]
     out += ["## Candidates (held out, best first)", ""]
     out += ["| effect | reduction | significant | parameters |", "|---|---|---|---|"]

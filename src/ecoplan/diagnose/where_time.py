@@ -85,12 +85,24 @@ class TimeSegment:
     excess_w : float
         Mean residual (measured minus calibrated model) in the segment minus the session's
         mean residual [W].
+    excess_se_w : float or None
+        Standard error of ``excess_w`` [W]: the scatter of the run's bin means (robust scale
+        of neighbouring-bin differences / √2) over the square root of the segment's bins;
+        None where not computed.  A stretch is cut where the level, the ripple or a known
+        terrain's level changes, so its level alone may lie within this scatter.
     """
 
     run: str
     t_start_s: float
     t_end_s: float
     excess_w: float
+    excess_se_w: float | None = None
+
+    @property
+    def excess_z(self) -> float:
+        """``excess_w`` in standard errors (nan without one)."""
+        se = self.excess_se_w
+        return self.excess_w / se if se is not None and se > 0.0 else math.nan
 
     def to_json(self) -> dict[str, str | float]:
         """The JSON entry ``{"run", "t_start_s", "t_end_s", "excess_w"}``."""
@@ -138,17 +150,24 @@ def _ripple(t: FloatArray, r: FloatArray, bin_s: float, number: IntArray) -> Flo
     return np.asarray(np.log(rip + 0.01 * float(np.median(rip)) + 1e-12), dtype=np.float64)
 
 
+def _bin_scatter(x: FloatArray, number: IntArray) -> float:
+    """Noise scale of bin values: robust scale of neighbouring-bin differences / √2 (0: none).
+
+    Differences of neighbours, so that the level changes themselves hardly inflate it.
+    """
+    d = np.diff(x)[np.diff(number) == 1]
+    return float(median_abs_deviation(d, scale="normal")) / math.sqrt(2.0) if d.size > 1 else 0.0
+
+
 def _standardise(features: FloatArray, number: IntArray) -> tuple[FloatArray, int]:
     """Each feature over its noise scale (robust scale of neighbouring-bin differences / √2).
 
     Features without noise (a constant) are dropped; returns the scaled features and their
     number.
     """
-    neighbours = np.diff(number) == 1
     cols = []
     for x in features.T:
-        d = np.diff(x)[neighbours]
-        s = float(median_abs_deviation(d, scale="normal")) / math.sqrt(2.0) if d.size > 1 else 0.0
+        s = _bin_scatter(x, number)
         if s > 0.0:
             cols.append(x / s)
     if not cols:
@@ -267,13 +286,15 @@ def where_time(
                 algo = ruptures.Pelt(model="l2", min_size=min_bins, jump=1).fit(scaled)
                 bkps = list(algo.predict(pen=penalty * m * math.log(n)))
         edges = [0, *bkps]
+        scatter = _bin_scatter(means, number)
         segs = []
         for a, b in itertools.pairwise(edges):
             w = counts[a:b]
             level = float(np.sum(means[a:b] * w) / np.sum(w))
             t0 = float(starts[a]) if a > 0 else float(tr[0])
             t1 = float(starts[b]) if b < n else float(tr[-1])
-            segs.append(TimeSegment(name, t0, t1, level - session_mean))
+            se = scatter / math.sqrt(b - a) if scatter > 0.0 else None
+            segs.append(TimeSegment(name, t0, t1, level - session_mean, se))
         if len(segs) > 1:
             out.extend(segs)
         else:
@@ -498,11 +519,16 @@ def known_terrain_path(
 
 
 def write_where_time_csv(segments: Sequence[TimeSegment], path: str | os.PathLike[str]) -> Path:
-    """Write the segments as CSV with the columns ``run, t_start_s, t_end_s, excess_w``."""
+    """Write the segments as CSV: ``run, t_start_s, t_end_s, excess_w, excess_se_w``.
+
+    The JSON's keys (:data:`WHERE_TIME_KEYS`), then the standard error of the excess (empty
+    where not computed).
+    """
     p = Path(path)
     with p.open("w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(WHERE_TIME_KEYS)
+        w.writerow([*WHERE_TIME_KEYS, "excess_se_w"])
         for s in segments:
-            w.writerow([s.run, f"{s.t_start_s:.6g}", f"{s.t_end_s:.6g}", f"{s.excess_w:.6g}"])
+            se = "" if s.excess_se_w is None else f"{s.excess_se_w:.6g}"
+            w.writerow([s.run, f"{s.t_start_s:.6g}", f"{s.t_end_s:.6g}", f"{s.excess_w:.6g}", se])
     return p
