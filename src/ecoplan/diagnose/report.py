@@ -394,8 +394,9 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
 
     One panel per run (at most eight: the runs with segments first), the calibrated model's
     residual averaged over 1 s bins, the change-point segments shaded (red: the robot draws
-    more than the model, blue: less) with their excess in W and, when the preset describes
-    several terrains, each segment's most likely one.
+    more than the model, blue: less, grey: a level within two standard errors of the
+    session's) with their excess in W and, when the preset describes several terrains, each
+    segment's most likely one.
     """
     import matplotlib
 
@@ -432,12 +433,14 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
         for seg, lab in zip(d.where_time, labels, strict=False):
             if seg.run != rid:
                 continue
-            colour = "#d62728" if seg.excess_w > 0 else "#1f77b4"
+            quiet = abs(seg.excess_z) < 2.0
+            colour = "#999999" if quiet else ("#d62728" if seg.excess_w > 0 else "#1f77b4")
             ax.axvspan(seg.t_start_s, seg.t_end_s, color=colour, alpha=0.15)
+            excess = watts(seg.excess_w, signed=True)
             ax.text(
                 0.5 * (seg.t_start_s + seg.t_end_s),
                 0.92,
-                f"{seg.excess_w:+.0f} W\n{lab}" if lab else f"{seg.excess_w:+.0f} W",
+                f"{excess}\n{lab}" if lab else excess,
                 transform=ax.get_xaxis_transform(),
                 ha="center",
                 va="top",
@@ -445,7 +448,11 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
             )
         ax.axhline(0.0, color="k", lw=0.4)
         ax.set_ylabel("W")
-        ax.set_title(f"{rid}: measured - calibrated model", fontsize=8, loc="left")
+        ax.set_title(
+            f"{rid}: measured - calibrated model (grey: level within 2 SE of the session's)",
+            fontsize=8,
+            loc="left",
+        )
     axes[-1, 0].set_xlabel("time on the log's own clock [s]")
     axes[0, 0].legend(loc="lower right", fontsize=7)
     fig.tight_layout()
