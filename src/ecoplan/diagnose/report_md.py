@@ -204,8 +204,9 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
             out += [
                 "",
                 f"{quiet} of these {len(d.where_time)} stretches have a level within two "
-                "standard errors of the session's: their level is not a departure (they were "
-                "cut where the ripple, a known terrain's level or a neighbour's level changed).",
+                "standard errors of the session's: their level does not depart significantly "
+                "(they were cut where the ripple, a known terrain's level or a neighbour's "
+                "level changed).",
             ]
         out += [""]
     out += ["## Candidates (held out, best first)", ""]

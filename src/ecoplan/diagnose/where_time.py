@@ -89,7 +89,9 @@ class TimeSegment:
         Standard error of ``excess_w`` [W]: the scatter of the run's bin means (robust scale
         of neighbouring-bin differences / √2) over the square root of the segment's bins;
         None where not computed.  A stretch is cut where the level, the ripple or a known
-        terrain's level changes, so its level alone may lie within this scatter.
+        terrain's level changes, so its level alone may lie within this scatter.  Neighbouring
+        differences leave out slow drifts of the residual, so on a drifting residual the
+        error is on the small side: more stretches count as departures, not fewer.
     """
 
     run: str
