@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from ecoplan.app.diagnose import diagnose_logs
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.diagnose.report import to_json_dict
+from ecoplan.diagnose.report import summary, to_json_dict
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.where_time import TimeSegment, where_time, write_where_time_csv
 from ecoplan.dynamics.log import Log
@@ -159,6 +159,10 @@ def test_terrain_change_needs_no_pose_and_leaves_logs_with_pose_to_terrain_patch
     d = diagnose(list(case.logs), case.vehicle, case.terrain)
     assert "terrain_change" in d.attribution.unavailable
     assert TerrainChange.available(d.test_frame) is False
+    # the summary says why it was not tried, not that the log lacks a signal (it has a pose)
+    text = summary(d)
+    assert "terrain_change -- (offered only without pose" in text
+    assert "lacks" not in text
 
 
 def test_segment_standard_error_is_the_noise_over_root_samples() -> None:

@@ -52,7 +52,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ecoplan.diagnose.text import watts
+from ecoplan.diagnose.text import watts, why_not_tried
 from ecoplan.errors import InputError
 from ecoplan.io.yaml import LineMap, format_validation
 
@@ -366,7 +366,9 @@ def summary(d: Diagnosis) -> str:
     if att.not_excited:
         lines.append(f"not excited by this log: {', '.join(att.not_excited)}")
     if att.unavailable:
-        lines.append(f"needs signals the log lacks: {', '.join(att.unavailable)}")
+        lines.append(
+            "not tried: " + "; ".join(f"{n} -- {why_not_tried(n)}" for n in att.unavailable)
+        )
     if d.where_time:
         lines.append(
             "where in time (log's own clock; residual level minus the session's, in standard "

@@ -12,7 +12,7 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ecoplan.diagnose.text import watts
+from ecoplan.diagnose.text import watts, why_not_tried
 
 if TYPE_CHECKING:
     from ecoplan.diagnose.result import Diagnosis
@@ -26,13 +26,6 @@ _VERDICT_MEANING = {
     "library closes well enough (>= 80 % of it above the noise floor): something outside the "
     "library, or a mixture",
     "ambiguous": "two candidates close the gap equally well and this log cannot tell them apart",
-}
-
-_MISSING_SIGNAL = {
-    "actuator_lag": "log the commanded side speeds (`v_left_cmd`, `v_right_cmd`)",
-    "terrain_patch": "log the pose (`x`, `y`, `yaw`) to locate terrain on the map",
-    "terrain_change": "(offered only without pose: with a pose, terrain is `terrain_patch`)",
-    "icr_asymmetry": "log the pose to measure the body speed in turns",
 }
 
 
@@ -230,7 +223,7 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
             + "."
         )
     for n in att.unavailable:
-        todo.append(f"`{n}` could not be tried: {_MISSING_SIGNAL.get(n, 'a signal is missing')}.")
+        todo.append(f"`{n}` could not be tried: {why_not_tried(n)}.")
     if att.verdict == "unexplained":
         todo.append(
             "Look at `where_time.png`: a stretch with a large excess is where to look for the "

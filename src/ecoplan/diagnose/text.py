@@ -1,4 +1,4 @@
-"""How the diagnosis writes numbers for people: powers in watts at a robot's own scale."""
+"""How the diagnosis writes for people: powers at a robot's own scale, effects not tried."""
 
 from __future__ import annotations
 
@@ -33,3 +33,20 @@ def watts(x: float, signed: bool = False) -> str:
     mag = abs(v)
     digits = 1 if mag == 0.0 else min(max(2 - math.floor(math.log10(mag)), 1), 4)
     return f"{v:{sign}.{digits}f} W"
+
+
+_NOT_TRIED = {
+    "actuator_lag": "log the commanded side speeds (`v_left_cmd`, `v_right_cmd`)",
+    "terrain_patch": "log the pose (`x`, `y`, `yaw`) to locate terrain on the map",
+    "terrain_change": "(offered only without pose: with a pose, terrain is `terrain_patch`)",
+    "icr_asymmetry": "log the pose to measure the body speed in turns",
+}
+
+
+def why_not_tried(effect: str) -> str:
+    """Why a candidate effect was not tried on a log: the signal to add, or the rule.
+
+    >>> why_not_tried("actuator_lag")
+    'log the commanded side speeds (`v_left_cmd`, `v_right_cmd`)'
+    """
+    return _NOT_TRIED.get(effect, "a signal is missing")
