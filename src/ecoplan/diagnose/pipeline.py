@@ -39,11 +39,12 @@ The result is a :class:`~ecoplan.diagnose.result.Diagnosis`.  The command ``ecop
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 
 import numpy as np
 
-from ecoplan._typing import BoolArray, RngLike
+from ecoplan._typing import BoolArray, FloatArray, RngLike
 from ecoplan.diagnose.attribute import split_masks
 from ecoplan.diagnose.calibrate import SETTLE_S, settling
 from ecoplan.diagnose.checks import check_logs, effect_resolution
@@ -143,18 +144,25 @@ def _terrain_labels(
     segments: Sequence[TimeSegment],
     frame: Frame,
     run_ids: Sequence[str],
-) -> tuple[str, ...]:
+    residual_w: FloatArray,
+) -> tuple[tuple[str, ...], tuple[float, ...], tuple[float, ...]]:
     """Most likely terrain of each segment among the vehicle file's terrains (item 5).
 
     Only for parameters from a vehicle file that describes several terrains
     (:func:`~ecoplan.diagnose.effects.terrain.known_terrains`); parameters built by hand carry
-    one terrain, and get no labels.
+    one terrain, and get no labels.  Returns the labels, their models' MAE on each segment
+    and the calibrated model's (from ``residual_w``, every sample's calibrated residual) [W].
     """
     if not known or not segments:
-        return ()
+        return (), (), ()
     run = [run_ids[int(i)] for i in frame.run]
     labels = label_segments(segments, frame.t, run, frame.vl, frame.vr, frame.p, known)
-    return tuple(lab for lab, _ in labels)
+    run_arr = np.asarray(run)
+    cal = []
+    for seg in segments:
+        inside = (run_arr == seg.run) & (frame.t >= seg.t_start_s) & (frame.t <= seg.t_end_s)
+        cal.append(float(np.mean(np.abs(residual_w[inside]))) if np.any(inside) else math.nan)
+    return tuple(lab for lab, _ in labels), tuple(m for _, m in labels), tuple(cal)
 
 
 def _with_case_tol(params: VehicleParams, tol_mps: float) -> VehicleParams:
@@ -296,7 +304,7 @@ def diagnose(
     known = known_terrains(params)
     known_w = [logged_power_w(m, frame.vl, frame.vr) for m in segmentation_models(params)]
     segments = where_time(frame.t, r_all, frame.run, run_ids, model_w=p_cal, known_w=known_w)
-    labels = _terrain_labels(known, segments, frame, run_ids)
+    labels, label_mae, cal_mae = _terrain_labels(known, segments, frame, run_ids, r_all)
     # effects the log cannot resolve at a physical size: said, never ruled out (issue 12 item 3)
     unresolved = tuple(r.note for r in effect_resolution(train) if not r.resolved)
     input_notes = checked.excitation_notes + unresolved
@@ -349,6 +357,8 @@ def diagnose(
         where_time=segments,
         run_ids=tuple(run_ids),
         where_time_terrain=labels,
+        where_time_terrain_mae_w=label_mae,
+        where_time_calibrated_mae_w=cal_mae,
         all_t_s=frame.t,
         all_run=frame.run,
         all_residual_w=r_all,

@@ -35,6 +35,17 @@ def _f(x: float, unit: str = "", nd: int = 1) -> str:
     return f"{x:.{nd}f}{(' ' + unit) if unit else ''}"
 
 
+#: A terrain label whose model's MAE on its stretch exceeds this many times the calibrated
+#: model's is said to name the least wrong of the file's models, not the ground.
+LABEL_OFF_FACTOR = 2.0
+
+
+def _labels_off(d: Diagnosis) -> int:
+    """How many ``where_time`` labels come from a model far worse than the calibrated one."""
+    pairs = zip(d.where_time_terrain_mae_w, d.where_time_calibrated_mae_w, strict=False)
+    return sum(lab > LABEL_OFF_FACTOR * cal for lab, cal in pairs if cal == cal and lab == lab)
+
+
 def _untold(d: Diagnosis) -> list[str]:
     """For a ``none``: the effects this log cannot rule out (too little excitation, below noise)."""
     if d.attribution.verdict != "none":
@@ -181,17 +192,34 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
             "model), and the same in standard errors of that mean (the scatter of the run's "
             "1 s means).",
             "",
-            "| run | from [s] | to [s] | excess | excess / SE | likely terrain |",
-            "|---|---|---|---|---|---|",
+            "| run | from [s] | to [s] | excess | excess / SE | likely terrain | its model's "
+            "MAE / calibrated |",
+            "|---|---|---|---|---|---|---|",
         ]
         labels = d.where_time_terrain or ("-",) * len(d.where_time)
-        for seg, lab in zip(d.where_time[:30], labels, strict=False):
+        ratios = [
+            lab / cal if cal > 0.0 else math.nan
+            for lab, cal in zip(
+                d.where_time_terrain_mae_w, d.where_time_calibrated_mae_w, strict=False
+            )
+        ]
+        ratios += [math.nan] * (len(d.where_time) - len(ratios))
+        for seg, lab, ratio in zip(d.where_time[:30], labels, ratios, strict=False):
             z = seg.excess_z
             out.append(
                 f"| {seg.run} | {seg.t_start_s:.2f} | {seg.t_end_s:.2f} "
                 f"| {watts(seg.excess_w, signed=True)} | {'-' if math.isnan(z) else f'{z:+.1f}'} "
-                f"| {lab} |"
+                f"| {lab} | {'-' if math.isnan(ratio) else f'{ratio:.2f}'} |"
             )
+        off = _labels_off(d)
+        if off:
+            out += [
+                "",
+                f"{off} of these labels come from a terrain model that misses its stretch by "
+                f"more than {LABEL_OFF_FACTOR:g} times what the calibrated model misses: the "
+                "vehicle file's models do not describe this robot there, so such a label names "
+                "the least wrong of them, not the ground.",
+            ]
         quiet = sum(abs(s.excess_z) < 2.0 for s in d.where_time)
         if quiet:
             out += [

@@ -83,6 +83,11 @@ class Diagnosis:
     where_time_terrain : tuple of str
         The most likely known terrain of each ``where_time`` segment, when the vehicle preset
         describes several (:func:`ecoplan.diagnose.where_time.label_segments`); else empty.
+    where_time_terrain_mae_w, where_time_calibrated_mae_w : tuple of float
+        Per labelled segment, the mean absolute error of the labelled terrain's model (as the
+        vehicle file gives it) and of the calibrated model [W]: a label whose model misses
+        its stretch by far more than the calibrated model names the least wrong of the
+        file's models, not the ground.
     all_t_s, all_run, all_residual_w : ndarray
         Every sample's time on its log's clock [s], run index and calibrated residual [W].
     """
@@ -113,6 +118,8 @@ class Diagnosis:
     where_time: list[TimeSegment] = field(default_factory=list)
     run_ids: tuple[str, ...] = ()
     where_time_terrain: tuple[str, ...] = ()
+    where_time_terrain_mae_w: tuple[float, ...] = ()
+    where_time_calibrated_mae_w: tuple[float, ...] = ()
     all_t_s: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
     all_run: IntArray = field(repr=False, default_factory=lambda: np.zeros(0, dtype=np.int64))
     all_residual_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
