@@ -10,14 +10,12 @@ so.  On a log of the preset itself it must not.
 from __future__ import annotations
 
 import sys
-from functools import cache
 from pathlib import Path
 
 import numpy as np
 
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.report_md import LABEL_OFF_FACTOR, report_markdown
-from ecoplan.diagnose.result import Diagnosis
 from ecoplan.io.logcsv import read_log_csv
 from ecoplan.synth.cases import generate_case
 
@@ -29,16 +27,11 @@ import plant_zoo  # noqa: E402
 SENTENCE = "labels come from a terrain model that misses its stretch"
 
 
-@cache
-def _zoo(tmp: str = "/tmp") -> Diagnosis:
+def test_a_robot_off_its_preset_gets_labels_said_to_be_the_least_wrong(tmp_path: Path) -> None:
     case = plant_zoo.make_case("i", "none", 0, duration_s=180.0)
-    path = Path(tmp) / "ecoplan-test-zoo-i-none-s0.csv"
+    path = tmp_path / "zoo-i-none-s0.csv"
     plant_zoo.write_log(case, path)
-    return diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=0)
-
-
-def test_a_robot_off_its_preset_gets_labels_said_to_be_the_least_wrong() -> None:
-    d = _zoo()
+    d = diagnose([read_log_csv(path)], case.vehicle, case.terrain, rng=0)
     assert d.where_time_terrain, "the zoo log has labelled stretches"
     lab = np.array(d.where_time_terrain_mae_w)
     cal = np.array(d.where_time_calibrated_mae_w)
