@@ -160,7 +160,7 @@ def _terrain_labels(
     run_arr = np.asarray(run)
     cal = []
     for seg in segments:
-        inside = (run_arr == seg.run) & (frame.t >= seg.t_start_s) & (frame.t <= seg.t_end_s)
+        inside = seg.mask(frame.t, run_arr)
         cal.append(float(np.mean(np.abs(residual_w[inside]))) if np.any(inside) else math.nan)
     return tuple(lab for lab, _ in labels), tuple(m for _, m in labels), tuple(cal)
 

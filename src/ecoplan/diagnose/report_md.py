@@ -40,10 +40,11 @@ def _f(x: float, unit: str = "", nd: int = 1) -> str:
 LABEL_OFF_FACTOR = 2.0
 
 
-def _labels_off(d: Diagnosis) -> int:
-    """How many ``where_time`` labels come from a model far worse than the calibrated one."""
+def _label_ratios(d: Diagnosis) -> list[float]:
+    """Per ``where_time`` segment, its label's model MAE over the calibrated model's (nan: none)."""
     pairs = zip(d.where_time_terrain_mae_w, d.where_time_calibrated_mae_w, strict=False)
-    return sum(lab > LABEL_OFF_FACTOR * cal for lab, cal in pairs)  # False where either is nan
+    ratios = [lab / cal if cal > 0.0 else math.nan for lab, cal in pairs]
+    return ratios + [math.nan] * (len(d.where_time) - len(ratios))
 
 
 def _untold(d: Diagnosis) -> list[str]:
@@ -197,13 +198,7 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
             "|---|---|---|---|---|---|---|",
         ]
         labels = d.where_time_terrain or ("-",) * len(d.where_time)
-        ratios = [
-            lab / cal if cal > 0.0 else math.nan
-            for lab, cal in zip(
-                d.where_time_terrain_mae_w, d.where_time_calibrated_mae_w, strict=False
-            )
-        ]
-        ratios += [math.nan] * (len(d.where_time) - len(ratios))
+        ratios = _label_ratios(d)
         for seg, lab, ratio in zip(d.where_time[:30], labels, ratios, strict=False):
             z = seg.excess_z
             out.append(
@@ -211,7 +206,7 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
                 f"| {watts(seg.excess_w, signed=True)} | {'-' if math.isnan(z) else f'{z:+.1f}'} "
                 f"| {lab} | {'-' if math.isnan(ratio) else f'{ratio:.2f}'} |"
             )
-        off = _labels_off(d)
+        off = sum(r > LABEL_OFF_FACTOR for r in ratios)  # nan compares false
         if off:
             out += [
                 "",

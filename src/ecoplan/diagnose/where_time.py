@@ -54,7 +54,7 @@ from pathlib import Path
 import numpy as np
 from scipy.stats import median_abs_deviation
 
-from ecoplan._typing import FloatArray, IntArray
+from ecoplan._typing import ArrayLike, BoolArray, FloatArray, IntArray
 from ecoplan.errors import InputError
 from ecoplan.models.logged_power import logged_power_w
 from ecoplan.presets import VehicleParams
@@ -99,6 +99,13 @@ class TimeSegment:
     t_end_s: float
     excess_w: float
     excess_se_w: float | None = None
+
+    def mask(self, t: ArrayLike, run: ArrayLike) -> BoolArray:
+        """The samples of this stretch, from every sample's time [s] and run name (str array)."""
+        t = np.asarray(t, dtype=np.float64)
+        return np.asarray(
+            (np.asarray(run) == self.run) & (t >= self.t_start_s) & (t <= self.t_end_s)
+        )
 
     @property
     def excess_z(self) -> float:
@@ -352,7 +359,7 @@ def label_segments(
     preds = np.array([logged_power_w(models[k], v_left, v_right) for k in names])
     out: list[tuple[str, float]] = []
     for s in segments:
-        inside = (run_arr == s.run) & (t >= s.t_start_s) & (t <= s.t_end_s)
+        inside = s.mask(t, run_arr)
         if not np.any(inside):
             out.append(("", math.nan))
             continue
