@@ -18,6 +18,10 @@ power noise (context, not a target; kinematic effects show small power ratios). 
 ``--vehicle pioneer-3at`` two classes are below the noise at the moderate magnitude on any
 executable session -- ``regeneration`` (its inner side brakes only in turns tighter than
 2.4 m, about 0.01 x the noise) and ``power_saturation`` (about 0.1 x) -- and end ``none``.
+Measured (session 19, ``--vehicle pioneer-3at --jobs 1``, 108 cases, 2324 s): 80.0 % right on
+in-library effects (regeneration 0/9, power saturation 1/9, terrain patch 8/9, the others
+9/9), effects claimed on ``none`` 0 %, out-of-library ``unexplained`` 77.8 %, median reduction
+91.2 %, 100 % right of the 78 verdicts at confidence >= 0.9.
 """
 
 from __future__ import annotations
