@@ -56,6 +56,7 @@ def test_the_preset_itself_gets_no_such_note() -> None:
         rate_hz=10.0,
     )
     d = diagnose(list(case.logs), case.vehicle, case.terrain, rng=1)
+    assert d.where_time_terrain, "the preset's log has labelled stretches (else nothing is checked)"
     lab = np.array(d.where_time_terrain_mae_w)
     cal = np.array(d.where_time_calibrated_mae_w)
     assert not np.any(lab > LABEL_OFF_FACTOR * cal)
