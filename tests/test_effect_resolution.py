@@ -93,7 +93,11 @@ def _resolution(log: Log) -> dict[str, object]:
 
 
 WIDE = [(0.3, 8.0), (0.5, 12.0), (0.4, np.inf), (0.6, 20.0), (0.3, 6.0)] * 4
-TIGHT_FAST = [(0.5, 1.2), (0.5, 1.6), (0.5, 2.2), (0.4, 3.0), (0.4, 8.0), (0.5, 20.0)] * 4
+# turns of 0.6-1.4 m at 0.5 m/s: the inner side brakes at up to ~10 W.  Turns of 1.2-3 m (up
+# to ~6 W) resolved regeneration while the effects' refits were pulled towards the preset at
+# a tenth of calibration's weight; at the thousandth they are now (EFFECT_RIDGE), a(r), b(r)
+# take up that much of it (SNR 7.9, but 0.7 % of the MAE, below the 3 % gain).
+TIGHT_FAST = [(0.5, 0.6), (0.5, 0.8), (0.5, 1.0), (0.5, 1.4), (0.4, 3.0), (0.5, 20.0)] * 4
 
 
 def test_regeneration_is_below_noise_when_no_side_ever_brakes() -> None:
@@ -107,9 +111,9 @@ def test_regeneration_is_below_noise_when_no_side_ever_brakes() -> None:
 
 def test_regeneration_is_resolved_when_the_inner_side_brakes_hard() -> None:
     log, p_in = _log(TIGHT_FAST, hold_s=6.0, ramp_s=3.0, noise_w=0.4, seed=2)
-    # eqs. 12-15 at r = 1.2-2.2 m and 0.5 m/s: the inner side brakes at several watts, at
+    # eqs. 12-15 at r = 0.6-1.4 m and 0.5 m/s: the inner side brakes at several watts, at
     # more radii than the two linear coefficients of a(r) (or b(r)) can bend to zero
-    assert np.min(p_in) < -3.0
+    assert np.min(p_in) < -6.0
     assert np.mean(p_in < 0.0) > 0.3
     res = _resolution(log)["regeneration"]
     assert res.resolved, res  # type: ignore[attr-defined]
