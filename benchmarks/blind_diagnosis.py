@@ -21,7 +21,11 @@ executable session -- ``regeneration`` (its inner side brakes only in turns tigh
 Measured (session 19, ``--vehicle pioneer-3at --jobs 1``, 108 cases, 2324 s): 80.0 % right on
 in-library effects (regeneration 0/9, power saturation 1/9, terrain patch 8/9, the others
 9/9), effects claimed on ``none`` 0 %, out-of-library ``unexplained`` 77.8 %, median reduction
-91.2 %, 100 % right of the 78 verdicts at confidence >= 0.9.
+91.2 %, 100 % right of the 78 verdicts at confidence >= 0.9.  Session 20, with the effects'
+refits pulled towards the preset at a thousandth of calibration's weight (was a tenth;
+``ecoplan.diagnose.effects.fitting.EFFECT_RIDGE``), 1225 s: 78.9 % (sensor delay 8/9, one
+seed's terrain patch ``none`` where another's was ``unexplained``), 0 %, 77.8 %, 90.5 %,
+100 % right of the 77 verdicts at confidence >= 0.9.
 """
 
 from __future__ import annotations

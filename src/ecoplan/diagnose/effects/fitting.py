@@ -71,6 +71,10 @@ __all__ = [
 #: 0.5 m/s rather than 1.2-3 m (``tests/test_effect_resolution.py``).  On the BorealTC runs
 #: (``benchmarks/real_data_diagnosis.py``, a Pioneer-structured stand-in) the held-out
 #: calibrated gap went 40.5 -> 36.2 W (FLOORING) and 52.9 -> 51.8 W (ASPHALT), same verdicts.
+#: On the wheeled blind check (``benchmarks/blind_diagnosis.py --vehicle pioneer-3at``, the
+#: preset's own family, 108 cases) right on in-library effects went 80.0 -> 78.9 % (one
+#: sensor delay ``none``), the median reduction 91.2 -> 90.5 %, the other lines as they were
+#: (0 % claims on ``none``, 77.8 % ``unexplained``, 100 % right at confidence >= 0.9).
 EFFECT_RIDGE = WHEELED_RIDGE / 1000.0
 
 #: Reweighting passes of the wheeled fits (:func:`huber_weights`).
