@@ -147,12 +147,14 @@ def fit_linear(
     (:func:`~ecoplan.diagnose.calibrate.wheeled_prior`, weight :data:`EFFECT_RIDGE`), and the
     samples are Huber-weighted (:func:`huber_weights`).  Refitted freely with an effect, the
     nine nearly collinear coefficients of eqs. 14-15 took cancelling values that predicted
-    -190 W at a start from rest (a turn radius the training split never held; since then the
-    bounds hold the sign of every ``alpha``, so ``a(r)``, ``b(r)`` stay monotone).  The
-    weight is a thousandth of calibration's
-    :data:`~ecoplan.diagnose.calibrate.WHEELED_RIDGE` (the figures are at
-    :data:`EFFECT_RIDGE`): the pull is towards the preset's coefficients, and on a robot of
-    another family a stronger one biases the effect's parameters.
+    -190 W at a start from rest (a turn radius the training split never held).  The base
+    columns stay unbounded here (:func:`base_bounds`), so the pull is what keeps them
+    physical; at the weight it has now, the corrected models of six zoo f logs (six effects:
+    patch, slope, resistance, inertia, drift, delay) kept every ``alpha``'s sign and
+    ``a_inf >= 0``, and drew 0-800 W over the envelope like the calibrated model.  The weight
+    is a thousandth of calibration's :data:`~ecoplan.diagnose.calibrate.WHEELED_RIDGE` (the
+    figures are at :data:`EFFECT_RIDGE`): the pull is towards the preset's coefficients, and on
+    a robot of another family a stronger one biases the effect's parameters.
 
     Parameters
     ----------
