@@ -79,12 +79,6 @@ __all__ = [
 #: pipeline, without the zoo: on that blind check 0.1 / 0.01 / 0 gave 76.7 / 75.6 / 71.1 % right,
 #: and on BorealTC a held-out calibrated gap of 47.4 / 38.9 / 36.8 W (FLOORING) and 63.9 / 56.1 /
 #: 54.1 W (ASPHALT).
-#: These figures are of refits whose wheeled base columns were free.  Session 21 bounded them
-#: (:func:`base_bounds`); at this weight f went to 80.0 / 100 / 91.7 / 69.6 (97.4 % of 38), i
-#: to 72.5 / 100 / 100 / 78.0 (100 % of 35), the held-out g to 67.5 / 100 / 75.0 / 76.2 (100 %
-#: of 29), the wheeled blind check to 81.1 % right, 0 %, 77.8 %, 91.1 % (100 % of 79), and the
-#: BorealTC gaps to 42.0 W (FLOORING) and 83.4 W (ASPHALT): the free refits' 36.2 and 51.8 W
-#: came from coefficients 530 and 1325 W outside the physical bounds over the envelope.
 EFFECT_RIDGE = WHEELED_RIDGE / 1000.0
 
 #: Reweighting passes of the wheeled fits (:func:`huber_weights`).
@@ -212,17 +206,13 @@ def base_bounds(data: EffectData, n_cols: int) -> Bounds:
     ``b_alpha`` of the preset's sign, ``p_powerup_w >= 0``), the signs read from the prior
     (``data.prior``, the preset calibration started from) as calibration reads them, so that an
     alpha calibrated to 0 does not let a refit flip ``a(r)``'s direction.  Until session 21 the
-    wheeled base columns were left free, held only by the pull towards the prior: on zoo
-    variants f and i the candidates' refits then left these bounds by a median 0.9 W over the
-    operating envelope (9 x 9 side speeds), by up to 266 W on i's terrain-patch logs, where
-    the refit *without* an effect bent ``a(r)``, ``b(r)`` past physics to absorb the patch --
-    an unphysical rival of the true effect (issue 12, item 2: an effect that can go below
-    physics fits anything; so can a base model) -- and by 530 W (FLOORING) and 1325 W
-    (ASPHALT) on the BorealTC runs of ``benchmarks/real_data_diagnosis.py``, whose "calibrated"
-    gaps of 36.2 and 51.8 W were those of a straight-line power falling with speed (the two
-    sides' ``a_inf`` summed to -524 and -157 W s/m); bounded, 42.0 and 83.4 W.  The figures
-    with the bounds are in :data:`EFFECT_RIDGE`'s record.  Columns past the base design's (the
-    effect's) are unbounded here.
+    wheeled base columns were left free, held only by the pull towards the prior: the
+    candidates' refits then left these bounds by a median 0.9 W over the operating envelope,
+    and by up to 266 W on the plant zoo's terrain-patch logs of variant i, where the refit
+    *without* an effect bent ``a(r)``, ``b(r)`` past physics to absorb the patch -- an
+    unphysical rival of the true effect (issue 12, item 2: an effect that can go below physics
+    fits anything; so can a base model).  Columns past the base design's (the effect's) are
+    unbounded here.
 
     Parameters
     ----------
