@@ -212,14 +212,14 @@ def base_bounds(data: EffectData, n_cols: int) -> Bounds:
     not reach).  In session 21 it helped plant zoo i (right 70.0 -> 72.5 %) and the wheeled
     blind check (78.9 -> 81.1 %), cost zoo f its median reduction (70.1 -> 69.6 %), and broke
     ``tests/test_time_step_trend.py``: on that low-noise log (0.4 W) the design misfits the
-    1.5 m turns even at the plant's own coefficients and χ (MAE 1.30 W there, 0.34 W on straights);
-    free coefficients absorb it (0.48 W), bounded ones cannot (0.94 W), and a step in time
-    stands in for the rest.  Free, the refits leave the bounds: by a median 0.9 W over the
-    operating envelope on zoo f and i, by up to 266 W where the refit without an effect absorbs
-    a terrain patch, and by 530 / 1325 W on the BorealTC runs of
-    ``benchmarks/real_data_diagnosis.py``, whose "calibrated" gaps (36.2 / 51.8 W; 42.0 / 83.4 W
-    bounded) are those of a straight-line power falling with speed.  Columns past the base
-    design's (the effect's) are unbounded here.
+    1.5 m turns even at the plant's own coefficients and χ (MAE 1.30 W there, 0.34 W on radii
+    above 10 m); free coefficients absorb it (0.48 W), bounded ones cannot (0.94 W), and a step
+    in time stands in for the rest.  Free, the refits leave the bounds: by a median 0.9 W over
+    the operating envelope on zoo f and i, by up to 266 W on a terrain-patch log of i, where
+    even the refit without an effect bends past them (229 W) to absorb the patch, and by 530 /
+    1325 W on the BorealTC runs of ``benchmarks/real_data_diagnosis.py``, whose "calibrated"
+    gaps (36.2 / 51.8 W; 42.0 / 83.4 W bounded) are those of a straight-line power falling with
+    speed.  Columns past the base design's (the effect's) are unbounded here.
 
     Parameters
     ----------
