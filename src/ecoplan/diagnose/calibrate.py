@@ -51,6 +51,7 @@ __all__ = [
     "Calibration",
     "base_design",
     "calibrate",
+    "envelope_penalty",
     "fit_accel_limit",
     "fit_linear_at_chi",
     "grid_then_bounded",
@@ -273,9 +274,9 @@ def _solve(
     scale = np.maximum(np.sqrt(np.mean(design.X**2, axis=0)), 1e-12)
     a, b = design.X / scale, y
     if prior is not None and envelope is not None and ridge > 0.0:
-        e = envelope * np.sqrt(ridge * design.X.shape[0] / envelope.shape[0])
-        a = np.vstack([a, e / scale])
-        b = np.concatenate([y, e @ prior])
+        rows, target = envelope_penalty(envelope, prior, ridge, design.X.shape[0])
+        a = np.vstack([a, rows / scale])
+        b = np.concatenate([y, target])
     if a.shape[0] > 4 * a.shape[1]:
         # ``|A x - b|^2 = |R x - Q^T b|^2 + const`` (thin QR): BVLS solves the same problem on
         # a k x k system instead of refactoring the n x k one at every active-set change
@@ -283,6 +284,25 @@ def _solve(
         a, b = r, q.T @ b
     res = lsq_linear(a, b, bounds=(design.lower * scale, design.upper * scale), method="bvls")
     return np.asarray(res.x / scale, dtype=np.float64)
+
+
+def envelope_penalty(
+    envelope: FloatArray, prior: FloatArray, ridge: float, n: int, n_cols: int | None = None
+) -> tuple[FloatArray, FloatArray]:
+    """Rows and targets that add ``ridge * n * mean((E (theta - prior))^2)`` to a least squares.
+
+    Stacked under a design of ``n`` samples (and its target), they pull the coefficients of the
+    envelope's ``k`` columns towards ``prior``: the change of the model's power over the
+    operating envelope ``E`` (:func:`wheeled_prior`), in W, weighted against the data.  With
+    ``n_cols > k`` the design's further columns (an effect's) get zero rows: they are not
+    pulled.  The one definition of the pull, for calibration (:data:`WHEELED_RIDGE`) and for
+    the effects' refits and their projections (``EFFECT_RIDGE``).
+    """
+    k = envelope.shape[1]
+    e = envelope * np.sqrt(ridge * n / envelope.shape[0])
+    rows = np.zeros((envelope.shape[0], k if n_cols is None else n_cols))
+    rows[:, :k] = e
+    return rows, e @ prior
 
 
 def _envelope_speeds(top_mps: float) -> tuple[FloatArray, FloatArray]:

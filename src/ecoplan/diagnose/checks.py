@@ -41,7 +41,7 @@ import numpy as np
 from scipy.special import ndtr
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.calibrate import wheeled_prior
+from ecoplan.diagnose.calibrate import envelope_penalty, wheeled_prior
 from ecoplan.diagnose.effects import EffectData, eta_of, regenerated_w, robust_scale
 from ecoplan.diagnose.effects.fitting import EFFECT_RIDGE, NONREGEN_COLUMN
 from ecoplan.diagnose.replay import LogLike
@@ -375,9 +375,9 @@ def _orthogonal(s: FloatArray, base: FloatArray, params: VehicleParams) -> Float
     a, b = base, s
     env = wheeled_prior(params)[1] if isinstance(params, WheeledParams) else None
     if env is not None and env.shape[1] == base.shape[1]:
-        w = np.sqrt(EFFECT_RIDGE * base.shape[0] / env.shape[0])
-        a = np.vstack([base, w * env])
-        b = np.concatenate([s, np.zeros(env.shape[0])])
+        rows, target = envelope_penalty(env, np.zeros(env.shape[1]), EFFECT_RIDGE, base.shape[0])
+        a = np.vstack([base, rows])
+        b = np.concatenate([s, target])
     scale = np.sqrt(np.mean(a**2, axis=0))
     keep = scale > 1e-12
     if not np.any(keep):

@@ -23,7 +23,7 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from ecoplan._typing import BoolArray, FloatArray
-from ecoplan.diagnose.calibrate import WHEELED_RIDGE, wheeled_prior
+from ecoplan.diagnose.calibrate import WHEELED_RIDGE, envelope_penalty, wheeled_prior
 from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
@@ -182,11 +182,7 @@ def fit_linear(
     if not isinstance(data.params, WheeledParams) or X.shape[0] == 0:
         return bounded_lstsq(X, y, lo, hi)
     theta, env = wheeled_prior(data.params, data.prior)
-    k = env.shape[1]
-    w = np.sqrt(EFFECT_RIDGE * X.shape[0] / env.shape[0])
-    aug = np.zeros((env.shape[0], X.shape[1]))
-    aug[:, :k] = w * env
-    aug_y = w * (env @ theta)
+    aug, aug_y = envelope_penalty(env, theta, EFFECT_RIDGE, X.shape[0], X.shape[1])
     sw = np.ones(X.shape[0])
     coef = np.zeros(X.shape[1])
     for _ in range(1 + WHEELED_ROBUST_ITERATIONS):
