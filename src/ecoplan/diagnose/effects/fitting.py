@@ -148,10 +148,12 @@ def fit_linear(
     samples are Huber-weighted (:func:`huber_weights`).  Refitted freely with an effect, the
     nine nearly collinear coefficients of eqs. 14-15 took cancelling values that predicted
     -190 W at a start from rest (a turn radius the training split never held).  The base
-    columns stay unbounded here (:func:`base_bounds`), so the pull is what keeps them
-    physical; at the weight it has now, the corrected models of six zoo f logs (six effects:
-    patch, slope, resistance, inertia, drift, delay) kept every ``alpha``'s sign and
-    ``a_inf >= 0``, and drew 0-800 W over the envelope like the calibrated model.  The weight
+    columns stay unbounded here (:func:`base_bounds`), so the pull is all that holds them.  It
+    keeps the *named* effects' refits near physical: on zoo f and i they leave
+    :func:`~ecoplan.diagnose.calibrate.wheeled_bounds` by a median 0.9 / 0.45 W over the
+    envelope, at most 1.8 W, and the corrected model is clipped to those bounds when it is
+    handed on.  It does not keep every candidate's refit physical (up to 266 W outside, and
+    530 / 1325 W for the refit without an effect on BorealTC; see :func:`base_bounds`).  The weight
     is a thousandth of calibration's :data:`~ecoplan.diagnose.calibrate.WHEELED_RIDGE` (the
     figures are at :data:`EFFECT_RIDGE`): the pull is towards the preset's coefficients, and on
     a robot of another family a stronger one biases the effect's parameters.
