@@ -12,6 +12,7 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ecoplan.diagnose.report import refit_baseline_note
 from ecoplan.diagnose.text import watts, why_not_tried
 
 if TYPE_CHECKING:
@@ -99,6 +100,28 @@ def _friction_law(d: Diagnosis) -> list[str]:
     ]
 
 
+def _baseline_row(d: Diagnosis) -> list[str]:
+    """The row of the effects' baseline when it is not the calibrated model.
+
+    See :func:`~ecoplan.diagnose.report.refit_baseline_note`.
+    """
+    if not refit_baseline_note(d):
+        return []
+    excess = d.refit_bounds_excess_w
+    bounds = (
+        f"; its coefficients leave the physical bounds by up to {_f(excess, 'W')} over the "
+        "operating envelope"
+        if excess > 0.0
+        else ""
+    )
+    return [
+        f"| gap of the effects' baseline | {_f(d.gap_calibrated_w, 'W')} | the base model "
+        "refitted on the training split beside the effects, without one: what the reduction "
+        f"and the final gap are measured on{bounds}; the corrected model holds the calibrated "
+        "parameters (with a named effect, its refit clipped to the bounds) |"
+    ]
+
+
 def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
     """The Markdown text of ``report.md`` for a diagnosis."""
     att = d.attribution
@@ -148,8 +171,10 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
         "|---|---|---|",
         f"| gap of the preset | {_f(d.gap_preset_w, 'W')} | held-out mean absolute error of the "
         "preset's power model on the measured side speeds |",
-        f"| gap after calibration | {_f(d.gap_calibrated_w, 'W')} | the same after "
-        "re-identifying the base model's own parameters on the training split |",
+        f"| gap after calibration | {_f(d.gap_of_calibration_w, 'W')} | the same after "
+        "re-identifying the base model's own parameters on the training split (the table "
+        "under *Calibration*) |",
+        *_baseline_row(d),
         f"| gap of the final model | {_f(d.gap_final_w, 'W')} | calibrated model plus the "
         "verdict's effect |",
         f"| reduction by the effect | {_f(red, 'W')} ({pct:.1f} %) | 95 % block-bootstrap "

@@ -41,7 +41,11 @@ class Diagnosis:
     gap_preset_w : float
         Held-out MAE of the preset model [W].
     gap_calibrated_w : float
-        Held-out MAE of the calibrated model [W].
+        Held-out MAE of the base model refitted on the training split beside the effects, with
+        no effect (the ``none`` candidate): the baseline every effect's reduction and the final
+        gap are measured against [W].  Tracked, the refit keeps the physical bounds and is
+        calibration's model; wheeled, it is pulled towards the preset but not bounded, and may
+        differ from ``gap_calibration_w`` by much (``refit_bounds_excess_w``).
     gap_final_w : float
         Held-out MAE of the final model (calibrated plus the verdict's effect) [W].
     final_ci_w : tuple of float
@@ -90,6 +94,13 @@ class Diagnosis:
         file's models, not the ground.
     all_t_s, all_run, all_residual_w : ndarray
         Every sample's time on its log's clock [s], run index and calibrated residual [W].
+    gap_calibration_w : float or None
+        Held-out MAE of the calibrated parameters themselves (``calibration.params``, within
+        their physical bounds) [W]; None: not computed (then ``gap_calibrated_w``).
+    refit_bounds_excess_w : float
+        How far the refit of ``gap_calibrated_w`` leaves the physical bounds, as the largest
+        power change over the operating envelope when its coefficients are clipped to them
+        (:func:`~ecoplan.diagnose.effects.fitting.bounds_excess_w`; 0: within) [W].
     """
 
     vehicle: str
@@ -123,6 +134,13 @@ class Diagnosis:
     all_t_s: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
     all_run: IntArray = field(repr=False, default_factory=lambda: np.zeros(0, dtype=np.int64))
     all_residual_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
+    gap_calibration_w: float | None = None
+    refit_bounds_excess_w: float = 0.0
+
+    @property
+    def gap_of_calibration_w(self) -> float:
+        """Held-out MAE of the calibrated parameters [W] (``gap_calibrated_w`` if not computed)."""
+        return self.gap_calibrated_w if self.gap_calibration_w is None else self.gap_calibration_w
 
     @property
     def verdict(self) -> str:

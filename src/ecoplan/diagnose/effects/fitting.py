@@ -23,7 +23,12 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from ecoplan._typing import BoolArray, FloatArray
-from ecoplan.diagnose.calibrate import WHEELED_RIDGE, envelope_penalty, wheeled_prior
+from ecoplan.diagnose.calibrate import (
+    WHEELED_RIDGE,
+    envelope_penalty,
+    wheeled_bounds,
+    wheeled_prior,
+)
 from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
@@ -40,6 +45,7 @@ __all__ = [
     "PlaceHalves",
     "base_bounds",
     "bounded_lstsq",
+    "bounds_excess_w",
     "compass_refine",
     "disc_correlation",
     "fit_linear",
@@ -243,6 +249,29 @@ def base_bounds(data: EffectData, n_cols: int) -> Bounds:
         lo[NONREGEN_COLUMN] = max(lo[NONREGEN_COLUMN], nonregen_floor(data))
         hi[NONREGEN_COLUMN] = max(hi[NONREGEN_COLUMN], lo[NONREGEN_COLUMN])
     return lo, hi
+
+
+def bounds_excess_w(data: EffectData, coef: FloatArray | None) -> float:
+    """How far a refit's base coefficients leave the physical bounds, in power [W].
+
+    Wheeled: the largest change of the base model's power over the operating envelope
+    (:func:`~ecoplan.diagnose.calibrate.wheeled_prior`'s 9 x 9 side-speed pairs) when the
+    refit's coefficients are clipped to :func:`~ecoplan.diagnose.calibrate.wheeled_bounds`
+    (of the prior calibration started from), ``max |E (c - clip(c))|``; 0 when they are within
+    (or there are no coefficients).
+    Tracked: 0, the refits keep their bounds (:func:`base_bounds`).  The wheeled refits are
+    free (:func:`base_bounds`), so the baseline every effect is measured against can be a
+    model whose straight-line power falls with speed; the report says by how much.
+    """
+    if not isinstance(data.params, WheeledParams) or coef is None:
+        return 0.0
+    prior = data.prior if isinstance(data.prior, WheeledParams) else data.params
+    lo, hi = wheeled_bounds(prior)
+    _, env = wheeled_prior(data.params, data.prior)
+    c = np.asarray(coef, dtype=np.float64)[: lo.size]
+    if c.size < lo.size:
+        return 0.0
+    return float(np.max(np.abs(env @ (c - np.clip(c, lo, hi)))))
 
 
 def bounded_lstsq(X: FloatArray, y: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
