@@ -9,7 +9,7 @@ JSON shape (stable; the four first keys are the contract of issue 6)::
      ...extra keys below}
 
 * ``gap.before`` is the held-out MAE of the preset model as given, ``gap.after`` that of the
-  final model (calibrated, plus the verdict's effect when there is one) [W].
+  final model (the base model refitted with the verdict's effect, or alone without one) [W].
 * ``where`` lists every regime of :mod:`ecoplan.diagnose.localise` (``group:name``) for the
   calibrated model's held-out residual.
 * ``effects`` are ranked best first; ``before``/``after`` are the held-out power MAE without and

@@ -175,8 +175,8 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
         "re-identifying the base model's own parameters on the training split (the table "
         "under *Calibration*) |",
         *_baseline_row(d),
-        f"| gap of the final model | {_f(d.gap_final_w, 'W')} | calibrated model plus the "
-        "verdict's effect |",
+        f"| gap of the final model | {_f(d.gap_final_w, 'W')} | the base model refitted with "
+        "the verdict's effect (without one: the base refitted alone) |",
         f"| reduction by the effect | {_f(red, 'W')} ({pct:.1f} %) | 95 % block-bootstrap "
         f"interval {_f(d.final_ci_w[0], 'W')} .. {_f(d.final_ci_w[1], 'W')} |",
         f"| noise floor | {_f(att.noise_floor_w, 'W')} | the error white sensor noise alone "

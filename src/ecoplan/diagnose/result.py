@@ -47,7 +47,8 @@ class Diagnosis:
         calibration's model; wheeled, it is pulled towards the preset but not bounded, and may
         differ from ``gap_calibration_w`` by much (``refit_bounds_excess_w``).
     gap_final_w : float
-        Held-out MAE of the final model (calibrated plus the verdict's effect) [W].
+        Held-out MAE of the final model: the base refitted with the verdict's effect (without
+        one, the refit of ``gap_calibrated_w``) [W].
     final_ci_w : tuple of float
         95 % block-bootstrap interval of the final model's reduction of the calibrated gap [W].
     where : list of RegimeShare
