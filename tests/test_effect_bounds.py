@@ -14,12 +14,14 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from ecoplan.diagnose.calibrate import base_design
 from ecoplan.diagnose.effects import EFFECTS, make_effect, prepare
 from ecoplan.diagnose.effects.fitting import NONREGEN_COLUMN, NONREGEN_FLOOR_SHARE
 from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.dynamics.drive import follow_commands
 from ecoplan.models.tracked import TrackedParams
+from ecoplan.models.wheeled import WheeledParams
 from ecoplan.presets import vehicle
 from synth_logs import log_record, random_commands
 
@@ -65,6 +67,25 @@ def assert_fit_within_bounds(params, log) -> None:  # type: ignore[no-untyped-de
             assert eff.coef_[NONREGEN_COLUMN] >= floor * (1 - 1e-9), name
             # µ, K and the driver terms are non-negative (tracked §III)
             assert np.all(eff.coef_[:NONREGEN_COLUMN] >= -1e-9), (name, eff.coef_)
+        if isinstance(params, WheeledParams):
+            assert_wheeled_base_physical(params, base_design(frame, params).names, eff.coef_, name)
+
+
+def assert_wheeled_base_physical(params, names, coef, effect: str) -> None:  # type: ignore[no-untyped-def]
+    """The refitted base coefficients of Chuy et al. 2009 (eqs. 12-15) stay physical.
+
+    Straight-line power does not fall with speed (``a_inf >= 0`` on both sides), ``a(r)`` and
+    ``b(r)`` keep the direction the paper's fits have (Fig. 6: each ``alpha`` of the preset's
+    sign, or 0) and the power-up term is a draw (``>= 0``).  Before session 21 the wheeled
+    base columns of the effects' refits were unbounded.
+    """
+    for col, value in zip(names, coef, strict=False):
+        side, _, term = col.partition(".")
+        if col == "p_powerup_w" or term == "a_inf":
+            assert value >= -1e-9, (effect, col, value)
+        elif term in ("a_alpha", "b_alpha"):
+            preset = float(getattr(getattr(params, side), term))
+            assert value * np.sign(preset) >= -1e-9, (effect, col, value, preset)
 
 
 @pytest.mark.parametrize("params", [TRACKED, WHEELED], ids=["tracked", "wheeled"])

@@ -110,8 +110,9 @@ CAL_SEARCH_SAMPLES = 40_000
 #: per-log weight fit the other family well).  On the BorealTC runs (Pioneer stand-in) the
 #: calibrated gap went 40.5 -> 32.9 W (FLOORING) and 52.9 -> 53.4 W (ASPHALT).  Not adopted.
 #: Session 20 weakened the *effects'* pull instead, to a thousandth of this weight (f's
-#: reduction 62.6 -> 70.1 %, figures at :data:`ecoplan.diagnose.effects.fitting.EFFECT_RIDGE`);
-#: the comparisons above were made at the tenth.
+#: reduction 62.6 -> 70.1 %, 69.6 % once session 22 bounded those refits; figures at
+#: :data:`ecoplan.diagnose.effects.fitting.EFFECT_RIDGE`); the comparisons above were made at
+#: the tenth.
 WHEELED_RIDGE = 0.1
 #: The same pull for the tracked terms (µ, K, driver terms), much weaker: they are few and well
 #: excited by most logs, but a log that never brakes or never turns sharply cannot identify the

@@ -48,7 +48,6 @@ from ecoplan._typing import BoolArray, FloatArray, RngLike
 from ecoplan.diagnose.attribute import split_masks
 from ecoplan.diagnose.calibrate import SETTLE_S, settling
 from ecoplan.diagnose.checks import check_logs, effect_resolution
-from ecoplan.diagnose.effects.fitting import bounds_excess_w
 from ecoplan.diagnose.effects.terrain import known_terrains, segmentation_models
 from ecoplan.diagnose.law_rival import calibrate_and_attribute, final_effect_name
 from ecoplan.diagnose.localise import (
@@ -317,7 +316,6 @@ def diagnose(
     # the calibrated parameters' own held-out gap (test.base_w is their power), which the
     # base refitted beside the effects (gap_cal, their common baseline) need not equal
     gap_params = float(np.mean(np.abs(test.p - test.base_w)))
-    excess = bounds_excess_w(test, att.fitted["none"].coef_)
     final_name = final_effect_name(att)  # a lag changes no power at the measured speeds
     final = att.fitted[final_name]
     refit = base.refit  # a kept law refitted with the effect predicts at its own exponent
@@ -344,7 +342,6 @@ def diagnose(
         gap_preset_w=float(np.mean(np.abs(replay.power_w[test_m]))),
         gap_calibrated_w=gap_cal,
         gap_calibration_w=gap_params,
-        refit_bounds_excess_w=excess,
         gap_final_w=float(np.mean(np.abs(r_fin))),
         final_ci_w=(lo, hi),
         where=by_regime(test_f, r_cal, cal.params),

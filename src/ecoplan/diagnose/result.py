@@ -43,9 +43,10 @@ class Diagnosis:
     gap_calibrated_w : float
         Held-out MAE of the base model refitted on the training split beside the effects, with
         no effect (the ``none`` candidate): the baseline every effect's reduction and the final
-        gap are measured against [W].  Tracked, the refit keeps the physical bounds and is
-        calibration's model; wheeled, it is pulled towards the preset but not bounded, and may
-        differ from ``gap_calibration_w`` by much (``refit_bounds_excess_w``).
+        gap are measured against [W].  It keeps calibration's physical bounds
+        (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`) but not calibration's pull
+        towards the preset (a thousandth of it wheeled, none tracked), so it can differ from
+        ``gap_calibration_w``.
     gap_final_w : float
         Held-out MAE of the final model: the base refitted with the verdict's effect (without
         one, the refit of ``gap_calibrated_w``) [W].
@@ -98,10 +99,6 @@ class Diagnosis:
     gap_calibration_w : float or None
         Held-out MAE of the calibrated parameters themselves (``calibration.params``, within
         their physical bounds) [W]; None: not computed (then ``gap_calibrated_w``).
-    refit_bounds_excess_w : float
-        How far the refit of ``gap_calibrated_w`` leaves the physical bounds, as the largest
-        power change over the operating envelope when its coefficients are clipped to them
-        (:func:`~ecoplan.diagnose.effects.fitting.bounds_excess_w`; 0: within) [W].
     """
 
     vehicle: str
@@ -136,7 +133,6 @@ class Diagnosis:
     all_run: IntArray = field(repr=False, default_factory=lambda: np.zeros(0, dtype=np.int64))
     all_residual_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
     gap_calibration_w: float | None = None
-    refit_bounds_excess_w: float = 0.0
 
     @property
     def gap_of_calibration_w(self) -> float:
