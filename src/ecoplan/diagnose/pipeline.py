@@ -341,7 +341,7 @@ def diagnose(
         replay=replay,
         gap_preset_w=float(np.mean(np.abs(replay.power_w[test_m]))),
         gap_calibrated_w=gap_cal,
-        gap_calibration_w=gap_params,
+        gap_calibrated_params_w=gap_params,
         gap_final_w=float(np.mean(np.abs(r_fin))),
         final_ci_w=(lo, hi),
         where=by_regime(test_f, r_cal, cal.params),

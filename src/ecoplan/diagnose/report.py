@@ -9,7 +9,8 @@ JSON shape (stable; the four first keys are the contract of issue 6)::
      ...extra keys below}
 
 * ``gap.before`` is the held-out MAE of the preset model as given, ``gap.after`` that of the
-  final model (the base model refitted with the verdict's effect, or alone without one) [W].
+  final model (the base model refitted with the verdict's effect; alone without one or for
+  ``actuator_lag``) [W].
 * ``where`` lists every regime of :mod:`ecoplan.diagnose.localise` (``group:name``) for the
   calibrated model's held-out residual.
 * ``effects`` are ranked best first; ``before``/``after`` are the held-out power MAE without and
@@ -134,7 +135,7 @@ def to_json_dict(d: Diagnosis) -> dict[str, Any]:
         "verdict": {"effect": att.verdict, "confidence": _num(att.confidence)},
         "calibration": {
             "before": _num(d.gap_preset_w),
-            "after": _num(d.gap_of_calibration_w),
+            "after": _num(d.gap_calibrated_params_w),
             "changed": {k: [_num(a), _num(b)] for k, (a, b) in d.calibration.changed.items()},
             "refit_after": _num(d.gap_calibrated_w),
         },
@@ -323,7 +324,7 @@ def refit_baseline_note(d: Diagnosis) -> str:
     straight-line power falling to -30 W at 0.5 m/s).  The line gives both gaps when they
     differ by more than :data:`BASELINE_DIFF_SHARE`.
     """
-    cal = d.gap_of_calibration_w
+    cal = d.gap_calibrated_params_w
     ref = d.gap_calibrated_w
     if abs(ref - cal) <= BASELINE_DIFF_SHARE * max(cal, 1e-12):
         return ""
@@ -343,7 +344,7 @@ def summary(d: Diagnosis) -> str:
         f"Diagnosis of {d.n_runs} log(s), {d.duration_s:.0f} s, against {d.preset.name} "
         f"(held-out split by {d.split}; {d.dropped_rows} row(s) dropped by the reader)",
         f"gap (held-out MAE): preset {watts(d.gap_preset_w)} -> calibrated "
-        f"{watts(d.gap_of_calibration_w)} -> final {watts(d.gap_final_w)} "
+        f"{watts(d.gap_calibrated_params_w)} -> final {watts(d.gap_final_w)} "
         f"(noise floor ~{watts(att.noise_floor_w)})",
     ]
     baseline = refit_baseline_note(d)
@@ -361,7 +362,8 @@ def summary(d: Diagnosis) -> str:
     lines.append("replay of the preset: " + "; ".join(parts))
     if d.calibration.changed:
         ch = ", ".join(f"{k} {a:.3g}->{b:.3g}" for k, (a, b) in d.calibration.changed.items())
-        lines.append(f"calibration closes {watts(d.gap_preset_w - d.gap_of_calibration_w)}: {ch}")
+        closes = watts(d.gap_preset_w - d.gap_calibrated_params_w)
+        lines.append(f"calibration closes {closes}: {ch}")
     if baseline:
         lines.append(baseline)
     top = sorted(d.where, key=lambda w: -(w.error_share - w.time_share))[:4]

@@ -165,12 +165,13 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
         "|---|---|---|",
         f"| gap of the preset | {_f(d.gap_preset_w, 'W')} | held-out mean absolute error of the "
         "preset's power model on the measured side speeds |",
-        f"| gap after calibration | {_f(d.gap_of_calibration_w, 'W')} | the same after "
+        f"| gap after calibration | {_f(d.gap_calibrated_params_w, 'W')} | the same after "
         "re-identifying the base model's own parameters on the training split (the table "
         "under *Calibration*) |",
         *_baseline_row(d),
         f"| gap of the final model | {_f(d.gap_final_w, 'W')} | the base model refitted with "
-        "the verdict's effect (without one: the base refitted alone) |",
+        "the verdict's effect (without one, or for a lag, which changes no power at the measured "
+        "speeds: the base refitted alone) |",
         f"| reduction by the effect | {_f(red, 'W')} ({pct:.1f} %) | 95 % block-bootstrap "
         f"interval {_f(d.final_ci_w[0], 'W')} .. {_f(d.final_ci_w[1], 'W')} |",
         f"| noise floor | {_f(att.noise_floor_w, 'W')} | the error white sensor noise alone "

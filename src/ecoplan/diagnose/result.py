@@ -46,10 +46,13 @@ class Diagnosis:
         gap are measured against [W].  It keeps calibration's physical bounds
         (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`) but not calibration's pull
         towards the preset (a thousandth of it wheeled, none tracked), so it can differ from
-        ``gap_calibration_w``.
+        ``gap_calibrated_params_w``.
+    gap_calibrated_params_w : float
+        Held-out MAE of the calibrated parameters themselves (``calibration.params``, within
+        their physical bounds) [W].
     gap_final_w : float
         Held-out MAE of the final model: the base refitted with the verdict's effect (without
-        one, the refit of ``gap_calibrated_w``) [W].
+        one, or for ``actuator_lag``, the refit of ``gap_calibrated_w``) [W].
     final_ci_w : tuple of float
         95 % block-bootstrap interval of the final model's reduction of the calibrated gap [W].
     where : list of RegimeShare
@@ -96,9 +99,6 @@ class Diagnosis:
         file's models, not the ground.
     all_t_s, all_run, all_residual_w : ndarray
         Every sample's time on its log's clock [s], run index and calibrated residual [W].
-    gap_calibration_w : float or None
-        Held-out MAE of the calibrated parameters themselves (``calibration.params``, within
-        their physical bounds) [W]; None: not computed (then ``gap_calibrated_w``).
     """
 
     vehicle: str
@@ -108,6 +108,7 @@ class Diagnosis:
     replay: ReplayResiduals
     gap_preset_w: float
     gap_calibrated_w: float
+    gap_calibrated_params_w: float
     gap_final_w: float
     final_ci_w: tuple[float, float]
     where: list[RegimeShare]
@@ -132,12 +133,6 @@ class Diagnosis:
     all_t_s: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
     all_run: IntArray = field(repr=False, default_factory=lambda: np.zeros(0, dtype=np.int64))
     all_residual_w: FloatArray = field(repr=False, default_factory=lambda: np.zeros(0))
-    gap_calibration_w: float | None = None
-
-    @property
-    def gap_of_calibration_w(self) -> float:
-        """Held-out MAE of the calibrated parameters [W] (``gap_calibrated_w`` if not computed)."""
-        return self.gap_calibrated_w if self.gap_calibration_w is None else self.gap_calibration_w
 
     @property
     def verdict(self) -> str:
