@@ -12,7 +12,8 @@ JSON shape (stable; the four first keys are the contract of issue 6)::
   final model (the base model refitted with the verdict's effect; alone without one or for
   ``actuator_lag``) [W].
 * ``where`` lists every regime of :mod:`ecoplan.diagnose.localise` (``group:name``) for the
-  calibrated model's held-out residual.
+  held-out residual of the effects' baseline (the base refitted without an effect,
+  ``how_far.before_w``).
 * ``effects`` are ranked best first; ``before``/``after`` are the held-out power MAE without and
   with the effect [W] (for ``actuator_lag``: of the power the model predicts from the commands);
   ``params`` are the fitted physical parameters (non-finite values written as null).
@@ -543,7 +544,7 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
         pad = 0.25 * max(hi - lo, 1e-6)
         ax.set_ylim(lo - pad, hi + pad)  # a few outliers would flatten the rest
     ax.set_xlabel("held-out time (runs concatenated) [s]")
-    ax.set_ylabel("measured - calibrated model [W]")
+    ax.set_ylabel("measured - base refit (effects' baseline) [W]")
     ax.set_title("Power residual over time, coloured by motion case (Fig. 3)")
     ax.legend(loc="upper right", fontsize=7, markerscale=6, ncol=3)
     fig.tight_layout()
@@ -598,7 +599,7 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
     ax.set_yticks(yy, regs, fontsize=7)
     ax.invert_yaxis()
     ax.set_xlabel("[%]")
-    ax.set_title("Where the calibrated model's gap lies (held-out)")
+    ax.set_title("Where the base refit's gap lies (held-out; the effects' baseline)")
     ax.legend(fontsize=8)
     fig.tight_layout()
     paths.append(out / "where.png")
@@ -620,7 +621,7 @@ def save_figures(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        ax.set_title("Residual map (held-out, calibrated model)")
+        ax.set_title("Residual map (held-out, base refit: the effects' baseline)")
         fig.tight_layout()
         paths.append(out / "residual_map.png")
         fig.savefig(paths[-1], dpi=120)

@@ -56,17 +56,18 @@ class Diagnosis:
     final_ci_w : tuple of float
         95 % block-bootstrap interval of the final model's reduction of the calibrated gap [W].
     where : list of RegimeShare
-        Error share against time share of the calibrated model on the held-out split.
+        Error share against time share of the effects' baseline (``gap_calibrated_w``) on the
+        held-out split.
     time_profile : TimeProfile
-        Calibrated residual per block (held-out split).
+        The baseline's residual per block (held-out split).
     space_map : SpaceMap or None
-        Map of the calibrated residual (held-out split), when pose is logged.
+        Map of the baseline's residual (held-out split), when pose is logged.
     attribution : Attribution
         Ranked candidates and verdict.
     test_frame : Frame
         The held-out samples.
     residual_calibrated_w : ndarray
-        Held-out residual of the calibrated model [W].
+        Held-out residual of the effects' baseline (``gap_calibrated_w``) [W].
     prediction_final_w : ndarray
         Held-out power predicted by the final model [W].
     test_mask : ndarray of bool
