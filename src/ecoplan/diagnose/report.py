@@ -313,17 +313,16 @@ BASELINE_DIFF_SHARE = 0.01
 def refit_baseline_note(d: Diagnosis) -> str:
     """One line on the effects' baseline when it is not the calibrated model ('' when it is).
 
-    Every candidate effect refits the base model's linear coefficients with its own columns,
-    and is measured against the refit without an effect (``gap_calibrated_w``).  Those refits
-    keep calibration's physical bounds but only a thousandth of its pull towards the preset
-    (wheeled; none tracked, :func:`~ecoplan.diagnose.effects.fitting.fit_linear`), so on a log
-    far from the preset's family the baseline fits better than the parameters calibration
-    lists: on the BorealTC
-    FLOORING runs (``benchmarks/real_data_diagnosis.py``) 42.0 W held out against their
+    Every candidate effect refits the base model's linear coefficients with its own columns, and
+    is measured against the refit without an effect (``gap_calibrated_w``).  Those refits keep
+    calibration's physical bounds but only a thousandth of its pull towards the preset (wheeled;
+    none tracked, :func:`~ecoplan.diagnose.effects.fitting.fit_linear`), so on a log far from
+    the preset's family the baseline fits better than the parameters calibration lists: on the
+    BorealTC FLOORING runs (``benchmarks/real_data_diagnosis.py``) 42.0 W held out against their
     55.9 W.  Until session 22 the report called the baseline's gap "calibrated", next to
     parameters that did not reach it (and the wheeled baseline was not bounded: 36.2 W, with a
-    straight-line power falling to -30 W at 0.5 m/s).  The line gives both gaps when they
-    differ by more than :data:`BASELINE_DIFF_SHARE`.
+    straight-line power falling to -30 W at 0.5 m/s).  The line gives both gaps when they differ
+    by more than :data:`BASELINE_DIFF_SHARE`.
     """
     cal = d.gap_calibrated_params_w
     ref = d.gap_calibrated_w

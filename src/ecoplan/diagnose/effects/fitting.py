@@ -205,9 +205,9 @@ def base_bounds(data: EffectData, n_cols: int) -> Bounds:
     Tracked, the base columns take the bounds of their design
     (:class:`~ecoplan.diagnose.calibrate.BaseDesign`: µ, K and driver terms non-negative) and
     ``k_nr`` at least :func:`nonregen_floor`.  Wheeled, they take calibration's physical bounds
-    (:func:`~ecoplan.diagnose.calibrate.wheeled_bounds`: ``a_inf >= 0``, ``b_inf`` not below
-    the preset's offset, ``a_alpha`` and ``b_alpha`` of the preset's sign, ``p_powerup_w >=
-    0``), the signs read from the prior (``data.prior``, the preset calibration started from) as
+    (:func:`~ecoplan.diagnose.calibrate.wheeled_bounds`: ``a_inf >= 0``, ``b_inf >= min(0, the
+    preset's)``, ``a_alpha`` and ``b_alpha`` of the preset's sign, ``p_powerup_w >= 0``), the
+    signs read from the prior (``data.prior``, the preset calibration started from) as
     calibration reads them, so that an alpha calibrated to 0 does not let a refit flip
     ``a(r)``'s direction.  Issue 12 item 2: an effect never takes the model below what physics
     allows, and every effect is measured against a base refit that physics allows.
@@ -217,7 +217,8 @@ def base_bounds(data: EffectData, n_cols: int) -> Bounds:
     operating envelope on zoo f and i, by up to 266 W on a terrain-patch log of i (the refit
     without an effect 229 W), and by 530 / 1325 W on the BorealTC runs of
     ``benchmarks/real_data_diagnosis.py``: the "calibrated" gaps reported there (36.2 / 51.8
-    W) were of a straight-line power falling to -30 W at 0.5 m/s.  Bounded (measured in
+    W) were of a straight-line power that fell with speed (on FLOORING from 179 W at 0.1 m/s
+    to -30 W at 0.5 m/s).  Bounded (measured in
     session 21, the same again in session 22; 4 seeds; right / none / unexplained / median
     reduction): zoo f 80.0 / 100 / 100 / 70.1 -> 80.0 / 100 / 91.7 / 69.6, i 70.0 / 100 / 100
     / 76.8 -> 72.5 / 100 / 100 / 78.0, the held-out g 67.5 / 100 / 75.0 / 75.4 -> 67.5 / 100 /
