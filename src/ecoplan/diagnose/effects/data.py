@@ -65,7 +65,8 @@ class EffectData:
     lower, upper : ndarray or None
         Physical bounds of the base design's coefficients
         (:class:`~ecoplan.diagnose.calibrate.BaseDesign`), which the tracked refits keep
-        (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`).
+        (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`; the wheeled refits keep the
+        prior's :func:`~ecoplan.diagnose.calibrate.wheeled_bounds`).
     """
 
     frame: Frame
