@@ -25,7 +25,10 @@ in-library effects (regeneration 0/9, power saturation 1/9, terrain patch 8/9, t
 refits pulled towards the preset at a thousandth of calibration's weight (was a tenth;
 ``ecoplan.diagnose.effects.fitting.EFFECT_RIDGE``), 1225 s: 78.9 % (sensor delay 8/9, one
 seed's terrain patch ``none`` where another's was ``unexplained``), 0 %, 77.8 %, 90.5 %,
-100 % right of the 77 verdicts at confidence >= 0.9.
+100 % right of the 77 verdicts at confidence >= 0.9.  Session 22, with those refits also held
+to calibration's physical bounds (``ecoplan.diagnose.effects.fitting.base_bounds``), 1983 s
+beside other jobs: 81.1 % (regeneration 0/9, power saturation 1/9, the others 9/9), 0 %,
+77.8 %, 91.1 %, 100 % right of the 79 verdicts at confidence >= 0.9.
 """
 
 from __future__ import annotations
