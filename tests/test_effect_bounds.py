@@ -76,7 +76,7 @@ def assert_wheeled_base_physical(params, names, coef, effect: str) -> None:  # t
 
     Straight-line power does not fall with speed (``a_inf >= 0`` on both sides), ``a(r)`` and
     ``b(r)`` keep the direction the paper's fits have (Fig. 6: each ``alpha`` of the preset's
-    sign, or 0) and the power-up term is a draw (``>= 0``).  Before session 21 the wheeled
+    sign, or 0) and the power-up term is a draw (``>= 0``).  Before session 22 the wheeled
     base columns of the effects' refits were unbounded.
     """
     for col, value in zip(names, coef, strict=False):
