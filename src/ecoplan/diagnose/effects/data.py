@@ -17,6 +17,7 @@ from ecoplan._typing import BoolArray, FloatArray, IntArray
 from ecoplan.diagnose.calibrate import (
     BaseDesign,
     base_design,
+    wheeled_bounds,
     wheeled_prior,
     with_linear_params,
 )
@@ -63,10 +64,9 @@ class EffectData:
     breakdown : PowerBreakdown or None
         The calibrated model's power breakdown on the samples.
     lower, upper : ndarray or None
-        Physical bounds of the base design's coefficients
-        (:class:`~ecoplan.diagnose.calibrate.BaseDesign`), which the tracked refits keep
-        (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`; the wheeled refits keep the
-        prior's :func:`~ecoplan.diagnose.calibrate.wheeled_bounds`).
+        Physical bounds of the base design's coefficients (:func:`effect_base_design`; wheeled,
+        the prior's :func:`~ecoplan.diagnose.calibrate.wheeled_bounds`), which every refit
+        keeps (:func:`~ecoplan.diagnose.effects.fitting.base_bounds`).
     """
 
     frame: Frame
@@ -154,14 +154,18 @@ def effect_base_design(
     wheeled Fig. 6); a calibration that absorbed an effect may bend it: one that absorbed a
     speed-dependent resistance had a negative straight-line offset, called both sides
     "braking" in slow straight motion and so flipped the columns' sign there (0.06 W of
-    error everywhere on a Pioneer log, whatever the effect).
+    error everywhere on a Pioneer log, whatever the effect).  The coefficients' bounds are
+    the prior's :func:`~ecoplan.diagnose.calibrate.wheeled_bounds` for the same reason: an
+    alpha calibrated to 0 must not let a refit flip ``a(r)``'s direction.
     """
     if not isinstance(params, WheeledParams):
         return base_design(frame, params)
     theta, _ = wheeled_prior(params, prior)
     # the unit columns depend on χ, the ICRs and the decay exponents, not on the linear
     # coefficients: only the sides' signs come from the prior coefficients
-    return base_design(frame, with_linear_params(params, (), theta))
+    design = base_design(frame, with_linear_params(params, (), theta))
+    lower, upper = wheeled_bounds(prior if isinstance(prior, WheeledParams) else params)
+    return dataclasses.replace(design, lower=lower, upper=upper)
 
 
 def prepare(

@@ -23,12 +23,7 @@ import numpy as np
 from scipy.optimize import lsq_linear
 
 from ecoplan._typing import BoolArray, FloatArray
-from ecoplan.diagnose.calibrate import (
-    WHEELED_RIDGE,
-    envelope_penalty,
-    wheeled_bounds,
-    wheeled_prior,
-)
+from ecoplan.diagnose.calibrate import WHEELED_RIDGE, envelope_penalty, wheeled_prior
 from ecoplan.diagnose.effects.data import EffectData
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
@@ -202,12 +197,12 @@ def fit_linear(
 def base_bounds(data: EffectData, n_cols: int) -> Bounds:
     """Bounds of a design's coefficients: the base model's physical ones, the rest free.
 
-    Tracked, the base columns take the bounds of their design
-    (:class:`~ecoplan.diagnose.calibrate.BaseDesign`: µ, K and driver terms non-negative) and
-    ``k_nr`` at least :func:`nonregen_floor`.  Wheeled, they take calibration's physical bounds
-    (:func:`~ecoplan.diagnose.calibrate.wheeled_bounds`: ``a_inf >= 0``, ``b_inf >= min(0, the
-    preset's)``, ``a_alpha`` and ``b_alpha`` of the preset's sign, ``p_powerup_w >= 0``), the
-    signs read from the prior (``data.prior``, the preset calibration started from) as
+    The base columns take the bounds of their design (``data.lower``, ``data.upper``, from
+    :func:`~ecoplan.diagnose.effects.data.effect_base_design`).  Tracked: µ, K and driver terms
+    non-negative, and ``k_nr`` at least :func:`nonregen_floor`.  Wheeled: calibration's
+    physical bounds (:func:`~ecoplan.diagnose.calibrate.wheeled_bounds`: ``a_inf >= 0``,
+    ``b_inf >= min(0, the preset's)``, ``a_alpha`` and ``b_alpha`` of the preset's sign,
+    ``p_powerup_w >= 0``), read from the prior (the preset calibration started from) as
     calibration reads them, so that an alpha calibrated to 0 does not let a refit flip
     ``a(r)``'s direction.  Issue 12 item 2: an effect never takes the model below what physics
     allows, and every effect is measured against a base refit that physics allows.
@@ -248,17 +243,9 @@ def base_bounds(data: EffectData, n_cols: int) -> Bounds:
     lo = np.full(n_cols, -np.inf)
     hi = np.full(n_cols, np.inf)
     m = min(k, n_cols)
-    if isinstance(data.params, WheeledParams):
-        ref = data.prior if isinstance(data.prior, WheeledParams) else data.params
-        lower, upper = wheeled_bounds(ref)
-        if lower.size == k:
-            lo[:m], hi[:m] = lower[:m], upper[:m]
-        return lo, hi
-    if not isinstance(data.params, TrackedParams):
-        return lo, hi
     if data.lower is not None and data.upper is not None:
         lo[:m], hi[:m] = data.lower[:m], data.upper[:m]
-    if m > NONREGEN_COLUMN:
+    if isinstance(data.params, TrackedParams) and m > NONREGEN_COLUMN:
         lo[NONREGEN_COLUMN] = max(lo[NONREGEN_COLUMN], nonregen_floor(data))
         hi[NONREGEN_COLUMN] = max(hi[NONREGEN_COLUMN], lo[NONREGEN_COLUMN])
     return lo, hi
