@@ -20,6 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.linalg import solve_triangular
 from scipy.optimize import lsq_linear
 
 from ecoplan._typing import BoolArray, FloatArray
@@ -109,23 +110,48 @@ NONREGEN_FLOOR_SHARE = 0.65
 Bounds = tuple[FloatArray, FloatArray]
 
 
-def _lstsq(X: FloatArray, y: FloatArray) -> FloatArray:
-    """Least squares by the normal equations of the RMS-scaled columns (k is small).
+@dataclass(frozen=True)
+class _Normal:
+    """The normal equations of a least squares on RMS-scaled columns (k is small).
 
-    Cholesky of ``XᵀX`` costs ``O(n k²)``, far less than an SVD of ``X``; a tiny ridge keeps a
-    column the log does not excite from blowing up (its coefficient then stays near zero).
+    Attributes
+    ----------
+    scale : ndarray, shape (k,)
+        RMS of each column (1 for an all-zero column).
+    gram : ndarray, shape (k, k)
+        ``XsᵀXs + ridge I`` of the scaled columns ``Xs``, with the tiny ridge of :func:`_normal`.
+    rhs : ndarray, shape (k,)
+        ``Xsᵀy``.
+    """
+
+    scale: FloatArray
+    gram: FloatArray
+    rhs: FloatArray
+
+
+def _normal(X: FloatArray, y: FloatArray) -> _Normal:
+    """Normal equations of ``y ≈ X c`` on RMS-scaled columns.
+
+    Forming ``XᵀX`` costs ``O(n k²)``, far less than an SVD of ``X``; a tiny ridge (1e-9 of the
+    mean diagonal) keeps a column the log does not excite from blowing up (its coefficient
+    then stays near zero).
     """
     scale = np.sqrt(np.mean(X**2, axis=0))
     scale[scale < 1e-12] = 1.0
     Xs = X / scale
     gram = Xs.T @ Xs
-    rhs = Xs.T @ y
     ridge = 1e-9 * max(float(np.trace(gram)), 1e-300) / max(gram.shape[0], 1)
+    return _Normal(scale, gram + ridge * np.eye(gram.shape[0]), Xs.T @ y)
+
+
+def _lstsq(X: FloatArray, y: FloatArray, ne: _Normal | None = None) -> FloatArray:
+    """Least squares by the normal equations of the RMS-scaled columns (:func:`_normal`)."""
+    ne = _normal(X, y) if ne is None else ne
     try:
-        coef = np.linalg.solve(gram + ridge * np.eye(gram.shape[0]), rhs)
+        coef = np.linalg.solve(ne.gram, ne.rhs)
     except np.linalg.LinAlgError:
-        coef = np.linalg.lstsq(Xs, y, rcond=1e-10)[0]
-    return np.asarray(coef / scale, dtype=np.float64)
+        coef = np.linalg.lstsq(X / ne.scale, y, rcond=1e-10)[0]
+    return np.asarray(coef / ne.scale, dtype=np.float64)
 
 
 def fit_linear(
@@ -256,8 +282,9 @@ def bounded_lstsq(X: FloatArray, y: FloatArray, lo: FloatArray, hi: FloatArray) 
 
     A column with ``lo == hi`` is held at that value; the others come from the plain solve
     (:func:`_lstsq`) when it lies within the bounds, else from
-    :func:`scipy.optimize.lsq_linear` (bounded-variable least squares) on the RMS-scaled
-    columns.
+    :func:`scipy.optimize.lsq_linear` (bounded-variable least squares) on the Cholesky factor
+    of the RMS-scaled columns' normal equations: the same problem (with :func:`_normal`'s tiny
+    ridge), k x k instead of n x k.
 
     Parameters
     ----------
@@ -281,12 +308,20 @@ def bounded_lstsq(X: FloatArray, y: FloatArray, lo: FloatArray, hi: FloatArray) 
     Xf = X[:, free]
     yf = y - X[:, fixed] @ coef[fixed]
     lf, hf = lo[free], hi[free]
-    c = _lstsq(Xf, yf)
+    ne = _normal(Xf, yf)
+    c = _lstsq(Xf, yf, ne)
     if np.any(c < lf) or np.any(c > hf):
-        scale = np.sqrt(np.mean(Xf**2, axis=0))
-        scale[scale < 1e-12] = 1.0
-        res = lsq_linear(Xf / scale, yf, bounds=(lf * scale, hf * scale), method="bvls")
-        c = np.clip(res.x / scale, lf, hf)
+        # ``|Xs c - y|² = |Lᵀ c - L⁻¹ Xsᵀ y|² + const`` with ``XsᵀXs = L Lᵀ`` (Cholesky): BVLS
+        # solves the same problem on the k x k factor instead of the n x k design, whose
+        # active-set steps each refactor it (on the wheeled hour of
+        # ``benchmarks/diagnosis_speed.py`` 3 100 calls cost 16 s of 40)
+        try:
+            chol = np.linalg.cholesky(ne.gram)
+            a, b = chol.T, solve_triangular(chol, ne.rhs, lower=True)
+        except np.linalg.LinAlgError:
+            a, b = Xf / ne.scale, yf
+        res = lsq_linear(a, b, bounds=(lf * ne.scale, hf * ne.scale), method="bvls")
+        c = np.clip(res.x / ne.scale, lf, hf)
     coef[free] = c
     return np.asarray(coef, dtype=np.float64)
 
