@@ -53,6 +53,21 @@ never admitted; admitted anyway on s1 it moves the held-out gap from 0.637 to 0.
 a 0.324 W noise floor, 21 % of the gap above the noise (the rule would need 80 %).  Chuy's
 ``(r + 1)^-beta`` cannot take the plant's ``r^-2`` decay over the radii a log visits, and
 each half's exponents follow the radii it visits.
+
+Session 23 measured two further ways to take f's family, neither adopted.  A knee radius,
+``(r / r_k + 1)^-beta`` (eqs. 14-15 have ``r_k`` = 1 m), takes the ``r^-2`` curves almost
+exactly over the radii f's drive visits (noise-free curves, the preset's ``alpha``: the
+``b(r)`` misfit 0.22 / 0.31 W inner / outer with ``beta`` alone, 0.004 / 0.042 W with a
+knee).  On the logs it adds little: a prototype fit of f's clean log s0 (weak pull on the
+alphas only) gave held-out gaps against the noise-free power of 0.219 W with the linear
+coefficients alone, 0.195 W with the exponents, 0.171 W with exponents and knees (s1: 0.216
+/ 0.208 W with them), where calibration's parameters give 0.335 W; on i (the paper's family)
+the same freedom made it worse, 0.093 -> 0.123 / 0.131 W.  Most of f's misfit is the pull
+towards the preset's coefficients (:data:`ecoplan.diagnose.calibrate.WHEELED_RIDGE`), not the
+family.  And admitting this shape as the rival when each half's shape predicts the other
+half better than the preset's shape does (instead of agreeing on the exponents) changed no
+verdict on f or i (4 seeds): where the halves disagree, the shape's held-out gain is a few
+mW (f's regeneration s0: 0.441 -> 0.435 W), far from the effects'.
 """
 
 from __future__ import annotations
