@@ -119,36 +119,39 @@ class _Normal:
     scale : ndarray, shape (k,)
         RMS of each column (1 for an all-zero column).
     gram : ndarray, shape (k, k)
-        ``XsᵀXs + ridge I`` of the scaled columns ``Xs``, with the tiny ridge of :func:`_normal`.
+        ``XsᵀXs`` of the scaled columns ``Xs``.
     rhs : ndarray, shape (k,)
         ``Xsᵀy``.
+    ridge : float
+        The tiny ridge of the plain solve (:func:`_lstsq`).
     """
 
     scale: FloatArray
     gram: FloatArray
     rhs: FloatArray
+    ridge: float
 
 
 def _normal(X: FloatArray, y: FloatArray) -> _Normal:
     """Normal equations of ``y ≈ X c`` on RMS-scaled columns.
 
-    Forming ``XᵀX`` costs ``O(n k²)``, far less than an SVD of ``X``; a tiny ridge (1e-9 of the
-    mean diagonal) keeps a column the log does not excite from blowing up (its coefficient
-    then stays near zero).
+    Forming ``XᵀX`` costs ``O(n k²)``, far less than an SVD of ``X``.  The plain solve adds a
+    tiny ridge (1e-9 of the mean diagonal), which keeps a column the log does not excite from
+    blowing up (its coefficient then stays near zero).
     """
     scale = np.sqrt(np.mean(X**2, axis=0))
     scale[scale < 1e-12] = 1.0
     Xs = X / scale
     gram = Xs.T @ Xs
     ridge = 1e-9 * max(float(np.trace(gram)), 1e-300) / max(gram.shape[0], 1)
-    return _Normal(scale, gram + ridge * np.eye(gram.shape[0]), Xs.T @ y)
+    return _Normal(scale, gram, Xs.T @ y, ridge)
 
 
 def _lstsq(X: FloatArray, y: FloatArray, ne: _Normal | None = None) -> FloatArray:
     """Least squares by the normal equations of the RMS-scaled columns (:func:`_normal`)."""
     ne = _normal(X, y) if ne is None else ne
     try:
-        coef = np.linalg.solve(ne.gram, ne.rhs)
+        coef = np.linalg.solve(ne.gram + ne.ridge * np.eye(ne.gram.shape[0]), ne.rhs)
     except np.linalg.LinAlgError:
         coef = np.linalg.lstsq(X / ne.scale, y, rcond=1e-10)[0]
     return np.asarray(coef / ne.scale, dtype=np.float64)
@@ -283,8 +286,8 @@ def bounded_lstsq(X: FloatArray, y: FloatArray, lo: FloatArray, hi: FloatArray) 
     A column with ``lo == hi`` is held at that value; the others come from the plain solve
     (:func:`_lstsq`) when it lies within the bounds, else from
     :func:`scipy.optimize.lsq_linear` (bounded-variable least squares) on the Cholesky factor
-    of the RMS-scaled columns' normal equations: the same problem (with :func:`_normal`'s tiny
-    ridge), k x k instead of n x k.
+    of the RMS-scaled columns' normal equations: the same problem, without the plain solve's
+    tiny ridge, k x k instead of n x k (on the design itself when the factor does not exist).
 
     Parameters
     ----------
