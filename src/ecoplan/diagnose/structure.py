@@ -62,9 +62,11 @@ knee).  On the logs it adds little: a prototype fit of f's clean log s0 (weak pu
 alphas only) gave held-out gaps against the noise-free power of 0.219 W with the linear
 coefficients alone, 0.195 W with the exponents, 0.171 W with exponents and knees (s1: 0.216
 / 0.208 W with them), where calibration's parameters give 0.335 W; on i (the paper's family)
-the same freedom made it worse, 0.093 -> 0.123 / 0.131 W.  Most of f's misfit is the pull
-towards the preset's coefficients (:data:`ecoplan.diagnose.calibrate.WHEELED_RIDGE`), not the
-family.  And admitting this shape as the rival when each half's shape predicts the other
+the same freedom made it worse, 0.093 -> 0.123 / 0.131 W.  Of what calibration's parameters
+leave above the plant's own law on the frame's speeds (0.335 against 0.123 W on s0), over
+half goes with the pull towards the preset's coefficients
+(:data:`ecoplan.diagnose.calibrate.WHEELED_RIDGE`), a ninth each with the exponents and the
+knees.  And admitting this shape as the rival when each half's shape predicts the other
 half better than the preset's shape does (instead of agreeing on the exponents) changed no
 verdict on f or i (4 seeds): where the halves disagree, the shape's held-out gain is a few
 mW (f's regeneration s0: 0.441 -> 0.435 W), far from the effects'.
