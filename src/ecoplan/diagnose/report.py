@@ -68,6 +68,7 @@ __all__ = [
     "BASELINE_DIFF_SHARE",
     "JSON_KEYS",
     "DiagnosisJSON",
+    "baseline_differs",
     "json_report",
     "refit_baseline_note",
     "save_figures",
@@ -306,8 +307,19 @@ def write_json(
 
 
 #: The base refitted beside the effects and the calibrated parameters are reported apart
-#: when their held-out gaps differ by more than this share (:func:`refit_baseline_note`).
+#: when their held-out gaps differ by more than this share (:func:`baseline_differs`).
 BASELINE_DIFF_SHARE = 0.01
+
+
+def baseline_differs(d: Diagnosis) -> bool:
+    """Whether the effects' baseline and the calibrated parameters are reported apart.
+
+    True when their held-out gaps (``gap_calibrated_w``, ``gap_calibrated_params_w``) differ
+    by more than :data:`BASELINE_DIFF_SHARE` of the calibrated one; the summary's line
+    (:func:`refit_baseline_note`) and ``report.md``'s row both follow it.
+    """
+    cal = d.gap_calibrated_params_w
+    return abs(d.gap_calibrated_w - cal) > BASELINE_DIFF_SHARE * max(cal, 1e-12)
 
 
 def refit_baseline_note(d: Diagnosis) -> str:
@@ -322,12 +334,11 @@ def refit_baseline_note(d: Diagnosis) -> str:
     55.9 W.  Until session 22 the report called the baseline's gap "calibrated", next to
     parameters that did not reach it (and the wheeled baseline was not bounded: 36.2 W, with a
     straight-line power falling to -30 W at 0.5 m/s).  The line gives both gaps when they differ
-    by more than :data:`BASELINE_DIFF_SHARE`.
+    (:func:`baseline_differs`).
     """
-    cal = d.gap_calibrated_params_w
-    ref = d.gap_calibrated_w
-    if abs(ref - cal) <= BASELINE_DIFF_SHARE * max(cal, 1e-12):
+    if not baseline_differs(d):
         return ""
+    cal, ref = d.gap_calibrated_params_w, d.gap_calibrated_w
     return (
         f"baseline of the effects: the base model refitted beside them on the training half "
         f"(calibration's bounds, a far weaker pull towards the preset), {watts(ref)} held out "

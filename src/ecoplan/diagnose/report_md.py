@@ -12,7 +12,7 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from ecoplan.diagnose.report import refit_baseline_note
+from ecoplan.diagnose.report import baseline_differs
 from ecoplan.diagnose.text import watts, why_not_tried
 
 if TYPE_CHECKING:
@@ -103,9 +103,10 @@ def _friction_law(d: Diagnosis) -> list[str]:
 def _baseline_row(d: Diagnosis) -> list[str]:
     """The row of the effects' baseline when it is not the calibrated model.
 
-    See :func:`~ecoplan.diagnose.report.refit_baseline_note`.
+    Shown when :func:`~ecoplan.diagnose.report.baseline_differs`, as the summary's line
+    (:func:`~ecoplan.diagnose.report.refit_baseline_note`) is.
     """
-    if not refit_baseline_note(d):
+    if not baseline_differs(d):
         return []
     return [
         f"| gap of the effects' baseline | {_f(d.gap_calibrated_w, 'W')} | the base model "

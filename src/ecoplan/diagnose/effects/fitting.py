@@ -147,9 +147,8 @@ def _normal(X: FloatArray, y: FloatArray) -> _Normal:
     return _Normal(scale, gram, Xs.T @ y, ridge)
 
 
-def _lstsq(X: FloatArray, y: FloatArray, ne: _Normal | None = None) -> FloatArray:
-    """Least squares by the normal equations of the RMS-scaled columns (:func:`_normal`)."""
-    ne = _normal(X, y) if ne is None else ne
+def _lstsq(X: FloatArray, y: FloatArray, ne: _Normal) -> FloatArray:
+    """Least squares by the normal equations ``ne`` of ``y ≈ X c`` (:func:`_normal`)."""
     try:
         coef = np.linalg.solve(ne.gram + ne.ridge * np.eye(ne.gram.shape[0]), ne.rhs)
     except np.linalg.LinAlgError:
