@@ -92,6 +92,30 @@ def test_no_turning_is_said_and_none_is_not_fully_confident() -> None:
     assert not (d.verdict == "none" and d.attribution.confidence > 0.5)
 
 
+def test_a_wheeled_crawl_whose_turn_radius_never_resolves_keeps_the_preset() -> None:
+    # found by fuzzing the diagnose path (session 24): a Pioneer turning on the spot with its
+    # sides at up to +-0.048 m/s moves (above the 0.045 m/s of the motion check on a fifth of
+    # the samples) but never reaches the |V_l| + |V_r| that resolves the turn radius
+    # (calibrate.RESOLVED_SUM_MPS, 0.1 m/s), so the wheeled fit had no sample to use and the
+    # least squares of an empty design crashed ("SVD did not converge").  Nothing there
+    # identifies a(r), b(r): they must stay the preset's (wheeled eqs. 14-15 coefficients)
+    params = vehicle("pioneer-3at", "vinyl")
+    g = np.random.default_rng(0)
+    logs = []
+    for run in range(2):
+        t = 10.0 * run + np.arange(246) / 100.0
+        dv = 0.048 * np.sin(2 * np.pi * np.arange(246) / 82.0)
+        p = np.asarray(params.power(-dv, dv).total_w) + g.normal(0.0, 1.0, t.size)
+        logs.append(Log(t=t, v_left=-dv, v_right=dv, p_total=p, run_id=f"crawl{run}"))
+    assert max(np.max(2 * np.abs(lg.v_left)) for lg in logs) < 0.1  # never resolved
+    d = diagnose(logs, params)
+    cal = d.calibration.params
+    assert isinstance(cal, type(params))
+    assert (cal.inner, cal.outer) == (params.inner, params.outer)  # type: ignore[union-attr]
+    assert 0.0 <= d.attribution.confidence <= 1.0 and np.isfinite(d.gap_final_w)
+    json_report(d)
+
+
 def _arcs(radii: tuple[float, ...], speed_mps: float) -> Log:
     """Pioneer arcs of the given radii, both ways, from the ICR kinematics (tracked eq. 3)."""
     params = vehicle("pioneer-3at", "asphalt")

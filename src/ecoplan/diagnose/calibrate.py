@@ -271,7 +271,14 @@ def _solve(
     added: the change of the model's power over the envelope, in W, weighted against the data.
     Directions the log excites are barely moved; directions it does not excite (turn radii it
     never drove) stay at the prior instead of wandering to huge cancelling values.
+
+    A design without rows (a log none of whose samples the fit may use: a wheeled drive that
+    never reached a resolvable turn radius) identifies nothing: the coefficients stay at
+    ``prior`` (within the bounds), or at zero without one.
     """
+    if design.X.shape[0] == 0:
+        start = np.zeros(design.X.shape[1]) if prior is None else np.asarray(prior, dtype=float)
+        return np.clip(start, design.lower, design.upper)
     scale = np.maximum(np.sqrt(np.mean(design.X**2, axis=0)), 1e-12)
     a, b = design.X / scale, y
     if prior is not None and envelope is not None and ridge > 0.0:
