@@ -278,7 +278,7 @@ def _solve(
     """
     if design.X.shape[0] == 0:
         start = np.zeros(design.X.shape[1]) if prior is None else np.asarray(prior, dtype=float)
-        return np.clip(start, design.lower, design.upper)
+        return np.asarray(np.clip(start, design.lower, design.upper), dtype=np.float64)
     scale = np.maximum(np.sqrt(np.mean(design.X**2, axis=0)), 1e-12)
     a, b = design.X / scale, y
     if prior is not None and envelope is not None and ridge > 0.0:
