@@ -99,6 +99,13 @@ def test_unknown_terrain_and_run_named(real_root: Path) -> None:
         load_run("GRAVEL", "00", real_root)
     with pytest.raises(InputError, match=r"'42'.*00, 01"):
         load_run("ASPHALT", "42", real_root)
+    # a name that is not one of the root's terrain folders: empty (the root itself, which
+    # `borealtc:` and `borealtc:/1` used to read as a terrain of no runs) or a path out of it
+    for name in ("", "..", "../borealtc/SNOW", "SNOW/.."):
+        with pytest.raises(InputError, match=r"unknown BorealTC terrain.*ASPHALT, FLOORING"):
+            load_run(name, "00", real_root)
+        with pytest.raises(InputError, match=r"unknown BorealTC terrain"):
+            list_runs(name, real_root)
 
 
 def test_missing_root_is_input_error(tmp_path: Path) -> None:

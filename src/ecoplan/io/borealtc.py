@@ -189,12 +189,11 @@ def list_terrains(root: str | os.PathLike[str] | None = None) -> list[str]:
 def _terrain_dir(terrain: str, root: str | os.PathLike[str] | None) -> tuple[str, Path]:
     path = _existing_root(root)
     name = str(terrain).upper()
-    folder = path / name
-    if not folder.is_dir():
-        raise InputError(
-            f"unknown BorealTC terrain {terrain!r}; accepted: {', '.join(list_terrains(path))}"
-        )
-    return name, folder
+    accepted = list_terrains(path)
+    # only a terrain folder of the root: an empty name is the root itself, '..' leaves it
+    if name not in accepted:
+        raise InputError(f"unknown BorealTC terrain {terrain!r}; accepted: {', '.join(accepted)}")
+    return name, path / name
 
 
 def list_runs(terrain: str, root: str | os.PathLike[str] | None = None) -> list[str]:
