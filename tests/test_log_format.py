@@ -450,6 +450,45 @@ def test_rosbag_rate_nan_and_missing_topic(tmp_path: Path) -> None:
         TopicMap(v_left=FieldRef("/a"), v_right=FieldRef("/b"))
 
 
+def test_rosbag_damaged_message_or_storage_is_a_format_error(tmp_path: Path) -> None:
+    # a bag whose metadata opens can still hold a record that does not decode, or a damaged
+    # database page that sqlite3 reports only when the messages are read (found by corrupting
+    # bags, session 24: AnyReaderError and CorruptError escaped as internal errors)
+    import shutil
+    import sqlite3
+
+    _write_bag(tmp_path / "bag")
+    broken = tmp_path / "broken"
+    shutil.copytree(tmp_path / "bag", broken)
+    db = next(broken.glob("*.db3"))
+    con = sqlite3.connect(db)
+    with con:
+        con.execute(
+            "UPDATE messages SET data = x'00010000' WHERE id = (SELECT MIN(m.id) FROM messages m "
+            "JOIN topics t ON m.topic_id = t.id WHERE t.name = '/joint_states')"
+        )
+    con.close()
+    with pytest.raises(LogFormatError, match=r"message \d+ .*/joint_states.*damaged"):
+        read_rosbag(broken, _topic_map())
+    # 512 zero bytes anywhere in the database: a log or one LogFormatError, nothing else
+    size = next((tmp_path / "bag").glob("*.db3")).stat().st_size
+    outcomes = set()
+    for k in range(1, 20):
+        copy = tmp_path / f"zeroed{k}"
+        shutil.copytree(tmp_path / "bag", copy)
+        db = next(copy.glob("*.db3"))
+        data = bytearray(db.read_bytes())
+        at = k * size // 20
+        data[at : at + 512] = bytes(512)
+        db.write_bytes(bytes(data))
+        try:
+            read_rosbag(copy, _topic_map())
+            outcomes.add("read")
+        except LogFormatError as exc:
+            outcomes.add("damaged" if "damaged" in str(exc) else "refused")
+    assert "damaged" in outcomes  # some page is read only with the messages
+
+
 def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
     p = tmp_path / "bom.csv"
     p.write_bytes("\ufefft,v_left,v_right,p_total\n0,0,0,1\n1,0,0,1\n".encode())

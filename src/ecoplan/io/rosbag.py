@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -358,8 +358,14 @@ def _read_series(
     wanted = {column for pairs in extract.values() for column, _ in pairs}
     series: dict[str, list[tuple[float, float]]] = {c: [] for c in FLOAT_COLUMNS if c in wanted}
     conns = [c for c in reader.connections if c.topic in extract]
-    for conn, bag_ns, raw in reader.messages(connections=conns):
-        msg = reader.deserialize(raw, conn.msgtype)
+    for k, (conn, bag_ns, raw) in enumerate(_messages(reader, conns, source)):
+        try:
+            msg = reader.deserialize(raw, conn.msgtype)
+        except Exception as exc:  # a damaged record: rosbags raises several unrelated types
+            raise LogFormatError(
+                f"{source}: message {k} of the mapped topics (topic {conn.topic}, "
+                f"{conn.msgtype}) cannot be decoded, the bag is damaged: {exc}"
+            ) from None
         stamp = _stamp(msg, bag_ns, use_header)
         for column, fn in extract[conn.topic]:
             try:
@@ -370,6 +376,28 @@ def _read_series(
                     f"({conn.msgtype}): cannot read the mapped field: {exc}"
                 ) from None
     return series
+
+
+def _messages(reader: Any, conns: list[Any], source: str) -> Iterator[tuple[Any, int, bytes]]:
+    """``reader.messages`` with a damaged storage file reported as a :class:`LogFormatError`.
+
+    A bag whose metadata opens may still have a damaged database or chunk, which rosbags (or
+    sqlite3 under it) reports only when the messages are read, with several unrelated types.
+    """
+    it = iter(reader.messages(connections=conns))
+    k = 0
+    while True:
+        try:
+            item = next(it)
+        except StopIteration:
+            return
+        except Exception as exc:
+            raise LogFormatError(
+                f"{source}: the bag's storage is damaged after {k} message(s) of the mapped "
+                f"topics: {type(exc).__name__}: {exc}"
+            ) from None
+        k += 1
+        yield item
 
 
 def _interval_middles(ts: FloatArray) -> FloatArray:
