@@ -98,7 +98,7 @@ def test_a_wheeled_crawl_whose_turn_radius_never_resolves_keeps_the_preset() -> 
     # the samples) but never reaches the |V_l| + |V_r| that resolves the turn radius
     # (calibrate.RESOLVED_SUM_MPS, 0.1 m/s), so the wheeled fit had no sample to use and the
     # least squares of an empty design crashed ("SVD did not converge").  Nothing there
-    # identifies a(r), b(r): they must stay the preset's (wheeled eqs. 14-15 coefficients)
+    # identifies a(r), b(r) or chi: they must stay the preset's (wheeled eqs. 14-15)
     params = vehicle("pioneer-3at", "vinyl")
     g = np.random.default_rng(0)
     logs = []
@@ -112,6 +112,7 @@ def test_a_wheeled_crawl_whose_turn_radius_never_resolves_keeps_the_preset() -> 
     cal = d.calibration.params
     assert isinstance(cal, type(params))
     assert (cal.inner, cal.outer) == (params.inner, params.outer)  # type: ignore[union-attr]
+    assert cal.chi == params.chi  # chi only moves the radius, which nothing resolves
     assert 0.0 <= d.attribution.confidence <= 1.0 and np.isfinite(d.gap_final_w)
     json_report(d)
 

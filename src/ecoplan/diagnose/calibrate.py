@@ -638,6 +638,10 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
     chi_kin = kinematic_chi(frame, params)
     if chi_kin is not None:
         chi = chi_kin
+    elif isinstance(params, WheeledParams) and not wheeled_fit_rows(sub, params).any():
+        # no sample resolves the turn radius (a crawl): the coefficients stay the preset's
+        # (``_solve``) and χ, which only moves the radius, has nothing to be identified from
+        chi = params.chi
     else:
         chi = grid_then_bounded(lambda c: fit_linear_at_chi(sub, params, c)[1], *CHI_BOUNDS)
     best, _ = fit_linear_at_chi(frame, params, chi)
