@@ -161,6 +161,14 @@ def test_cli_identify_writes_a_vehicle_file_from_logs(tmp_path, capsys) -> None:
     assert "no terrain column; give its terrain with --terrain" in capsys.readouterr().err
     assert main(["identify", str(paths[2]), "--base", str(base_file), "--terrain", "asphalt",
                  "--boot", "20", "--json", str(tmp_path / "r.json")]) == 0  # fmt: skip
+    # a name the vehicle file's schema refuses is refused before the fit, and nothing written
+    for bad in ("   ", "My Robot", "-x", "x" * 65):
+        bad_out = tmp_path / "bad.yaml"
+        assert main([*args, f"--name={bad}", "--out", str(bad_out)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and "is not a vehicle name" in err
+        assert bad.strip() in err  # the CLI's one line folds runs of blanks
+        assert not bad_out.exists()
 
 
 def test_cli_identify_refuses_an_unphysical_fit_with_exit_2(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]

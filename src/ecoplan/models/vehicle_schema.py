@@ -53,6 +53,8 @@ from ecoplan.models.tracked import DEFAULT_NONREGEN_ONSET_MPS
 __all__ = [
     "SOURCES",
     "TERRAIN_VOCABULARY",
+    "VEHICLE_NAME_MAX",
+    "VEHICLE_NAME_PATTERN",
     "Drivers",
     "Geometry",
     "Inertia",
@@ -344,6 +346,13 @@ class Drivers(_Section):
     regen_efficiency: float = Field(default=0.0, ge=0.0, lt=1.0)
 
 
+#: A vehicle's ``name``: lower-case letters, digits, ``_``, ``.`` and ``-``, starting with a
+#: letter or digit (a file-name and YAML-key safe identifier).
+VEHICLE_NAME_PATTERN = r"^[a-z0-9][a-z0-9_.-]*$"
+#: Longest vehicle ``name`` [characters].
+VEHICLE_NAME_MAX = 64
+
+
 class VehicleFile(_Section):
     """A vehicle file (see the module docstring for the layout).
 
@@ -369,7 +378,7 @@ class VehicleFile(_Section):
         Assumptions the values rest on, in words.
     """
 
-    name: str = Field(pattern=r"^[a-z0-9][a-z0-9_.-]*$", max_length=64)
+    name: str = Field(pattern=VEHICLE_NAME_PATTERN, max_length=VEHICLE_NAME_MAX)
     kind: Literal["tracked", "wheeled"]
     power_model: Literal["contact-friction", "radius-fit"]
     description: str = ""
