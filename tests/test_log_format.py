@@ -486,7 +486,9 @@ def test_rosbag_damaged_message_or_storage_is_a_format_error(tmp_path: Path) -> 
             outcomes.add("read")
         except LogFormatError as exc:
             outcomes.add("damaged" if "damaged" in str(exc) else "refused")
-    assert "damaged" in outcomes  # some page is read only with the messages
+    # the net catches damage at all (where sqlite3 reports it, at open or only while the
+    # messages are read, depends on its page layout: here both happen)
+    assert outcomes - {"read"}
 
 
 def test_byte_order_mark_is_accepted(tmp_path: Path) -> None:
