@@ -133,3 +133,24 @@ def test_the_cli_exits_2_with_the_field_for_a_scenario_with_a_bad_model(
     assert main(["plan", str(scenario)]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and "effect.name: unknown effect 'gremlins'" in err
+
+
+@pytest.mark.parametrize(
+    ("model_terrain", "said"),
+    [("asphalt", "calibrated on 'asphalt'"), (None, "which it does not name")],
+)
+def test_a_scenario_on_another_terrain_than_its_model_says_which(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], model_terrain: str | None, said: str
+) -> None:
+    # a corrected model holds the parameters of its logs' ground: a scenario on another terrain
+    # is refused; a model diagnosed without --terrain names no ground (it said "calibrated on
+    # None" before session 24)
+    _write(tmp_path, {**GOOD, "terrain": model_terrain})
+    scenario = tmp_path / "s.yaml"
+    scenario.write_text(
+        "name: c\nvehicle: {model: m.json}\nterrain: marble\n"
+        "map: {bounds: {min: [0, 0], max: [9, 9]}}\nstart: {x: 1, y: 1}\nwaypoints: [[8, 8]]\n"
+    )
+    assert main(["plan", str(scenario)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "terrain:" in err and said in err and "None" not in err

@@ -302,12 +302,17 @@ def _load_model(spec: ScenarioSpec, source: str, lines: LineMap) -> Any:
     except InputError as exc:
         raise _err(source, lines, loc, one_line(str(exc))) from None
     if spec.terrain.regions or spec.terrain.default not in (None, model.terrain):
+        ground = (
+            f"on {model.terrain!r}"
+            if model.terrain is not None
+            else "on its logs' ground, which it does not name (diagnosed without --terrain)"
+        )
         raise _err(
             source,
             lines,
             ("terrain",),
-            f"a corrected model is calibrated on {model.terrain!r}: give no other terrain "
-            "and no terrain regions",
+            f"a corrected model is calibrated {ground}: give no other terrain and no terrain "
+            "regions",
         )
     return model
 
