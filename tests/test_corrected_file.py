@@ -53,6 +53,13 @@ def test_a_good_file_loads_with_its_effect(tmp_path: Path) -> None:
     sat = copy.deepcopy(GOOD)
     sat["effect"] = {"name": "power_saturation", "params": {"p_max_w": None}}
     assert load_corrected_model(_write(tmp_path, sat)).effect_params["p_max_w"] == float("inf")
+    # a null elsewhere is refused (below); an inertia with infinite mass simulated to nan
+    heavy = {
+        **GOOD,
+        "effect": {"name": "inertia", "params": {"mass_kg": None, "yaw_inertia_kgm2": 90.0}},
+    }
+    with pytest.raises(InputError, match=r"effect.params.mass_kg|mass_kg = null"):
+        load_corrected_model(_write(tmp_path, heavy, "heavy.json"))
 
 
 def _set(path: list[str], value: Any) -> dict[str, Any]:
@@ -86,6 +93,21 @@ def _set(path: list[str], value: Any) -> dict[str, Any]:
             KeyError,
             '"params": {}',
             r"effect.params: effect 'speed_dependent_resistance' needs parameter\(s\) c_n_s_per_m",
+        ),
+        # the effect's physical range (effects/base.py Parameter): a null reads as infinite,
+        # meaningful only for a saturation's cap; an infinite resistance simulated to nan
+        (
+            ["effect", "params", "c_n_s_per_m"],
+            None,
+            '"c_n_s_per_m"',
+            r"c_n_s_per_m: .*c_n_s_per_m = null \(infinite\) \[N s/m\] is outside its physical "
+            r"range; accepted: finite values in \[0, inf\]",
+        ),
+        (
+            ["effect", "params", "c_n_s_per_m"],
+            -3.0,
+            '"c_n_s_per_m"',
+            r"c_n_s_per_m = -3\.0 \[N s/m\] is outside",
         ),
     ],
 )

@@ -262,7 +262,18 @@ def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
     except InputError as exc:
         raise error_at(source, lines, ("effect", "name"), str(exc)) from None
     try:
-        type(effect).values(eparams)  # every required parameter is given
+        values = type(effect).values(eparams)  # every required parameter is given
     except InputError as exc:
         raise error_at(source, lines, ("effect", "params"), str(exc)) from None
+    for par, value in zip(type(effect).parameters, values, strict=True):
+        if not par.admits(value):  # a null (infinite) mass or rate gave a nan simulation
+            shown = "null (infinite)" if math.isinf(value) else repr(value)
+            high = f"{par.high:g}" + (" or null" if par.infinite_ok else "")
+            raise error_at(
+                source,
+                lines,
+                ("effect", "params", par.name),
+                f"{name}: {par.name} = {shown} [{par.unit}] is outside its physical range; "
+                f"accepted: finite values in [{par.low:g}, {high}]",
+            )
     return CorrectedModel(spec.vehicle, spec.terrain, params, name, eparams)

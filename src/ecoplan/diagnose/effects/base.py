@@ -25,6 +25,7 @@ the one that returns power, ``regeneration``, is bounded by
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
@@ -100,6 +101,9 @@ class Parameter:
     scale : float or None
         ``scale`` of that map; None: the vehicle's η (a fitted electrical coefficient is a
         mechanical quantity divided by η, tracked eq. 20).
+    infinite_ok : bool
+        An infinite value means something (``p_max_w``: a supply without cap).  Otherwise an
+        infinite ``high`` only says the range is open: the value itself must be finite.
     """
 
     name: str
@@ -111,6 +115,13 @@ class Parameter:
     column: int | None = None
     offset: float = 0.0
     scale: float | None = None
+    infinite_ok: bool = False
+
+    def admits(self, value: float) -> bool:
+        """Whether ``value`` is within the range (finite unless :attr:`infinite_ok`)."""
+        return (math.isfinite(value) or (self.infinite_ok and not math.isnan(value))) and (
+            self.low <= value <= self.high
+        )
 
     def map_of(self, data: EffectData) -> tuple[float, float]:
         """``(offset, scale)`` of the coefficient-to-parameter map on ``data`` (:attr:`column`)."""
@@ -373,7 +384,7 @@ class Effect:
             A missing parameter or one out of range.
         """
         for p, v in zip(cls.parameters, cls.values(params), strict=True):
-            if not p.low <= v <= p.high:
+            if not p.admits(v):
                 raise InputError(
                     f"{cls.name}: {p.name} = {v} is out of range; accepted: [{p.low}, {p.high}]"
                 )

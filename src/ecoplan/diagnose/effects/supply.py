@@ -213,7 +213,11 @@ class PowerSaturation(ScalarSearch):
     """The supply clips the power: ``min(P, P_max)`` [W]."""
 
     name = "power_saturation"
-    parameters = (Parameter("p_max_w", "W", 0.0, math.inf, "largest power the supply gives"),)
+    parameters = (
+        Parameter(
+            "p_max_w", "W", 0.0, math.inf, "largest power the supply gives", infinite_ok=True
+        ),
+    )
     steady = True
     supply_side = True
 
