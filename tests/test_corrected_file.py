@@ -53,6 +53,11 @@ def test_a_good_file_loads_with_its_effect(tmp_path: Path) -> None:
     sat = copy.deepcopy(GOOD)
     sat["effect"] = {"name": "power_saturation", "params": {"p_max_w": None}}
     assert load_corrected_model(_write(tmp_path, sat)).effect_params["p_max_w"] == float("inf")
+    sat["effect"]["params"]["p_max_w"] = -1.0  # but not a negative one
+    with pytest.raises(
+        InputError, match=r"p_max_w = -1\.0 \[W\] .*accepted: \[0, inf\] \(null: no"
+    ):
+        load_corrected_model(_write(tmp_path, sat, "sat.json"))
     # a null elsewhere is refused (below); an inertia with infinite mass simulated to nan
     heavy = {
         **GOOD,
