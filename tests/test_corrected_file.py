@@ -152,14 +152,22 @@ def test_the_cli_exits_2_with_the_field_for_a_scenario_with_a_bad_model(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     _write(tmp_path, _set(["effect", "name"], "gremlins"))
+    code, err = _plan_with_model(tmp_path, capsys)
+    assert code == 2
+    assert "\n" not in err and "effect.name: unknown effect 'gremlins'" in err
+
+
+def _plan_with_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], terrain_line: str = ""
+) -> tuple[int, str]:
+    """``ecoplan plan`` of a small scenario driving ``m.json``: exit code and stderr."""
     scenario = tmp_path / "s.yaml"
     scenario.write_text(
-        "name: c\nvehicle: {model: m.json}\nmap: {bounds: {min: [0, 0], max: [9, 9]}}\n"
-        "start: {x: 1, y: 1}\nwaypoints: [[8, 8]]\n"
+        f"name: c\nvehicle: {{model: m.json}}\n{terrain_line}"
+        "map: {bounds: {min: [0, 0], max: [9, 9]}}\nstart: {x: 1, y: 1}\nwaypoints: [[8, 8]]\n"
     )
-    assert main(["plan", str(scenario)]) == 2
-    err = capsys.readouterr().err.strip()
-    assert "\n" not in err and "effect.name: unknown effect 'gremlins'" in err
+    code = main(["plan", str(scenario)])
+    return code, capsys.readouterr().err.strip()
 
 
 @pytest.mark.parametrize(
@@ -173,11 +181,6 @@ def test_a_scenario_on_another_terrain_than_its_model_says_which(
     # is refused; a model diagnosed without --terrain names no ground (it said "calibrated on
     # None" before session 24)
     _write(tmp_path, {**GOOD, "terrain": model_terrain})
-    scenario = tmp_path / "s.yaml"
-    scenario.write_text(
-        "name: c\nvehicle: {model: m.json}\nterrain: marble\n"
-        "map: {bounds: {min: [0, 0], max: [9, 9]}}\nstart: {x: 1, y: 1}\nwaypoints: [[8, 8]]\n"
-    )
-    assert main(["plan", str(scenario)]) == 2
-    err = capsys.readouterr().err.strip()
+    code, err = _plan_with_model(tmp_path, capsys, "terrain: marble\n")
+    assert code == 2
     assert "\n" not in err and "terrain:" in err and said in err and "None" not in err
