@@ -268,16 +268,11 @@ def load_corrected_model(path: str | os.PathLike[str]) -> CorrectedModel:
     for par, value in zip(type(effect).parameters, values, strict=True):
         if not par.admits(value):  # a null (infinite) mass or rate gave a nan simulation
             shown = "null (infinite)" if value == math.inf else repr(value)
-            accepted = (
-                f"[{par.low:g}, {par.high:g}] (null: no limit)"
-                if par.infinite_ok
-                else f"finite values in [{par.low:g}, {par.high:g}]"
-            )
             raise error_at(
                 source,
                 lines,
                 ("effect", "params", par.name),
                 f"{name}: {par.name} = {shown} [{par.unit}] is outside its physical range; "
-                f"accepted: {accepted}",
+                f"accepted: {par.accepted()}",
             )
     return CorrectedModel(spec.vehicle, spec.terrain, params, name, eparams)

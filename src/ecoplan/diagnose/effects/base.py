@@ -123,6 +123,12 @@ class Parameter:
             self.low <= value <= self.high
         )
 
+    def accepted(self) -> str:
+        """The values :meth:`admits`, in words (for error messages)."""
+        if self.infinite_ok:
+            return f"[{self.low:g}, {self.high:g}] (null: no limit)"
+        return f"finite values in [{self.low:g}, {self.high:g}]"
+
     def map_of(self, data: EffectData) -> tuple[float, float]:
         """``(offset, scale)`` of the coefficient-to-parameter map on ``data`` (:attr:`column`)."""
         scale = eta_of(data.params) if self.scale is None else self.scale
@@ -386,7 +392,7 @@ class Effect:
         for p, v in zip(cls.parameters, cls.values(params), strict=True):
             if not p.admits(v):
                 raise InputError(
-                    f"{cls.name}: {p.name} = {v} is out of range; accepted: [{p.low}, {p.high}]"
+                    f"{cls.name}: {p.name} = {v} is out of range; accepted: {p.accepted()}"
                 )
 
     @classmethod
