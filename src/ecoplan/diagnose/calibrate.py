@@ -636,14 +636,16 @@ def calibrate(frame: Frame, params: VehicleParams, *, structural: bool = False) 
     preset = params
     params = structural_onset(sub, params) if structural else params
     chi_kin = kinematic_chi(frame, params)
+    # the wheeled fit's samples do not depend on χ: found once for the whole search
+    rows = wheeled_fit_rows(sub, params) if isinstance(params, WheeledParams) else None
     if chi_kin is not None:
         chi = chi_kin
-    elif isinstance(params, WheeledParams) and not wheeled_fit_rows(sub, params).any():
+    elif rows is not None and not rows.any():
         # no sample resolves the turn radius (a crawl): the coefficients stay the preset's
         # (``_solve``) and χ, which only moves the radius, has nothing to be identified from
         chi = params.chi
     else:
-        chi = grid_then_bounded(lambda c: fit_linear_at_chi(sub, params, c)[1], *CHI_BOUNDS)
+        chi = grid_then_bounded(lambda c: fit_linear_at_chi(sub, params, c, rows)[1], *CHI_BOUNDS)
     best, _ = fit_linear_at_chi(frame, params, chi)
     accel = fit_accel_limit(frame)
     if accel is not None and accel > 0.0:
