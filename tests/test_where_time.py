@@ -57,6 +57,24 @@ def test_a_flat_residual_gives_no_segment() -> None:
     assert segs == []
 
 
+@pytest.mark.parametrize(("stop_s", "seed"), [(60.0, 5), (100.0, 1), (180.0, 2)])
+def test_a_stop_does_not_hide_a_switch_between_known_terrains(stop_s: float, seed: int) -> None:
+    # The robot stands for 30 s, where every model says 0 W (motors off), then drives on a
+    # known softer ground from 150 s on: the same manoeuvre draws 40 % more.  The stop must
+    # not outweigh the switch (a relative level over a model at rest was a level over nothing).
+    g = np.random.default_rng(seed)
+    t = np.arange(0.0, 240.0, 0.1)
+    moving = (t < stop_s) | (t >= stop_s + 30.0)
+    drive_w = np.where(moving, 120.0 + 60.0 * np.sin(2.0 * np.pi * t / 17.0), 0.0)
+    soft_w = 1.4 * drive_w
+    p = np.where(t < 150.0, drive_w, soft_w) + g.normal(0.0, 6.0, t.size)
+    run = np.zeros(t.size, dtype=int)
+    segs = where_time(t, p - drive_w, run, ["A"], model_w=drive_w, known_w=[drive_w, soft_w])
+    bounds = [s.t_end_s for s in segs[:-1]]
+    assert bounds
+    assert min(abs(b - 150.0) for b in bounds) <= 5.0
+
+
 @cache
 def _gain_case() -> tuple[list[float], Diagnosis]:
     # power multiplied by 1.15 on the second half of every run (the "flat yard")
