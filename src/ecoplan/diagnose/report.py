@@ -445,6 +445,17 @@ def summary(d: Diagnosis) -> str:
 _CASE_COLOURS = ("#999999", "#1f77b4", "#2ca02c", "#ff7f0e", "#d62728")
 
 
+LABEL_MIN_SHARE = 0.025
+"""Narrowest segment of ``where_time.png`` that gets its text, as a share of its run's span.
+
+Segments narrower than :data:`LABEL_ROW_SHARE` alternate between two rows of text, so that
+neighbours' labels do not run into each other.
+"""
+LABEL_ROW_SHARE = 0.08
+"""Segments narrower than this share of their run's span (a label's width on a 9 in panel)
+take alternate rows of text."""
+
+
 def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]:
     """``where_time.csv`` and ``where_time.png``: the residual over each log's own time axis.
 
@@ -452,7 +463,10 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
     residual averaged over 1 s bins, the change-point segments shaded (red: the robot draws
     more than the model, blue: less, grey: a level within two standard errors of the
     session's) with their excess in W and, when the preset describes several terrains, each
-    segment's most likely one.
+    segment's most likely one.  Only segments wide enough for their text are labelled (at
+    least :data:`LABEL_MIN_SHARE` of the run's span, narrow neighbours on alternate rows; the
+    panel's title says how many are not): an hour-long run with two hundred segments stays
+    legible, and the CSV has them all.
     """
     import matplotlib
 
@@ -486,16 +500,24 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
         )
         rid = d.run_ids[i]
         labels = d.where_time_terrain or ("",) * len(d.where_time)
+        span_s = float(t[-1] - t[0])
+        min_label_s = LABEL_MIN_SHARE * span_s
+        unlabelled, lower = 0, False
         for seg, lab in zip(d.where_time, labels, strict=False):
             if seg.run != rid:
                 continue
             quiet = abs(seg.excess_z) < 2.0
             colour = "#999999" if quiet else ("#d62728" if seg.excess_w > 0 else "#1f77b4")
             ax.axvspan(seg.t_start_s, seg.t_end_s, color=colour, alpha=0.15)
+            width = seg.t_end_s - seg.t_start_s
+            if width < min_label_s:
+                unlabelled += 1
+                continue
+            lower = width < LABEL_ROW_SHARE * span_s and not lower  # narrow: alternate rows
             excess = watts(seg.excess_w, signed=True)
             ax.text(
                 0.5 * (seg.t_start_s + seg.t_end_s),
-                0.92,
+                0.76 if lower else 0.95,
                 f"{excess}\n{lab}" if lab else excess,
                 transform=ax.get_xaxis_transform(),
                 ha="center",
@@ -504,8 +526,12 @@ def save_where_time(d: Diagnosis, out_dir: str | os.PathLike[str]) -> list[Path]
             )
         ax.axhline(0.0, color="k", lw=0.4)
         ax.set_ylabel("W")
+        narrow = (
+            f"; {unlabelled} narrow segments unlabelled, see where_time.csv" if unlabelled else ""
+        )
         ax.set_title(
-            f"{rid}: measured - calibrated model (grey: level within 2 SE of the session's)",
+            f"{rid}: measured - calibrated model (grey: level within 2 SE of the session's)"
+            + narrow,
             fontsize=8,
             loc="left",
         )
