@@ -129,6 +129,25 @@ def test_slope_recovers_grade_and_uphill_heading() -> None:
     assert eff.params_["uphill_heading_rad"] == pytest.approx(0.0, abs=0.1)
 
 
+@pytest.mark.parametrize("gyro", [False, True])
+def test_a_slope_without_pose_is_fitted_on_the_heading_of_the_whole_run(gyro: bool) -> None:
+    # No pose: the heading is the yaw rate's integral.  The diagnosis fits on a training split
+    # of time blocks and predicts the held-out blocks; integrated over the training blocks
+    # alone, the heading missed every turn made in a held-out block.  The plane (0.05 rad,
+    # rising along the run's initial heading) is written in _log.
+    log = _log("slope", 0.05)
+    wz = (log.v_right - log.v_left) / PARAMS.icr.spread_m
+    log.x = log.y = log.yaw = None
+    log.wz = wz + np.random.default_rng(7).normal(0.0, 0.005, wz.size) if gyro else None
+    frame = build_frame([log], PARAMS, snap_mps=2e-3)
+    train_m, test_m = split_masks(frame)
+    train = prepare(frame.subset(train_m), PARAMS)
+    test = prepare(frame.subset(test_m), PARAMS)
+    eff = make_effect("slope").fit(train)
+    assert eff.params_["grade_rad"] == pytest.approx(0.05, rel=0.1)
+    assert eff.score(test) < 0.5 * NoEffect().fit(train).score(test)
+
+
 def test_calibration_recovers_mu_and_k_of_a_perturbed_robot() -> None:
     # The true robot has µ and K 15 % off the preset; calibration on its log finds them.
     true = dataclasses.replace(

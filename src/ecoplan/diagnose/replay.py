@@ -152,6 +152,12 @@ class Frame:
         for symmetric ICRs.
     block : ndarray of int
         Time-block index (global, for splits and bootstrap).
+    heading : ndarray
+        Heading [rad], found on each whole run before any split: the logged ``yaw``
+        (unwrapped), else the logged yaw rate integrated over the run, else the side speeds'
+        ``wz``.  Without a pose it is known up to a constant per run.  A split's subset keeps
+        it: integrated over a training split alone, the turns of the held-out blocks were
+        missing from it, and a slope fitted on it mispredicted them.
     """
 
     t: FloatArray
@@ -173,6 +179,7 @@ class Frame:
     vr_cmd: FloatArray | None
     v_pose_err: FloatArray | None
     block: IntArray
+    heading: FloatArray
 
     @property
     def n(self) -> int:
@@ -400,7 +407,7 @@ def build_frame(
     opt: dict[str, list[FloatArray | None]] = {
         k: [] for k in ("x", "y", "yaw", "wz_log", "vl_cmd", "vr_cmd")
     }
-    for k in ("vx", "wz", "ax", "alpha", "dp"):
+    for k in ("vx", "wz", "ax", "alpha", "dp", "heading"):
         cols[k] = []
     opt["v_pose_err"] = []
     icr = params.icr
@@ -454,6 +461,7 @@ def build_frame(
         opt["vl_cmd"].append(side["v_left_cmd"])
         opt["vr_cmd"].append(side["v_right_cmd"])
         x, y, yaw = opt["x"][-1], opt["y"][-1], opt["yaw"][-1]
+        cols["heading"].append(_run_heading(t, yaw, side["wz"], tw.wz))
         if x is not None and y is not None and yaw is not None:
             w = POSE_SMOOTH_S
             v_pose = smooth_derivative(t, x, w) * np.cos(yaw) + smooth_derivative(t, y, w) * np.sin(
@@ -494,7 +502,22 @@ def build_frame(
         vr_cmd=_concat(opt["vr_cmd"]),
         v_pose_err=_concat(opt["v_pose_err"]),
         block=np.concatenate(blocks),
+        heading=arrays["heading"],
     )
+
+
+def _run_heading(
+    t: FloatArray, yaw: FloatArray | None, wz_log: FloatArray | None, wz_kin: FloatArray
+) -> FloatArray:
+    """Heading of one whole run [rad]: logged yaw, else the gyro's or the side speeds' integral.
+
+    The integral (trapezoidal, from 0 at the run's first sample) prefers a logged yaw rate:
+    the side speeds' ``wz`` carries the preset's χ, whose error grows with every turn.
+    """
+    if yaw is not None:
+        return np.asarray(np.unwrap(yaw), dtype=np.float64)
+    rate = wz_log if wz_log is not None else wz_kin
+    return np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
 
 
 @dataclass(frozen=True, slots=True)

@@ -55,7 +55,8 @@ class EffectData:
     side_neg_w : ndarray
         ``min(P_left, 0) + min(P_right, 0)``: negative side power of the calibrated model [W].
     yaw : ndarray
-        Heading [rad]: logged, else integrated from the kinematic yaw rate per run.
+        Heading [rad]: the frame's (:attr:`~ecoplan.diagnose.replay.Frame.heading`, logged or
+        integrated over each whole run).
     t_rel : ndarray
         Time on the logs' clock [s] (a session clock when runs follow each other).
     prior : TrackedParams or WheeledParams or None
@@ -119,10 +120,6 @@ def _subset_breakdown(pb: PowerBreakdown, mask: BoolArray) -> PowerBreakdown:
     return PowerBreakdown(**{f.name: getattr(pb, f.name)[mask] for f in dataclasses.fields(pb)})
 
 
-def _per_run(frame: Frame) -> list[IntArray]:
-    return [np.flatnonzero(frame.run == r) for r in np.unique(frame.run)]
-
-
 def segments(frame: Frame, max_gap_s: float | None = None) -> list[IntArray]:
     """Contiguous pieces of a (possibly split) frame.
 
@@ -182,14 +179,6 @@ def prepare(
     """
     pb = params.power(frame.vl, frame.vr)
     design = effect_base_design(frame, params, prior)
-    yaw = np.empty(frame.n)
-    for idx in _per_run(frame):
-        t = frame.t[idx]
-        if frame.yaw is not None:
-            yaw[idx] = np.unwrap(frame.yaw[idx])
-        else:
-            dt = np.diff(t, prepend=t[0])
-            yaw[idx] = np.cumsum(frame.wz[idx] * dt)
     return EffectData(
         frame=frame,
         params=params,
@@ -198,7 +187,7 @@ def prepare(
         friction_w=pb.friction_w,
         resistance_w=pb.resistance_w,
         side_neg_w=np.minimum(pb.left_w, 0.0) + np.minimum(pb.right_w, 0.0),
-        yaw=yaw,
+        yaw=frame.heading,
         t_rel=frame.t if t_rel is None else t_rel,
         prior=prior,
         breakdown=pb,
