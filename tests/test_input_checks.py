@@ -51,8 +51,10 @@ def _still(lg: Log) -> Log:
         (lambda lg: R(lg, t=lg.t * 1000.0), r"'t'.*milliseconds"),
         (lambda lg: R(lg, v_left=lg.v_left * 3.6, v_right=lg.v_right * 3.6), r"'v_\w+'.*km/h"),
         (_still, r"too little excitation"),
+        (lambda lg: R(lg, wz=np.degrees(lg.wz)), r"'wz'.*degrees per second"),
+        (lambda lg: R(lg, wz=-lg.wz), r"'wz'.*clockwise"),
     ],
-    ids=["kW", "mW", "amperes", "ms", "km/h", "no motion"],
+    ids=["kW", "mW", "amperes", "ms", "km/h", "no motion", "deg/s", "clockwise"],
 )
 def test_wrong_units_and_no_motion_are_one_line_input_errors(change, match) -> None:  # type: ignore[no-untyped-def]
     logs = [change(lg) for lg in _session()]

@@ -34,6 +34,7 @@ ecoplan.errors.InputError: <memory>: column 't' steps by 50 (median) between sam
 from __future__ import annotations
 
 import dataclasses
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -87,6 +88,15 @@ MIN_MOVING_SHARE = 0.05
 #: top speed, or a turn radius under :data:`TURN_RADIUS_SPREADS` ICR spreads while moving);
 #: without turns, turning resistance, ICRs and every turning effect are not excited.
 MIN_TURNING_SHARE = 0.02
+#: Largest plausible gain of the logged yaw rate ``wz`` over the side speeds' (preset χ):
+#: the true χ over the preset's, at most 1 / χ (1.5 for the Pioneer 3-AT); over the zoo's
+#: plants and the BorealTC runs it stays within 0-1.33.  Degrees per second read 57x.
+MAX_YAW_GAIN = 5.0
+#: Below this (negative) gain the logged yaw rate turns against the side speeds: a clockwise
+#: yaw, where REP-103 and the papers' frames turn left positive.
+MIN_YAW_GAIN = -0.5
+#: The yaw-rate check needs the side speeds' yaw rate at least this RMS [rad/s].
+MIN_YAW_RMS = 0.05
 #: A moving robot turns when its turn radius is under this many ICR spreads (6 m for the
 #: Pioneer 3-AT preset, whose Table I fits start at 5 m; about 10 m for the Auriga-beta) [-].
 TURN_RADIUS_SPREADS = 10.0
@@ -206,6 +216,7 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"than {0.1 * vtop:.2g} m/s in {100 * turning_share:.1f} % of the samples (need "
             f"{100 * MIN_TURNING_SHARE:.0f} %); log turns of both directions"
         )
+    _check_yaw_rate(logs, params, src)
     p_model = logged_power_w(params, vl, vr)  # what the log shows (vehicle file: power_log)
     e_model = float(np.sum(np.abs(p_model) * dt))
     e_log = float(np.sum(np.abs(p) * dt))
@@ -230,6 +241,47 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"{name} draws on these side speeds: {hint}, or a log of a lighter vehicle?"
         )
     return InputSummary(step, p99, ratio, moving_share, turning_share, tuple(notes))
+
+
+def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) -> None:
+    """Refuse a logged ``wz`` in other units or of the other sign than the side speeds' turn.
+
+    The side speeds give the yaw rate ``(V_r - V_l) / spread`` (tracked eq. 3 with the
+    preset's ICRs); the logged one may differ by the true χ over the preset's, never by a
+    factor :data:`MAX_YAW_GAIN` or a reversed sign.  Logs without ``wz`` (or whose ``wz`` the
+    reader leaves malformed for the frame to name) are not checked; neither is a session
+    that barely turns.
+    """
+    kin, gyro = [], []
+    for lg in logs:
+        wz = getattr(lg, "wz", None)
+        if wz is None:
+            continue
+        w = np.asarray(wz, dtype=np.float64)
+        vl = np.asarray(lg.v_left, dtype=np.float64)
+        vr = np.asarray(lg.v_right, dtype=np.float64)
+        if w.shape != vl.shape or vl.shape != vr.shape or not np.all(np.isfinite(w)):
+            continue
+        kin.append((vr - vl) / params.icr.spread_m)
+        gyro.append(w)
+    if not kin:
+        return
+    k, g = np.concatenate(kin), np.concatenate(gyro)
+    den = float(np.dot(k, k))
+    if not np.isfinite(den) or den <= 0.0 or math.sqrt(den / k.size) < MIN_YAW_RMS:
+        return
+    gain = float(np.dot(g, k)) / den
+    if gain > MAX_YAW_GAIN:
+        unit = "degrees per second" if 15.0 <= gain <= 150.0 else "other units"
+        raise InputError(
+            f"{src}: column 'wz' turns {gain:.3g}x as fast as the side speeds do: {unit}? "
+            "(expected rad/s)"
+        )
+    if gain < MIN_YAW_GAIN:
+        raise InputError(
+            f"{src}: column 'wz' turns against the side speeds (gain {gain:.2g}): a clockwise "
+            "yaw rate? (expected REP-103: counter-clockwise, a left turn positive)"
+        )
 
 
 def _sample_dt(t: np.ndarray) -> np.ndarray:
