@@ -15,7 +15,6 @@ the BorealTC runs have them), else their sum).
 from __future__ import annotations
 
 import os
-import re
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -32,7 +31,7 @@ from ecoplan.models.identify_current import (
 )
 from ecoplan.models.identify_current_vehicle import motor_current_spec
 from ecoplan.models.identify_logs import DriveLog, VehicleIdentification, identify_vehicle
-from ecoplan.models.vehicle_schema import VEHICLE_NAME_MAX, VEHICLE_NAME_PATTERN
+from ecoplan.models.vehicle_schema import VEHICLE_NAME_RULE, is_vehicle_name
 
 __all__ = ["current_logs", "drive_logs", "identify_from_logs"]
 
@@ -177,12 +176,9 @@ def identify_from_logs(
         The latter when the base's logs measure motor currents (``clamp`` does not apply:
         its coefficients are bounded and cannot be driven negative).
     """
-    if name and not (len(name) <= VEHICLE_NAME_MAX and re.fullmatch(VEHICLE_NAME_PATTERN, name)):
+    if name and not is_vehicle_name(name):
         # checked before the fit: the vehicle file written with it would not load
-        raise InputError(
-            f"name {name!r} is not a vehicle name: lower-case letters, digits, '_', '.' and "
-            f"'-', starting with a letter or digit, at most {VEHICLE_NAME_MAX} characters"
-        )
+        raise InputError(f"name {name!r} is not a vehicle name: {VEHICLE_NAME_RULE}")
     vehicle = load_vehicle(base)
     logs = read_logs(paths, bus_voltage_v=bus_voltage_v)
     if vehicle.spec.power_log.signal == "motor_current":

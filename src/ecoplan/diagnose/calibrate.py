@@ -65,6 +65,7 @@ __all__ = [
     "wheeled_fit_rows",
     "wheeled_prior",
     "with_linear_params",
+    "yaw_rate_gain",
 ]
 
 _TRACKED_LINEAR = ("mu", "k_resistance_n", "p_powerup_w", "p_braking_w", "k_nonregen_n")
@@ -449,12 +450,21 @@ def kinematic_chi(frame: Frame, params: VehicleParams) -> float | None:
     """
     if not isinstance(params, WheeledParams) or frame.wz_log is None:
         return None
-    d = (frame.vr - frame.vl) / params.track_gauge_m
-    den = float(np.dot(d, d))
-    if den <= 0.0 or float(np.sqrt(den / max(frame.n, 1))) < 0.02:
+    chi = yaw_rate_gain(frame.wz_log, (frame.vr - frame.vl) / params.track_gauge_m, 0.02)
+    return None if chi is None else float(np.clip(chi, *CHI_BOUNDS))
+
+
+def yaw_rate_gain(wz_log: FloatArray, rate: FloatArray, min_rms: float) -> float | None:
+    """Least-squares gain of a logged yaw rate on a rate the side speeds give [-].
+
+    ``argmin_k |wz_log - k rate|²``; None when ``rate``'s RMS is under ``min_rms`` (the log
+    barely turns: the gain is not resolved).  On ``(V_r - V_l) / gauge`` it is χ (tracked
+    eq. 3); on the preset's ``(V_r - V_l) / spread``, χ over the preset's.
+    """
+    den = float(np.dot(rate, rate))
+    if not math.isfinite(den) or den <= 0.0 or math.sqrt(den / max(rate.size, 1)) < min_rms:
         return None
-    chi = float(np.dot(frame.wz_log, d)) / den
-    return float(np.clip(chi, *CHI_BOUNDS))
+    return float(np.dot(wz_log, rate)) / den
 
 
 @dataclass(frozen=True, slots=True)

@@ -34,7 +34,6 @@ ecoplan.errors.InputError: <memory>: column 't' steps by 50 (median) between sam
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -42,7 +41,7 @@ import numpy as np
 from scipy.special import ndtr
 
 from ecoplan._typing import FloatArray
-from ecoplan.diagnose.calibrate import envelope_penalty, wheeled_prior
+from ecoplan.diagnose.calibrate import envelope_penalty, wheeled_prior, yaw_rate_gain
 from ecoplan.diagnose.effects import EffectData, eta_of, regenerated_w, robust_scale
 from ecoplan.diagnose.effects.fitting import EFFECT_RIDGE, NONREGEN_COLUMN
 from ecoplan.diagnose.replay import LogLike
@@ -266,11 +265,9 @@ def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) ->
         gyro.append(w)
     if not kin:
         return
-    k, g = np.concatenate(kin), np.concatenate(gyro)
-    den = float(np.dot(k, k))
-    if not np.isfinite(den) or den <= 0.0 or math.sqrt(den / k.size) < MIN_YAW_RMS:
+    gain = yaw_rate_gain(np.concatenate(gyro), np.concatenate(kin), MIN_YAW_RMS)
+    if gain is None:
         return
-    gain = float(np.dot(g, k)) / den
     if gain > MAX_YAW_GAIN:
         unit = "degrees per second" if 15.0 <= gain <= 150.0 else "other units"
         raise InputError(

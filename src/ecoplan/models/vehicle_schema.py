@@ -55,6 +55,7 @@ __all__ = [
     "TERRAIN_VOCABULARY",
     "VEHICLE_NAME_MAX",
     "VEHICLE_NAME_PATTERN",
+    "VEHICLE_NAME_RULE",
     "Drivers",
     "Geometry",
     "Inertia",
@@ -64,6 +65,7 @@ __all__ = [
     "SourcedSides",
     "TerrainEntry",
     "VehicleFile",
+    "is_vehicle_name",
     "limit_problem",
 ]
 
@@ -351,6 +353,16 @@ class Drivers(_Section):
 VEHICLE_NAME_PATTERN = r"^[a-z0-9][a-z0-9_.-]*$"
 #: Longest vehicle ``name`` [characters].
 VEHICLE_NAME_MAX = 64
+#: :data:`VEHICLE_NAME_PATTERN` and :data:`VEHICLE_NAME_MAX` in words (for error messages).
+VEHICLE_NAME_RULE = (
+    "lower-case letters, digits, '_', '.' and '-', starting with a letter or digit, at most "
+    f"{VEHICLE_NAME_MAX} characters"
+)
+
+
+def is_vehicle_name(name: str) -> bool:
+    """Whether ``name`` is a vehicle file's ``name`` (:data:`VEHICLE_NAME_RULE`)."""
+    return len(name) <= VEHICLE_NAME_MAX and re.fullmatch(VEHICLE_NAME_PATTERN, name) is not None
 
 
 class VehicleFile(_Section):
