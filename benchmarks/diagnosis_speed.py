@@ -20,6 +20,9 @@ The change-point search of ``where_time`` then works on one long run instead of 
 ones: session 25 measured 24.5 s for that hour with ``ruptures.Pelt`` in Python, 11.1 s
 with the same search in C (``ruptures.KernelCPD``); 160 runs joined (3.8 h) took 68.0 s,
 then 36.3 s.
+
+``--no-pose`` leaves the pose out of every run: without it, ``slope`` searches one heading
+offset per run (a plane fitted per run first, two columns each; session 26).
 """
 
 from __future__ import annotations
@@ -76,6 +79,11 @@ def main() -> int:
         action="store_true",
         help="join the session into one continuous run (one long change-point search)",
     )
+    ap.add_argument(
+        "--no-pose",
+        action="store_true",
+        help="leave the pose columns out of every run (a slope's heading offset per run searched)",
+    )
     args = ap.parse_args()
     case = generate_case(
         args.seed,
@@ -87,6 +95,8 @@ def main() -> int:
         rate_hz=args.rate,
     )
     logs = [one_run(list(case.logs))] if args.one_run else list(case.logs)
+    if args.no_pose:
+        logs = [dataclasses.replace(lg, **dict.fromkeys(POSE)) for lg in logs]
     n = sum(len(lg) for lg in logs)
     dur_h = sum(lg.duration_s for lg in logs) / 3600.0
     t0 = time.process_time()

@@ -7,6 +7,7 @@ plus a known addition written here with numpy, and the fit must recover the know
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from types import SimpleNamespace
 
 import numpy as np
@@ -145,6 +146,47 @@ def test_a_slope_without_pose_is_fitted_on_the_heading_of_the_whole_run(gyro: bo
     test = prepare(frame.subset(test_m), PARAMS)
     eff = make_effect("slope").fit(train)
     assert eff.params_["grade_rad"] == pytest.approx(0.05, rel=0.1)
+    assert eff.score(test) < 0.5 * NoEffect().fit(train).score(test)
+
+
+@pytest.mark.parametrize("gyro", [False, True])
+def test_a_slope_without_pose_over_several_runs_is_one_plane_seen_from_each_start(
+    gyro: bool,
+) -> None:
+    # The log of the test above cut into three runs (files): without a pose, each run's
+    # heading starts at 0, so the plane (0.05 rad, rising along the first run's initial
+    # heading, written in _log) is seen from a different direction in each run; runs 2 and 3
+    # start wherever run 1's turns left the robot.  One plane in one heading (the fit before
+    # the per-run offsets) cancels between the runs.
+    log = _log("slope", 0.05)
+    wz = (log.v_right - log.v_left) / PARAMS.icr.spread_m
+    noise = np.random.default_rng(7).normal(0.0, 0.005, wz.size)
+    start_heading = np.cumsum(wz) / 25.0
+    cuts = (0, 1900, 3400, log.t.size)
+    runs = []
+    for a, b in itertools.pairwise(cuts):
+        piece = SimpleNamespace(
+            **{
+                k: None if v is None else v[a:b]
+                for k, v in vars(log).items()
+                if k not in ("x", "y", "yaw", "wz")
+            },
+            x=None,
+            y=None,
+            yaw=None,
+            wz=(wz + noise)[a:b] if gyro else None,
+        )
+        runs.append(piece)
+    # the runs do start facing other ways (else this test would not test the offsets)
+    for c in cuts[1:3]:
+        assert abs(np.angle(np.exp(1j * start_heading[c]))) > 2.0
+    frame = build_frame(runs, PARAMS, snap_mps=2e-3)
+    train_m, test_m = split_masks(frame)
+    train = prepare(frame.subset(train_m), PARAMS)
+    test = prepare(frame.subset(test_m), PARAMS)
+    eff = make_effect("slope").fit(train)
+    assert eff.params_["grade_rad"] == pytest.approx(0.05, rel=0.1)
+    assert eff.params_["uphill_heading_rad"] == pytest.approx(0.0, abs=0.15)
     assert eff.score(test) < 0.5 * NoEffect().fit(train).score(test)
 
 

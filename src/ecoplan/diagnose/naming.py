@@ -702,7 +702,7 @@ def halves_check(effect: Effect, train: EffectData, test: EffectData) -> HalvesC
             f"{PLACE_AGREEMENT:.2f})"
         )
         return HalvesCheck(effect.name, (), note, place)
-    if theta is not None and not _scalar(theta):
+    if theta is not None and not _scalar(theta) and not effect.nuisance_theta:
         note = (
             "not compared: a searched shape (a region, segments in time), whose held-out "
             "score tests that it carries over"

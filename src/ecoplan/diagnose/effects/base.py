@@ -355,6 +355,10 @@ class Effect:
     #: A steady trend in time (a drift of the whole power with the log's clock): a step in
     #: time is its rival only where the step adds to the trend (:mod:`ecoplan.diagnose.naming`).
     trend_in_time: ClassVar[bool] = False
+    #: The searched ``theta`` is a nuisance (e.g. a heading offset per run), not a shape: the
+    #: two halves of the split still compare the effect's parameters
+    #: (:func:`~ecoplan.diagnose.naming.halves_check`).
+    nuisance_theta: ClassVar[bool] = False
 
     def __init__(self, theta: Any = None) -> None:
         self.theta = theta

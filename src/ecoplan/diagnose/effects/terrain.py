@@ -630,7 +630,18 @@ class Slope(Effect):
 
     The diagnosis fits ``m g vx (s_x cos ψ + s_y sin ψ)`` (electrical coefficients, the body's
     lateral speed neglected); ``sin θ = η |s|`` and ``h = atan2(s_y, s_x)``.
+
+    Without a pose the heading ``ψ`` of each run is the integral of its yaw rate from 0 at the
+    run's start (:attr:`~ecoplan.diagnose.replay.Frame.heading`): runs that start facing
+    different ways see one plane in different directions.  The search (:meth:`_search`) then
+    finds each run's heading offset ``δ_k`` from a fit with one plane per run (the angle of
+    run ``k``'s plane minus the first run's), and the plane is fitted on ``ψ - δ_k``: one
+    grade for all runs, and ``h`` in the first run's frame (its start heading is 0).
     """
+
+    #: The searched offsets are a nuisance (one per run), not a shape: the halves compare the
+    #: grade and heading as for a logged pose.
+    nuisance_theta = True
 
     name = "slope"
     parameters = (
@@ -656,10 +667,37 @@ class Slope(Effect):
             "uphill_heading_rad": float(session.rng.uniform(-math.pi, math.pi)),
         }
 
-    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+    def _search(self, data: EffectData) -> Any:
+        """Heading offset of every run [rad] when the heading is known only per run, else None.
+
+        ``((run, δ), ...)``: a plane per run fitted with the base (two columns per run);
+        ``δ_k`` is the angle of run ``k``'s plane minus the first run's.  A run whose plane
+        is lost in the noise gets a random offset and adds little to the shared fit.
+        """
+        f = data.frame
+        runs = np.unique(f.run)
+        if f.yaw is not None or runs.size < 2:
+            return None
+        one = self._plane(data, np.zeros(f.n))
+        per_run = [one * (f.run == r)[:, None] for r in runs]
+        coef = fit_linear(data, np.column_stack([data.X, *per_run]))
+        s = coef[data.X.shape[1] :].reshape(-1, 2)
+        angle = np.arctan2(s[:, 1], s[:, 0])
+        return tuple((int(r), float(a - angle[0])) for r, a in zip(runs, angle, strict=True))
+
+    @staticmethod
+    def _plane(data: EffectData, offset: FloatArray) -> FloatArray:
+        """``m g vx (cos(ψ - δ), sin(ψ - δ))``, shape (n, 2) [N m/s]."""
         f = data.frame
         mg = data.params.mass_kg * GRAVITY_MPS2
-        return np.column_stack([mg * f.vx * np.cos(data.yaw), mg * f.vx * np.sin(data.yaw)])
+        psi = data.yaw - offset
+        return np.column_stack([mg * f.vx * np.cos(psi), mg * f.vx * np.sin(psi)])
+
+    def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
+        offset = np.zeros(data.frame.n)
+        for run, delta in theta or ():
+            offset[data.frame.run == run] = delta
+        return self._plane(data, offset)
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
         k = data.X.shape[1]
