@@ -96,7 +96,7 @@ from ecoplan.diagnose.replay import Frame
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.where_time import known_terrain_path, label_segments
-from ecoplan.dynamics.log import Log
+from ecoplan.dynamics.log import Log, join_runs
 from ecoplan.errors import InputError
 from ecoplan.io.borealtc import load_borealtc_runs
 from ecoplan.models.logged_power import logged_power_w
@@ -141,27 +141,8 @@ def _chunk(lg: Log, g: np.random.Generator, lo_s: float, hi_s: float) -> Log:
 
 
 def join(parts: list[Log], run_id: str) -> tuple[Log, list[float]]:
-    """One log of the parts on one clock; returns it and the switch times [s]."""
-    ts, cols, switches = [], {"v_left": [], "v_right": [], "p_total": []}, []
-    t_next = 0.0
-    for i, lg in enumerate(parts):
-        dt = float(np.median(np.diff(lg.t)))
-        t = lg.t - lg.t[0] + t_next
-        if i:
-            switches.append(float(t[0]))
-        ts.append(t)
-        for k in cols:
-            cols[k].append(np.asarray(getattr(lg, k)))
-        t_next = float(t[-1]) + dt
-    return (
-        Log(
-            t=np.concatenate(ts),
-            **{k: np.concatenate(v) for k, v in cols.items()},
-            source=f"<mix {run_id}>",
-            run_id=run_id,
-        ),
-        switches,
-    )
+    """The parts on one clock (side speeds and power only); the log and the switch times [s]."""
+    return join_runs(parts, run_id, columns=(), source=f"<mix {run_id}>")
 
 
 def ceiling(

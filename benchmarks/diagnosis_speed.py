@@ -31,37 +31,16 @@ import argparse
 import dataclasses
 import os
 import time
-from typing import Any
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 os.environ.setdefault("MKL_NUM_THREADS", "1")
 
-import numpy as np
-
 from ecoplan.diagnose.pipeline import diagnose
-from ecoplan.dynamics.log import Log
+from ecoplan.dynamics.log import POSE_COLUMNS, join_runs
 from ecoplan.synth.cases import generate_case
 
 TARGET_S = 30.0
-POSE = ("x", "y", "yaw")
-
-
-def one_run(logs: list[Log]) -> Log:
-    """The runs joined into one on one clock (each starts a sample period after the last).
-
-    Columns every run has are joined; the pose columns are left out (they jump between runs).
-    """
-    clocks, t_next = [], 0.0
-    for lg in logs:
-        clocks.append(lg.t - lg.t[0] + t_next)
-        t_next = float(clocks[-1][-1]) + float(np.median(np.diff(lg.t)))
-    columns: dict[str, Any] = {}
-    for f in dataclasses.fields(Log):
-        parts = [getattr(lg, f.name) for lg in logs]
-        if f.name not in ("t", *POSE) and all(isinstance(a, np.ndarray) for a in parts):
-            columns[f.name] = np.concatenate(parts)
-    return Log(t=np.concatenate(clocks), source="<one run>", run_id="session", **columns)
 
 
 def main() -> int:
@@ -94,9 +73,9 @@ def main() -> int:
         n_waypoint_runs=args.runs,
         rate_hz=args.rate,
     )
-    logs = [one_run(list(case.logs))] if args.one_run else list(case.logs)
+    logs = [join_runs(case.logs, "session")[0]] if args.one_run else list(case.logs)
     if args.no_pose:
-        logs = [dataclasses.replace(lg, **dict.fromkeys(POSE)) for lg in logs]
+        logs = [dataclasses.replace(lg, **dict.fromkeys(POSE_COLUMNS)) for lg in logs]
     n = sum(len(lg) for lg in logs)
     dur_h = sum(lg.duration_s for lg in logs) / 3600.0
     t0 = time.process_time()

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from ecoplan.dynamics.log import Log
+from ecoplan.dynamics.log import Log, join_runs
 from ecoplan.errors import InputError, LogFormatError
 from ecoplan.io.logcsv import read_log_csv, write_log_csv
 from ecoplan.io.logs import read_logs
@@ -697,3 +697,70 @@ def test_any_topic_map_gives_a_map_or_one_line(data: dict[str, Any]) -> None:
             assert tmap.rate_hz is None or 0.0 < tmap.rate_hz <= 10000.0
             assert isinstance(tmap.v_left, FieldRef) and tmap.v_left.topic
             assert math.isfinite(tmap.p_offset_w) and math.isfinite(tmap.v_left.scale)
+
+
+def _run(t0: float, dt: float, n: int, *, pose: bool = True, wz: bool = True, **kw: Any) -> Log:
+    t = t0 + dt * np.arange(n)
+    return Log(
+        t=t,
+        v_left=np.full(n, 0.2),
+        v_right=np.full(n, 0.3),
+        p_total=100.0 + np.arange(n, dtype=float),
+        x=t if pose else None,
+        y=np.zeros(n) if pose else None,
+        yaw=np.zeros(n) if pose else None,
+        wz=np.full(n, 0.1) if wz else None,
+        **kw,
+    )
+
+
+def test_join_runs_puts_the_runs_on_one_clock_and_leaves_the_pose_out() -> None:
+    # Run 1: 3 samples at 0.1 s from t = 7 s; run 2: 4 at 0.5 s from t = 100 s.  Run 2 starts
+    # one sample period of run 1 (0.1 s) after run 1's last sample (0.2 s on the new clock).
+    a = _run(7.0, 0.1, 3, notes=("24 V assumed",), dropped_rows=2)
+    b = _run(100.0, 0.5, 4, notes=("24 V assumed", "no IMU"), dropped_rows=1)
+    joined, starts = join_runs([a, b], "ab")
+    np.testing.assert_allclose(joined.t, [0.0, 0.1, 0.2, 0.3, 0.8, 1.3, 1.8])
+    assert starts == pytest.approx([0.3])
+    np.testing.assert_array_equal(joined.p_total, [100, 101, 102, 100, 101, 102, 103])
+    assert joined.x is None and joined.y is None and joined.yaw is None
+    assert joined.wz is not None and joined.wz.size == 7
+    assert joined.notes == ("24 V assumed", "no IMU") and joined.dropped_rows == 3
+    assert joined.run_id == "ab"
+    only, _ = join_runs([a, b], "ab", columns=())
+    assert only.wz is None
+
+
+def test_join_runs_refuses_what_it_cannot_join_in_one_line() -> None:
+    a, b = _run(0.0, 0.1, 3), _run(0.0, 0.1, 3, wz=False, run_id="r2")
+    with pytest.raises(LogFormatError, match="run 'r2' has no column 'wz'"):
+        join_runs([a, b], "ab", columns=("wz",))
+    with pytest.raises(LogFormatError, match="'speed' is not an optional column"):
+        join_runs([a], "a", columns=("speed",))
+    with pytest.raises(LogFormatError, match="power_sampling"):
+        join_runs([a, _run(0.0, 0.1, 3, power_sampling="interval_mean")], "ab")
+    with pytest.raises(LogFormatError, match="no run"):
+        join_runs([], "none")
+    # a column only some runs have is left out by default, not refused
+    assert join_runs([a, b], "ab")[0].wz is None
+
+
+@given(
+    st.lists(
+        st.tuples(st.floats(-1e3, 1e3), st.floats(1e-3, 1.0), st.integers(2, 30)),
+        min_size=1,
+        max_size=6,
+    )
+)
+def test_joined_clock_is_increasing_and_each_run_starts_where_it_was_said(
+    runs: list[tuple[float, float, int]],
+) -> None:
+    logs = [_run(t0, dt, n) for t0, dt, n in runs]
+    joined, starts = join_runs(logs, "all")
+    assert np.all(np.diff(joined.t) > 0)
+    assert joined.t.size == sum(n for _, _, n in runs)
+    first = np.cumsum([0] + [n for _, _, n in runs])[1:-1]
+    np.testing.assert_allclose(joined.t[first], starts)
+    # within a run the clock keeps its spacing
+    for (_, dt, n), i0 in zip(runs, np.cumsum([0] + [n for _, _, n in runs]), strict=False):
+        np.testing.assert_allclose(np.diff(joined.t[i0 : i0 + n]), dt, rtol=1e-6, atol=1e-9)

@@ -50,7 +50,7 @@ ecoplan.errors.LogFormatError: <memory>, sample 1: time duplicated in column 't'
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -67,6 +67,7 @@ __all__ = [
     "MAX_PLAUSIBLE_SPEED_MPS",
     "OPTIONAL_COLUMNS",
     "OPTIONAL_FLOAT_COLUMNS",
+    "POSE_COLUMNS",
     "POWER_SAMPLINGS",
     "REQUIRED_COLUMNS",
     "SPEED_COLUMNS",
@@ -75,6 +76,7 @@ __all__ = [
     "StrArray",
     "check_power_sampling",
     "check_values",
+    "join_runs",
 ]
 
 StrArray = npt.NDArray[np.str_]
@@ -158,6 +160,8 @@ OPTIONAL_FLOAT_COLUMNS: tuple[str, ...] = tuple(
 OPTIONAL_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if not c.required)
 #: Every numeric column, in file order.
 FLOAT_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.kind == "float")
+#: The pose: each run's own, so it jumps where runs are joined (:func:`join_runs`).
+POSE_COLUMNS: tuple[str, ...] = ("x", "y", "yaw")
 #: Columns holding side speeds, checked for plausible magnitude.
 SPEED_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.speed)
 #: Header name -> column name, for every alias.
@@ -413,6 +417,99 @@ class Log:
     def with_notes(self, *notes: str) -> Log:
         """A copy with more notes appended."""
         return dataclasses.replace(self, notes=(*self.notes, *notes))
+
+
+def join_runs(
+    logs: Sequence[Log],
+    run_id: str,
+    columns: Collection[str] | None = None,
+    source: str | None = None,
+) -> tuple[Log, list[float]]:
+    """The runs as one log on one clock, and the times where the second and later runs start.
+
+    Each run starts one sample period (the previous run's median) after the previous run's
+    last sample, its own clock shifted, as a robot logging without a break would have
+    written them.
+    The required columns are joined, and the optional ones in ``columns`` (default: every
+    optional column all runs have, but the pose :data:`POSE_COLUMNS`, which jumps between
+    runs).  Dropped rows add up; notes are kept once each, in order; ``extra`` is left out.
+
+    Parameters
+    ----------
+    logs : sequence of Log
+        The runs, in the order they are joined.
+    run_id : str
+        Run id of the joined log.
+    columns : collection of str, optional
+        Optional columns to keep (:data:`OPTIONAL_COLUMNS`); every run must have them.
+    source : str, optional
+        Source of the joined log (default ``"<joined run_id>"``).
+
+    Returns
+    -------
+    (Log, list of float)
+        The joined log and the start time of every run after the first [s].
+
+    Raises
+    ------
+    LogFormatError
+        No run; a column that is not optional or that a run lacks; runs whose power was
+        taken differently (``power_sampling``).
+
+    Examples
+    --------
+    >>> a = Log(t=np.array([5.0, 5.1]), v_left=np.zeros(2), v_right=np.zeros(2),
+    ...         p_total=np.ones(2))
+    >>> joined, starts = join_runs([a, a], "both")
+    >>> joined.t.round(2).tolist(), [round(s, 2) for s in starts]
+    ([0.0, 0.1, 0.2, 0.3], [0.2])
+    """
+    if not logs:
+        raise LogFormatError("join_runs: no run to join")
+    keep = (
+        [c for c in OPTIONAL_COLUMNS if c not in POSE_COLUMNS and _all_have(logs, c)]
+        if columns is None
+        else list(columns)
+    )
+    for c in keep:
+        if c not in OPTIONAL_COLUMNS:
+            accepted = ", ".join(OPTIONAL_COLUMNS)
+            raise LogFormatError(
+                f"join_runs: {c!r} is not an optional column; accepted: {accepted}"
+            )
+        lacking = [lg.run_id or lg.source for lg in logs if getattr(lg, c) is None]
+        if lacking:
+            raise LogFormatError(f"join_runs: run {lacking[0]!r} has no column {c!r}")
+    samplings = sorted({lg.power_sampling for lg in logs})
+    if len(samplings) > 1:
+        raise LogFormatError(
+            f"join_runs: the runs' power was taken differently (power_sampling {samplings})"
+        )
+    clocks, starts, t_next = [], [], 0.0
+    for i, lg in enumerate(logs):
+        t = lg.t - lg.t[0] + t_next
+        if i:
+            starts.append(float(t[0]))
+        clocks.append(t)
+        t_next = float(t[-1]) + float(np.median(np.diff(lg.t)))
+    joined: dict[str, Any] = {"t": np.concatenate(clocks)}
+    for c in (*REQUIRED_COLUMNS, *keep):
+        if c != "t":
+            joined[c] = np.concatenate([getattr(lg, c) for lg in logs])
+    notes = tuple(dict.fromkeys(n for lg in logs for n in lg.notes))
+    log = Log(
+        **joined,
+        source=source if source is not None else f"<joined {run_id}>",
+        run_id=run_id,
+        dropped_rows=sum(lg.dropped_rows for lg in logs),
+        notes=notes,
+        power_sampling=samplings[0],
+    )
+    return log, starts
+
+
+def _all_have(logs: Sequence[Log], column: str) -> bool:
+    return all(getattr(lg, column) is not None for lg in logs)
 
 
 def check_values(
