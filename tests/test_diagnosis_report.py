@@ -12,8 +12,14 @@ import json
 import numpy as np
 
 from ecoplan.cli import main
+from ecoplan.diagnose.pipeline import diagnose
+from ecoplan.diagnose.report_md import report_markdown
+from ecoplan.dynamics.drive import follow_commands
+from ecoplan.dynamics.log import Log
 from ecoplan.io.logcsv import read_log_csv
+from ecoplan.presets import vehicle
 from ecoplan.synth.cases import generate_case
+from synth_logs import mixed_commands
 
 
 def _logs_with_an_extra_column(tmp_path):  # type: ignore[no-untyped-def]
@@ -90,3 +96,45 @@ def test_bus_voltage_assumption_is_stated(tmp_path) -> None:  # type: ignore[no-
     assert "24 V" in " ".join(to_json_dict(d)["log"]["notes"])
     assert "24 V" in report_markdown(d)
     assert np.isfinite(d.gap_final_w)
+
+
+def test_a_pose_free_slope_says_where_its_heading_is_counted_from() -> None:
+    # Three runs on one plane (0.05 rad rising towards world heading 1.0 rad), written here
+    # with numpy: each run starts facing another way (0, 2.0, -2.2 rad) and logs no pose, only
+    # a gyro.  The uphill heading can only be told in the first run's frame; the report says
+    # so, and the value is the plane's heading seen from run 1's start (1.0 - 0 rad).
+    params = vehicle("auriga-beta-wide", "asphalt")
+    hz, grade, uphill = 20.0, 0.05, 1.0
+    runs = []
+    for k, start in enumerate((0.0, 2.0, -2.2)):
+        rng = np.random.default_rng(40 + k)
+        n = int(120 * hz)
+        t = np.arange(n) / hz
+        cl, cr = mixed_commands(rng, n, hz, params.top_track_speed_mps)
+        vl = follow_commands(t, cl, params.accel_max_mps2)
+        vr = follow_commands(t, cr, params.accel_max_mps2)
+        wz = (vr - vl) / params.icr.spread_m
+        heading = start + np.cumsum(wz) / hz
+        climb = 0.5 * (vl + vr) * np.cos(heading - uphill)
+        p = params.power(vl, vr).total_w + params.mass_kg * 9.81 * np.sin(grade) * climb / (
+            params.eta
+        )
+        p = p + rng.normal(0.0, 3.0, n)
+        runs.append(
+            Log(
+                t=t,
+                v_left=vl,
+                v_right=vr,
+                p_total=p,
+                v_left_cmd=cl,
+                v_right_cmd=cr,
+                wz=wz,
+                run_id=f"r{k}",
+            )
+        )
+    d = diagnose(runs, params)
+    assert d.attribution.verdict == "slope"
+    text = report_markdown(d)
+    assert "counted from the heading run `r0` started in" in text
+    heading = d.attribution.fitted["slope"].params_["uphill_heading_rad"]
+    assert abs(np.angle(np.exp(1j * (heading - uphill)))) < 0.2

@@ -117,6 +117,26 @@ def _baseline_row(d: Diagnosis) -> list[str]:
     ]
 
 
+def _heading_origin(d: Diagnosis) -> list[str]:
+    """Where a pose-free slope's uphill heading is counted from (empty with a pose)."""
+    halves = d.attribution.halves
+    if halves is None or halves.effect != "slope" or d.test_frame.yaw is not None:
+        return []
+    first = d.run_ids[0] if d.run_ids else "the first run"
+    if d.n_runs > 1:
+        return [
+            f"No pose: `uphill_heading_rad` is counted from the heading run `{first}` started "
+            "in (counter-clockwise); every other run's starting heading was searched as an "
+            "offset, from a plane fitted to each run alone.",
+            "",
+        ]
+    return [
+        "No pose: `uphill_heading_rad` is counted from the heading the run started in "
+        "(counter-clockwise).",
+        "",
+    ]
+
+
 def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
     """The Markdown text of ``report.md`` for a diagnosis."""
     att = d.attribution
@@ -157,7 +177,7 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
                 f"| `{p.name}` | {p.train:.4g} [{a0:.4g}, {a1:.4g}] | "
                 f"{p.test:.4g} [{b0:.4g}, {b1:.4g}] | {'yes' if p.agree else 'no'} |"
             )
-        out += [""]
+        out += ["", *_heading_origin(d)]
     out += [
         *_untold(d),
         "## The numbers",
