@@ -149,15 +149,21 @@ def test_a_slope_without_pose_is_fitted_on_the_heading_of_the_whole_run(gyro: bo
     assert eff.score(test) < 0.5 * NoEffect().fit(train).score(test)
 
 
-@pytest.mark.parametrize("gyro", [False, True])
-def test_a_slope_without_pose_over_several_runs_is_one_plane_seen_from_each_start(
-    gyro: bool,
-) -> None:
-    # The log of the test above cut into three runs (files): without a pose, each run's
-    # heading starts at 0, so the plane (0.05 rad, rising along the first run's initial
-    # heading, written in _log) is seen from a different direction in each run; runs 2 and 3
-    # start wherever run 1's turns left the robot.  One plane in one heading (the fit before
-    # the per-run offsets) cancels between the runs.
+def _odometry(x: np.ndarray, y: np.ndarray, yaw: np.ndarray) -> dict[str, np.ndarray]:
+    """The pose in the frame of its first sample (odometry restarted at the run's start)."""
+    c, s = np.cos(yaw[0]), np.sin(yaw[0])
+    dx, dy = x - x[0], y - y[0]
+    return {"x": c * dx + s * dy, "y": -s * dx + c * dy, "yaw": yaw - yaw[0]}
+
+
+@pytest.mark.parametrize("pose", ["none", "gyro", "odometry"])
+def test_a_slope_over_several_runs_is_one_plane_seen_from_each_start(pose: str) -> None:
+    # The log of the test above cut into three runs (files).  Without a pose, each run's
+    # heading starts at 0; with odometry restarted at each run (pose_frame "run"), each run's
+    # pose is in the frame it started in.  Either way the plane (0.05 rad, rising along the
+    # first run's initial heading, written in _log) is seen from a different direction in
+    # each run: runs 2 and 3 start wherever run 1's turns left the robot.  One plane in one
+    # heading (the fit before the per-run offsets) cancels between the runs.
     log = _log("slope", 0.05)
     wz = (log.v_right - log.v_left) / PARAMS.icr.spread_m
     noise = np.random.default_rng(7).normal(0.0, 0.005, wz.size)
@@ -165,22 +171,24 @@ def test_a_slope_without_pose_over_several_runs_is_one_plane_seen_from_each_star
     cuts = (0, 1900, 3400, log.t.size)
     runs = []
     for a, b in itertools.pairwise(cuts):
+        kept = {k: v[a:b] for k, v in vars(log).items() if v is not None}
+        odo = _odometry(kept.pop("x"), kept.pop("y"), kept.pop("yaw"))
+        if pose != "odometry":
+            odo = dict.fromkeys(odo)
         piece = SimpleNamespace(
-            **{
-                k: None if v is None else v[a:b]
-                for k, v in vars(log).items()
-                if k not in ("x", "y", "yaw", "wz")
-            },
-            x=None,
-            y=None,
-            yaw=None,
-            wz=(wz + noise)[a:b] if gyro else None,
+            **kept,
+            **odo,
+            wz=(wz + noise)[a:b] if pose == "gyro" else None,
+            pose_frame="run" if pose == "odometry" else "world",
         )
         runs.append(piece)
     # the runs do start facing other ways (else this test would not test the offsets)
     for c in cuts[1:3]:
         assert abs(np.angle(np.exp(1j * start_heading[c]))) > 2.0
     frame = build_frame(runs, PARAMS, snap_mps=2e-3)
+    # three frames are no map: no patch of ground can be placed, a change in time can
+    assert not make_effect("terrain_patch").available(frame)
+    assert make_effect("terrain_change").available(frame)
     train_m, test_m = split_masks(frame)
     train = prepare(frame.subset(train_m), PARAMS)
     test = prepare(frame.subset(test_m), PARAMS)

@@ -174,6 +174,20 @@ def test_power_sampling_is_read_written_and_checked(tmp_path: Path) -> None:
             p_total=np.zeros(2), power_sampling="average")  # fmt: skip
 
 
+def test_pose_frame_is_read_written_and_checked(tmp_path: Path) -> None:
+    rows = "t,v_left,v_right,p_total,x,y,yaw\n0,0.1,0.1,100,0,0,0\n0.05,0.1,0.1,100,0.005,0,0\n"
+    assert read_log_csv(_write(tmp_path, rows)).pose_frame == "world"  # the default
+    log = read_log_csv(_write(tmp_path, "# pose_frame: run\n" + rows))
+    assert log.pose_frame == "run"
+    back = read_log_csv(write_log_csv(log, tmp_path / "back.csv"))
+    assert back.pose_frame == "run"
+    with pytest.raises(LogFormatError, match=r"line 2: pose_frame 'odom'.*world, run"):
+        read_log_csv(_write(tmp_path, "# run_id: r\n# pose_frame: odom\n" + rows))
+    with pytest.raises(LogFormatError, match="pose_frame 'map'"):
+        Log(t=np.array([0.0, 1.0]), v_left=np.zeros(2), v_right=np.zeros(2),
+            p_total=np.zeros(2), pose_frame="map")  # fmt: skip
+
+
 def test_write_refuses_to_overwrite(tmp_path: Path) -> None:
     log = _full_log()
     p = write_log_csv(log, tmp_path / "a.csv")
@@ -413,6 +427,15 @@ def test_rosbag_round_trip_on_a_common_time_base(tmp_path: Path) -> None:
     assert log.wz is not None and np.allclose(log.wz, 0.2)
     assert any("voltage x current" in n for n in log.notes)
     assert len(truth["t"]) == 41
+
+
+def test_rosbag_odometry_in_each_runs_own_frame_is_said_so(tmp_path: Path) -> None:
+    _write_bag(tmp_path / "bag")
+    assert read_rosbag(tmp_path / "bag", _topic_map()).pose_frame == "world"
+    log = read_rosbag(tmp_path / "bag", _topic_map(pose_frame="run"))
+    assert log.pose_frame == "run" and log.yaw is not None
+    with pytest.raises(InputError, match="pose_frame"):
+        read_rosbag(tmp_path / "bag", _topic_map(pose_frame="odom"))
 
 
 def test_rosbag_power_stated_as_interval_means_is_stamped_at_their_middles(

@@ -183,8 +183,8 @@ class SpaceMap:
 
 
 def over_space(frame: Frame, residual_w: FloatArray, cells: int = 30) -> SpaceMap | None:
-    """Map of the mean residual when the log has a pose, else None."""
-    if frame.x is None or frame.y is None:
+    """Map of the mean residual when the log has a pose in one frame, else None."""
+    if not frame.on_one_map or frame.x is None or frame.y is None:
         return None
     span = max(float(np.ptp(frame.x)), float(np.ptp(frame.y)), 1e-3)
     size = span / cells

@@ -158,6 +158,9 @@ class Frame:
         ``wz``.  Without a pose it is known up to a constant per run.  A split's subset keeps
         it: integrated over a training split alone, the turns of the held-out blocks were
         missing from it, and a slope fitted on it mispredicted them.
+    pose_per_run : bool
+        Each run's pose is in its own frame (``pose_frame: run``, odometry restarted with
+        every run): positions and headings of two runs are not comparable.
     """
 
     t: FloatArray
@@ -180,6 +183,7 @@ class Frame:
     v_pose_err: FloatArray | None
     block: IntArray
     heading: FloatArray
+    pose_per_run: bool = False
 
     @property
     def n(self) -> int:
@@ -191,12 +195,30 @@ class Frame:
         """Total logged time [s]."""
         return float(np.sum(self.dt))
 
+    @property
+    def on_one_map(self) -> bool:
+        """Whether the logged positions of all samples are in one frame (a map can be drawn).
+
+        A pose in each run's own frame is one map only for a single run.
+        """
+        if self.x is None or self.y is None:
+            return False
+        return not self.pose_per_run or np.unique(self.run).size < 2
+
+    @property
+    def heading_per_run(self) -> bool:
+        """Whether :attr:`heading` is known only up to a constant per run.
+
+        So it is without a pose, or with each run's pose in its own frame.
+        """
+        return self.yaw is None or self.pose_per_run
+
     def subset(self, mask: BoolArray) -> Frame:
         """The samples where ``mask`` is true (all arrays sliced alike)."""
         kw: dict[str, Any] = {}
         for f in dataclasses.fields(self):
             val = getattr(self, f.name)
-            kw[f.name] = None if val is None else val[mask]
+            kw[f.name] = val[mask] if isinstance(val, np.ndarray) else val
         return Frame(**kw)
 
 
@@ -503,6 +525,7 @@ def build_frame(
         v_pose_err=_concat(opt["v_pose_err"]),
         block=np.concatenate(blocks),
         heading=arrays["heading"],
+        pose_per_run=any(getattr(lg, "pose_frame", "world") == "run" for lg in logs),
     )
 
 

@@ -118,16 +118,27 @@ def _baseline_row(d: Diagnosis) -> list[str]:
 
 
 def _heading_origin(d: Diagnosis) -> list[str]:
-    """Where a pose-free slope's uphill heading is counted from (empty with a pose)."""
+    """Where a slope's uphill heading is counted from, when not from one world frame."""
     halves = d.attribution.halves
-    if halves is None or halves.effect != "slope" or d.test_frame.yaw is not None:
+    f = d.test_frame
+    if halves is None or halves.effect != "slope" or not f.heading_per_run:
         return []
     first = d.run_ids[0] if d.run_ids else "the first run"
+    searched = (
+        "; every other run's was searched as an offset, from a plane fitted to each run alone"
+    )
+    if f.yaw is not None:
+        if d.n_runs < 2:
+            return []
+        return [
+            f"Each run's pose in its own frame: `uphill_heading_rad` is counted from the x axis "
+            f"of run `{first}`'s frame (counter-clockwise){searched}.",
+            "",
+        ]
     if d.n_runs > 1:
         return [
             f"No pose: `uphill_heading_rad` is counted from the heading run `{first}` started "
-            "in (counter-clockwise); every other run's starting heading was searched as an "
-            "offset, from a plane fitted to each run alone.",
+            f"in (counter-clockwise){searched}.",
             "",
         ]
     return [

@@ -37,8 +37,13 @@ def watts(x: float, signed: bool = False) -> str:
 
 _NOT_TRIED = {
     "actuator_lag": "log the commanded side speeds (`v_left_cmd`, `v_right_cmd`)",
-    "terrain_patch": "log the pose (`x`, `y`, `yaw`) to locate terrain on the map",
-    "terrain_change": "(offered only without pose: with a pose, terrain is `terrain_patch`)",
+    "terrain_patch": (
+        "log the pose (`x`, `y`, `yaw`), in one frame for all runs (`pose_frame: world`), to "
+        "locate terrain on the map"
+    ),
+    "terrain_change": (
+        "(offered only without a pose on one map: with one, terrain is `terrain_patch`)"
+    ),
     "icr_asymmetry": "log the pose to measure the body speed in turns",
 }
 

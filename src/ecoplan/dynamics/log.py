@@ -68,12 +68,14 @@ __all__ = [
     "OPTIONAL_COLUMNS",
     "OPTIONAL_FLOAT_COLUMNS",
     "POSE_COLUMNS",
+    "POSE_FRAMES",
     "POWER_SAMPLINGS",
     "REQUIRED_COLUMNS",
     "SPEED_COLUMNS",
     "Column",
     "Log",
     "StrArray",
+    "check_pose_frame",
     "check_power_sampling",
     "check_values",
     "join_runs",
@@ -174,6 +176,27 @@ MAX_PLAUSIBLE_SPEED_MPS = 20.0
 #: before the row (an energy counter or an averaging current sensor read at every row).
 POWER_SAMPLINGS = ("row", "interval_mean")
 
+#: Where a log's pose is expressed (``# pose_frame:`` in a CSV log): ``"world"``, one frame for
+#: every run (a map, GNSS; the default); ``"run"``, each run's own frame, as odometry that
+#: restarts with every run writes it (REP-105's ``odom`` of separate launches): two runs'
+#: positions and headings are then not comparable.
+POSE_FRAMES = ("world", "run")
+
+
+def check_pose_frame(value: str, where: str) -> str:
+    """``value`` if it is one of :data:`POSE_FRAMES`; else a one-line error naming ``where``.
+
+    Raises
+    ------
+    LogFormatError
+        ``value`` is not a known pose frame.
+    """
+    if value not in POSE_FRAMES:
+        raise LogFormatError(
+            f"{where}: pose_frame {value!r} is not one of {', '.join(POSE_FRAMES)}"
+        )
+    return value
+
 
 def check_power_sampling(value: str, where: str) -> str:
     """``value`` if it is one of :data:`POWER_SAMPLINGS`; else a one-line error naming ``where``.
@@ -237,6 +260,9 @@ class Log:
         How ``p_total`` was taken (:data:`POWER_SAMPLINGS`): at the row's time (``"row"``,
         default) or as the mean over the sample interval before the row (``"interval_mean"``;
         the diagnosis then reads the speeds at the interval's middle).
+    pose_frame : str
+        Where the pose is expressed (:data:`POSE_FRAMES`): one ``"world"`` frame for all runs
+        (default), or each ``"run"``'s own (odometry restarted with every run).
     extra : mapping of str to ndarray
         Further numeric columns outside the format (the simulator's motion ``case`` and
         power breakdown ``p_friction``, ...), one value per sample, written after the
@@ -263,6 +289,7 @@ class Log:
     dropped_rows: int = 0
     notes: tuple[str, ...] = ()
     power_sampling: str = "row"
+    pose_frame: str = "world"
     extra: Mapping[str, npt.NDArray[Any]] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -280,6 +307,7 @@ class Log:
         if self.dropped_rows < 0:
             raise LogFormatError(f"{self.source}: dropped_rows must be >= 0")
         check_power_sampling(self.power_sampling, self.source)
+        check_pose_frame(self.pose_frame, self.source)
         object.__setattr__(self, "notes", tuple(self.notes))
         object.__setattr__(self, "extra", self._checked_extra(n))
         cols = {c: getattr(self, c) for c in FLOAT_COLUMNS}

@@ -4,7 +4,9 @@ A log file has one header row, SI units and REP-103 frames; its columns are thos
 :data:`ecoplan.dynamics.log.COLUMNS` (or their aliases), in any order.  Lines starting
 with ``#`` *before* the header are metadata (``# run_id: ...``, ``# note: ...``,
 ``# power_sampling: row | interval_mean``, how the power was taken,
-:data:`~ecoplan.dynamics.log.POWER_SAMPLINGS`); blank lines are skipped.  Any other
+:data:`~ecoplan.dynamics.log.POWER_SAMPLINGS`; ``# pose_frame: world | run``, whether the
+pose of every run is in one frame, :data:`~ecoplan.dynamics.log.POSE_FRAMES`); blank lines
+are skipped.  Any other
 column (e.g. the simulator's ``case`` or ``p_friction``) is ignored by the reader and named
 in :attr:`~ecoplan.dynamics.log.Log.notes`.
 
@@ -51,6 +53,7 @@ from ecoplan.dynamics.log import (
     REQUIRED_COLUMNS,
     Log,
     StrArray,
+    check_pose_frame,
     check_power_sampling,
     check_values,
 )
@@ -75,6 +78,7 @@ class _Head:
     run_id: str | None = None
     notes: list[str] = field(default_factory=list)
     power_sampling: str = "row"
+    pose_frame: str = "world"
 
 
 @dataclass(slots=True)
@@ -109,6 +113,7 @@ def _read_head(lines: list[str], source: str) -> _Head:
     run_id: str | None = None
     notes: list[str] = []
     sampling = "row"
+    pose_frame = "world"
     for k, raw in enumerate(lines):
         if not raw.replace(",", "").strip():
             continue
@@ -120,10 +125,12 @@ def _read_head(lines: list[str], source: str) -> _Head:
                 notes.append(value.strip())
             elif key.strip() == "power_sampling":
                 sampling = check_power_sampling(value.strip(), _where(source, k + 1))
+            elif key.strip() == "pose_frame":
+                pose_frame = check_pose_frame(value.strip(), _where(source, k + 1))
             continue
         names = [c.strip() for c in next(csv.reader([raw]))]
         header = _canonical_header(names, _where(source, k + 1), notes)
-        return _Head(header, k + 1, run_id, notes, sampling)
+        return _Head(header, k + 1, run_id, notes, sampling, pose_frame)
     raise LogFormatError(f"{source}: empty file (no header row)")
 
 
@@ -351,6 +358,7 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
         dropped_rows=int(drop.sum()),
         notes=tuple(notes),
         power_sampling=head.power_sampling,
+        pose_frame=head.pose_frame,
     )
 
 
@@ -410,6 +418,8 @@ def write_log_csv(log: Log, path: str | os.PathLike[str], *, overwrite: bool = F
                 fh.write(f"# run_id: {log.run_id}\n")
             if log.power_sampling != "row":
                 fh.write(f"# power_sampling: {log.power_sampling}\n")
+            if log.pose_frame != "world":
+                fh.write(f"# pose_frame: {log.pose_frame}\n")
             for note in log.notes:
                 fh.write("# note: " + note.replace("\n", " ") + "\n")
             fh.write(",".join(columns) + "\n")

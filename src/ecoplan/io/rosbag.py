@@ -27,7 +27,7 @@ from pydantic import (
 )
 
 from ecoplan._typing import FloatArray
-from ecoplan.dynamics.log import FLOAT_COLUMNS, POWER_SAMPLINGS, Log
+from ecoplan.dynamics.log import FLOAT_COLUMNS, POSE_FRAMES, POWER_SAMPLINGS, Log
 from ecoplan.errors import LogFormatError
 from ecoplan.io.yaml import LineMap, format_validation, read_text, read_yaml
 
@@ -94,6 +94,15 @@ class _TopicMapSchema(BaseModel):
     rate_hz: float | None = Field(default=None, gt=0.0, le=10000.0)
     use_header_stamp: bool = True
     power_sampling: str = "row"
+    pose_frame: str = "world"
+
+    @field_validator("pose_frame")
+    @classmethod
+    def _known_frame(cls, value: str) -> str:
+        """One of the log format's :data:`~ecoplan.dynamics.log.POSE_FRAMES`."""
+        if value not in POSE_FRAMES:
+            raise ValueError(f"{value!r} is not one of {', '.join(POSE_FRAMES)}")
+        return value
 
     @field_validator("power_sampling")
     @classmethod
@@ -156,6 +165,11 @@ class TopicMap(_TopicMapSchema):
         median interval earlier, at its window's middle, before resampling; the log's power
         then stands for its row's time, as ``"row"``, and a note says so.  The CSV format
         states the same with ``# power_sampling: interval_mean``.
+    pose_frame : {"world", "run"}
+        ``"run"``: the odometry's pose is the run's own frame (``odom``, restarted with every
+        launch), so the diagnosis compares no positions or headings between runs; ``"world"``
+        (default): one frame for every run (``map``, GNSS).  The CSV format states it with
+        ``# pose_frame: run``.
     """
 
     def __init__(self, **data: Any) -> None:
@@ -469,4 +483,5 @@ def _resample(
         source=source,
         run_id=run_id,
         notes=tuple(notes),
+        pose_frame=topics.pose_frame,
     )

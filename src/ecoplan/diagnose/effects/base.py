@@ -462,7 +462,7 @@ class Effect:
         """Whether the log carries the signals this effect needs."""
         have = {
             "commands": frame.vl_cmd is not None and frame.vr_cmd is not None,
-            "pose": frame.x is not None and frame.y is not None,
+            "pose": frame.on_one_map,
         }
         return all(have[k] for k in cls.needs)
 

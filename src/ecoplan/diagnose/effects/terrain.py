@@ -361,7 +361,7 @@ class TerrainChange(Effect):
 
     @classmethod
     def available(cls, frame: Frame) -> bool:  # noqa: D102
-        return frame.x is None or frame.y is None
+        return not frame.on_one_map
 
     @staticmethod
     def _indicator(data: EffectData, seg: tuple[Any, ...]) -> FloatArray:
@@ -632,11 +632,13 @@ class Slope(Effect):
     lateral speed neglected); ``sin θ = η |s|`` and ``h = atan2(s_y, s_x)``.
 
     Without a pose the heading ``ψ`` of each run is the integral of its yaw rate from 0 at the
-    run's start (:attr:`~ecoplan.diagnose.replay.Frame.heading`): runs that start facing
-    different ways see one plane in different directions.  The search (:meth:`_search`) then
-    finds each run's heading offset ``δ_k`` from a fit with one plane per run (the angle of
-    run ``k``'s plane minus the first run's), and the plane is fitted on ``ψ - δ_k``: one
-    grade for all runs, and ``h`` in the first run's frame (its start heading is 0).
+    run's start (:attr:`~ecoplan.diagnose.replay.Frame.heading`), and with a pose in each
+    run's own frame (``pose_frame: run``) it is measured from that frame's axis: runs that
+    start facing different ways see one plane in different directions.  The search
+    (:meth:`_search`) then finds each run's heading offset ``δ_k`` from a fit with one plane
+    per run (the angle of run ``k``'s plane minus the first run's), and the plane is fitted on
+    ``ψ - δ_k``: one grade for all runs, and ``h`` in the first run's frame (without a pose,
+    its start heading is 0).
     """
 
     #: The searched offsets are a nuisance (one per run), not a shape: the halves compare the
@@ -676,7 +678,7 @@ class Slope(Effect):
         """
         f = data.frame
         runs = np.unique(f.run)
-        if f.yaw is not None or runs.size < 2:
+        if not f.heading_per_run or runs.size < 2:
             return None
         one = self._plane(data, np.zeros(f.n))
         per_run = [one * (f.run == r)[:, None] for r in runs]
