@@ -179,7 +179,7 @@ def test_terrain_change_needs_no_pose_and_leaves_logs_with_pose_to_terrain_patch
     assert TerrainChange.available(d.test_frame) is False
     # the summary says why it was not tried, not that the log lacks a signal (it has a pose)
     text = summary(d)
-    assert "terrain_change -- (offered only without pose" in text
+    assert "terrain_change -- (offered only without a pose on one map" in text
     assert "lacks" not in text
 
 
