@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pytest
 
 from ecoplan.cli import main
 from ecoplan.diagnose.pipeline import diagnose
@@ -98,11 +99,15 @@ def test_bus_voltage_assumption_is_stated(tmp_path) -> None:  # type: ignore[no-
     assert np.isfinite(d.gap_final_w)
 
 
-def test_a_pose_free_slope_says_where_its_heading_is_counted_from() -> None:
+@pytest.mark.parametrize("odometry", [False, True])
+def test_a_slope_without_one_frame_says_where_its_heading_is_counted_from(
+    odometry: bool,
+) -> None:
     # Three runs on one plane (0.05 rad rising towards world heading 1.0 rad), written here
     # with numpy: each run starts facing another way (0, 2.0, -2.2 rad) and logs no pose, only
-    # a gyro.  The uphill heading can only be told in the first run's frame; the report says
-    # so, and the value is the plane's heading seen from run 1's start (1.0 - 0 rad).
+    # a gyro -- or a pose from odometry restarted at the run's start (pose_frame "run").  The
+    # uphill heading can only be told in the first run's frame; the report says so, and the
+    # value is the plane's heading seen from run 1's start (1.0 - 0 rad).
     params = vehicle("auriga-beta-wide", "asphalt")
     hz, grade, uphill = 20.0, 0.05, 1.0
     runs = []
@@ -114,12 +119,18 @@ def test_a_pose_free_slope_says_where_its_heading_is_counted_from() -> None:
         vl = follow_commands(t, cl, params.accel_max_mps2)
         vr = follow_commands(t, cr, params.accel_max_mps2)
         wz = (vr - vl) / params.icr.spread_m
-        heading = start + np.cumsum(wz) / hz
-        climb = 0.5 * (vl + vr) * np.cos(heading - uphill)
+        own = np.cumsum(wz) / hz  # the heading in the frame the run started in
+        climb = 0.5 * (vl + vr) * np.cos(start + own - uphill)
         p = params.power(vl, vr).total_w + params.mass_kg * 9.81 * np.sin(grade) * climb / (
             params.eta
         )
         p = p + rng.normal(0.0, 3.0, n)
+        vx = 0.5 * (vl + vr)
+        pose = {
+            "x": np.cumsum(vx * np.cos(own)) / hz if odometry else None,
+            "y": np.cumsum(vx * np.sin(own)) / hz if odometry else None,
+            "yaw": own if odometry else None,
+        }
         runs.append(
             Log(
                 t=t,
@@ -130,11 +141,18 @@ def test_a_pose_free_slope_says_where_its_heading_is_counted_from() -> None:
                 v_right_cmd=cr,
                 wz=wz,
                 run_id=f"r{k}",
+                pose_frame="run" if odometry else "world",
+                **pose,
             )
         )
     d = diagnose(runs, params)
     assert d.attribution.verdict == "slope"
     text = report_markdown(d)
-    assert "counted from the heading run `r0` started in" in text
+    if odometry:
+        assert "counted from the x axis of run `r0`'s frame" in text
+        assert "pose_frame: run" in text  # the stated assumption
+        assert d.space_map is None  # three frames are no map
+    else:
+        assert "counted from the heading run `r0` started in" in text
     heading = d.attribution.fitted["slope"].params_["uphill_heading_rad"]
     assert abs(np.angle(np.exp(1j * (heading - uphill)))) < 0.2

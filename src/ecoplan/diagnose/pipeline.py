@@ -73,6 +73,7 @@ from ecoplan.presets import VehicleParams, vehicle
 
 __all__ = [
     "INTERVAL_MEAN_NOTE",
+    "POSE_PER_RUN_NOTE",
     "DiagnosisSplit",
     "diagnose",
     "diagnosis_split",
@@ -84,6 +85,12 @@ __all__ = [
 INTERVAL_MEAN_NOTE = (
     "power_sampling: interval_mean -- the power is the mean over the sample interval before "
     "each row; the speeds (and commands, pose) were read at the interval's middle"
+)
+
+#: What the report says of logs whose pose is each run's own frame (``pose_frame: run``).
+POSE_PER_RUN_NOTE = (
+    "pose_frame: run -- each run's pose is in its own frame (odometry restarted with every "
+    "run): no positions or headings are compared between runs"
 )
 
 
@@ -326,6 +333,8 @@ def diagnose(
     log_notes: list[str] = []
     if stops.any():
         log_notes.append(settling_note(int(np.count_nonzero(stops)), frame.n))
+    if frame.pose_per_run and frame.x is not None:
+        log_notes.append(POSE_PER_RUN_NOTE)
     for lg in log_list:
         notes = list(getattr(lg, "notes", ()) or ())
         if power_is_interval_mean(lg):

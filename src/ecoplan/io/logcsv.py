@@ -6,9 +6,8 @@ with ``#`` *before* the header are metadata (``# run_id: ...``, ``# note: ...``,
 ``# power_sampling: row | interval_mean``, how the power was taken,
 :data:`~ecoplan.dynamics.log.POWER_SAMPLINGS`; ``# pose_frame: world | run``, whether the
 pose of every run is in one frame, :data:`~ecoplan.dynamics.log.POSE_FRAMES`); blank lines
-are skipped.  Any other
-column (e.g. the simulator's ``case`` or ``p_friction``) is ignored by the reader and named
-in :attr:`~ecoplan.dynamics.log.Log.notes`.
+are skipped.  Any other column (e.g. the simulator's ``case`` or ``p_friction``) is ignored
+by the reader and named in :attr:`~ecoplan.dynamics.log.Log.notes`.
 
 Validation (every failure is a :class:`~ecoplan.errors.LogFormatError` whose one-line
 message names the file, the column and/or the 1-based line number of the file):
