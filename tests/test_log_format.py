@@ -159,33 +159,25 @@ def test_round_trip_is_exact(tmp_path: Path) -> None:
     assert back.run_id == "run-1" and back.notes == log.notes and back.dropped_rows == 0
 
 
-def test_power_sampling_is_read_written_and_checked(tmp_path: Path) -> None:
-    rows = "t,v_left,v_right,p_total\n0,0.1,0.1,100\n0.05,0.1,0.1,100\n"
-    assert read_log_csv(_write(tmp_path, rows)).power_sampling == "row"  # the default
-    log = read_log_csv(_write(tmp_path, "# power_sampling: interval_mean\n" + rows))
-    assert log.power_sampling == "interval_mean"
-    back = read_log_csv(write_log_csv(log, tmp_path / "back.csv"))
-    assert back.power_sampling == "interval_mean"
-    # a value outside the format names the file's line and the values it knows
-    with pytest.raises(LogFormatError, match=r"line 2: power_sampling 'mean'.*interval_mean"):
-        read_log_csv(_write(tmp_path, "# run_id: r\n# power_sampling: mean\n" + rows))
-    with pytest.raises(LogFormatError, match="power_sampling 'average'"):
-        Log(t=np.array([0.0, 1.0]), v_left=np.zeros(2), v_right=np.zeros(2),
-            p_total=np.zeros(2), power_sampling="average")  # fmt: skip
-
-
-def test_pose_frame_is_read_written_and_checked(tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    ("key", "default", "value", "bad"),
+    [("power_sampling", "row", "interval_mean", "mean"), ("pose_frame", "world", "run", "odom")],
+)
+def test_metadata_is_read_written_and_checked(
+    tmp_path: Path, key: str, default: str, value: str, bad: str
+) -> None:
     rows = "t,v_left,v_right,p_total,x,y,yaw\n0,0.1,0.1,100,0,0,0\n0.05,0.1,0.1,100,0.005,0,0\n"
-    assert read_log_csv(_write(tmp_path, rows)).pose_frame == "world"  # the default
-    log = read_log_csv(_write(tmp_path, "# pose_frame: run\n" + rows))
-    assert log.pose_frame == "run"
+    assert getattr(read_log_csv(_write(tmp_path, rows)), key) == default
+    log = read_log_csv(_write(tmp_path, f"# {key}: {value}\n" + rows))
+    assert getattr(log, key) == value
     back = read_log_csv(write_log_csv(log, tmp_path / "back.csv"))
-    assert back.pose_frame == "run"
-    with pytest.raises(LogFormatError, match=r"line 2: pose_frame 'odom'.*world, run"):
-        read_log_csv(_write(tmp_path, "# run_id: r\n# pose_frame: odom\n" + rows))
-    with pytest.raises(LogFormatError, match="pose_frame 'map'"):
+    assert getattr(back, key) == value
+    # a value outside the format names the file's line and the values it knows
+    with pytest.raises(LogFormatError, match=rf"line 2: {key} '{bad}'.*{default}, {value}"):
+        read_log_csv(_write(tmp_path, f"# run_id: r\n# {key}: {bad}\n" + rows))
+    with pytest.raises(LogFormatError, match=f"{key} 'other'"):
         Log(t=np.array([0.0, 1.0]), v_left=np.zeros(2), v_right=np.zeros(2),
-            p_total=np.zeros(2), pose_frame="map")  # fmt: skip
+            p_total=np.zeros(2), **{key: "other"})  # fmt: skip
 
 
 def test_write_refuses_to_overwrite(tmp_path: Path) -> None:

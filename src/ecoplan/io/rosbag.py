@@ -22,6 +22,7 @@ from pydantic import (
     ConfigDict,
     Field,
     ValidationError,
+    ValidationInfo,
     field_validator,
     model_validator,
 )
@@ -96,20 +97,17 @@ class _TopicMapSchema(BaseModel):
     power_sampling: str = "row"
     pose_frame: str = "world"
 
-    @field_validator("pose_frame")
+    @field_validator("power_sampling", "pose_frame")
     @classmethod
-    def _known_frame(cls, value: str) -> str:
-        """One of the log format's :data:`~ecoplan.dynamics.log.POSE_FRAMES`."""
-        if value not in POSE_FRAMES:
-            raise ValueError(f"{value!r} is not one of {', '.join(POSE_FRAMES)}")
-        return value
+    def _one_of(cls, value: str, info: ValidationInfo) -> str:
+        """The field's value if the log format knows it.
 
-    @field_validator("power_sampling")
-    @classmethod
-    def _known_sampling(cls, value: str) -> str:
-        """One of the log format's :data:`~ecoplan.dynamics.log.POWER_SAMPLINGS`."""
-        if value not in POWER_SAMPLINGS:
-            raise ValueError(f"{value!r} is not one of {', '.join(POWER_SAMPLINGS)}")
+        :data:`~ecoplan.dynamics.log.POWER_SAMPLINGS` or
+        :data:`~ecoplan.dynamics.log.POSE_FRAMES`, as the field is.
+        """
+        accepted = POWER_SAMPLINGS if info.field_name == "power_sampling" else POSE_FRAMES
+        if value not in accepted:
+            raise ValueError(f"{value!r} is not one of {', '.join(accepted)}")
         return value
 
     @model_validator(mode="after")
