@@ -156,3 +156,24 @@ def test_a_slope_without_one_frame_says_where_its_heading_is_counted_from(
         assert "counted from the heading run `r0` started in" in text
     heading = d.attribution.fitted["slope"].params_["uphill_heading_rad"]
     assert abs(np.angle(np.exp(1j * (heading - uphill)))) < 0.2
+
+
+def test_pose_frame_given_on_the_command_line_is_used_and_stated(tmp_path, capsys) -> None:  # type: ignore[no-untyped-def]
+    # The simulator's runs log a pose in one world frame; --pose-frame run says otherwise for
+    # every log (as a user with odometry files would, without editing them): the report
+    # states it, and no place on a map is searched.
+    case = generate_case(1, "none", "large", n_waypoint_runs=1, rate_hz=10.0)
+    paths = [str(p) for p in case.write(tmp_path / "logs")]
+    assert len(paths) >= 2
+    args = ["diagnose", *paths, "--vehicle", case.vehicle, "--terrain", case.terrain]
+    assert main([*args, "--pose-frame", "run", "--json", "-"]) == 0
+    obj = json.loads(capsys.readouterr().out)
+    assert any(n.startswith("pose_frame: run") for n in obj["log"]["notes"])
+    assert "terrain_patch" not in [e["name"] for e in obj["effects"]]
+    assert main([*args, "--json", "-"]) == 0
+    obj = json.loads(capsys.readouterr().out)
+    assert not any(n.startswith("pose_frame") for n in obj["log"]["notes"])
+    assert "terrain_patch" in [e["name"] for e in obj["effects"]]
+    # a value outside the format is a usage error (exit 2), before any log is read
+    assert main([*args, "--pose-frame", "odom"]) == 2
+    assert "--pose-frame" in capsys.readouterr().err

@@ -287,6 +287,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
             topics_path=None if args.topics is None else str(args.topics),
             bus_voltage_v=args.bus_voltage,
             routes=routes,
+            pose_frame=args.pose_frame,
         )
     for line in run.lines:
         out.say(line)
@@ -530,6 +531,12 @@ def build_parser() -> argparse.ArgumentParser:
         default=24.0,
         metavar="V",
         help="bus voltage assumed for borealtc:TERRAIN[/RUN] logs (default 24 V)",
+    )
+    diag.add_argument(
+        "--pose-frame",
+        choices=("world", "run"),
+        help="where every log's pose is, instead of its '# pose_frame:' line: one frame for "
+        "all runs (world) or each run's own (run: odometry restarted with every run)",
     )
     diag.add_argument(
         "--force", action="store_true", help="write into a non-empty folder ecoplan did not create"

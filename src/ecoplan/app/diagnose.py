@@ -8,6 +8,7 @@ the report folder.  The command line prints :attr:`DiagnoseRun.lines` and the JS
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from collections.abc import Mapping, Sequence
@@ -27,6 +28,7 @@ from ecoplan.diagnose.report import (
 )
 from ecoplan.diagnose.report_md import write_report_md
 from ecoplan.diagnose.result import Diagnosis
+from ecoplan.dynamics.log import check_pose_frame
 from ecoplan.errors import InputError
 from ecoplan.io.logs import read_logs
 from ecoplan.io.rosbag import load_topic_map
@@ -96,6 +98,7 @@ def diagnose_logs(
     topics_path: str | None = None,
     bus_voltage_v: float = 24.0,
     routes: Mapping[str, Route] | None = None,
+    pose_frame: str | None = None,
 ) -> DiagnoseRun:
     """Back end of ``ecoplan diagnose LOG [LOG ...] --vehicle V [--terrain T] [--out DIR]``.
 
@@ -118,6 +121,9 @@ def diagnose_logs(
         Candidate routes of a scenario (``--scenario``): their energy ranking under the preset
         and the corrected model (:func:`ecoplan.diagnose.ranking.ranking_change`) goes into the
         lines and into the JSON as the extra key ``ranking``.
+    pose_frame : {"world", "run"}, optional
+        Where every log's pose is (``--pose-frame``), instead of what each log says
+        (:data:`~ecoplan.dynamics.log.POSE_FRAMES`; a CSV's ``# pose_frame:`` line).
 
     Returns
     -------
@@ -135,7 +141,11 @@ def diagnose_logs(
     if not (math.isfinite(bus_voltage_v) and bus_voltage_v > 0.0):
         raise InputError(f"--bus-voltage must be a positive number of volts, got {bus_voltage_v}")
     topic_map = load_topic_map(topics_path) if topics_path is not None else None
+    if pose_frame is not None:
+        check_pose_frame(pose_frame, "--pose-frame")
     logs = read_logs(log_paths, topic_map=topic_map, bus_voltage_v=bus_voltage_v)
+    if pose_frame is not None:
+        logs = [dataclasses.replace(lg, pose_frame=pose_frame) for lg in logs]
     if vehicle.endswith((".yaml", ".yml")) or Path(vehicle).is_file():  # a vehicle file
         d = diagnose(logs, load_vehicle(vehicle).params(terrain), terrain)
     else:
