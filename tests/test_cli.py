@@ -221,7 +221,13 @@ def test_diagnose_delegates_to_the_app_and_prints_its_lines(
         ["diagnose", str(log), "--vehicle", "pioneer-3at", "--json", "-", "--out", str(out_dir)]
     )
     assert code == 0
-    defaults = {"out_dir": out_dir, "topics_path": None, "bus_voltage_v": 24.0, "routes": None}
+    defaults = {
+        "out_dir": out_dir,
+        "topics_path": None,
+        "bus_voltage_v": 24.0,
+        "routes": None,
+        "pose_frame": None,  # each log says where its pose is
+    }
     assert calls == [([str(log)], "pioneer-3at", None, defaults)]
     # --json -: the JSON alone on stdout, the human lines on stderr
     captured = capsys.readouterr()
