@@ -46,6 +46,7 @@ from ecoplan.diagnose.effects import EffectData, eta_of, regenerated_w, robust_s
 from ecoplan.diagnose.effects.fitting import EFFECT_RIDGE, NONREGEN_COLUMN
 from ecoplan.diagnose.replay import LogLike
 from ecoplan.errors import InputError
+from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.logged_power import logged_power_w
 from ecoplan.models.tracked import TrackedParams
 from ecoplan.models.wheeled import WheeledParams
@@ -261,7 +262,7 @@ def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) ->
         vr = np.asarray(lg.v_right, dtype=np.float64)
         if w.shape != vl.shape or vl.shape != vr.shape or not np.all(np.isfinite(w)):
             continue
-        kin.append((vr - vl) / params.icr.spread_m)
+        kin.append(tracks_to_twist(vl, vr, params.icr).wz)
         gyro.append(w)
     if not kin:
         return

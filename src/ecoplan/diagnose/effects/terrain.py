@@ -672,8 +672,9 @@ class Slope(Effect):
     def _search(self, data: EffectData) -> Any:
         """Heading offset of every run [rad] when the heading is known only per run, else None.
 
-        ``((run, δ), ...)``: a plane per run fitted with the base (two columns per run);
-        ``δ_k`` is the angle of run ``k``'s plane minus the first run's.  A run whose plane
+        ``(runs, δ)``, sorted run indices and their offsets: a plane per run fitted with the
+        base (two columns per run); ``δ_k`` is the angle of run ``k``'s plane minus the first
+        run's.  A run whose plane
         is lost in the noise gets a random offset and adds little to the shared fit.
         """
         f = data.frame
@@ -685,7 +686,7 @@ class Slope(Effect):
         coef = fit_linear(data, np.column_stack([data.X, *per_run]))
         s = coef[data.X.shape[1] :].reshape(-1, 2)
         angle = np.arctan2(s[:, 1], s[:, 0])
-        return tuple((int(r), float(a - angle[0])) for r, a in zip(runs, angle, strict=True))
+        return runs, angle - angle[0]
 
     @staticmethod
     def _plane(data: EffectData, offset: FloatArray) -> FloatArray:
@@ -697,8 +698,11 @@ class Slope(Effect):
 
     def columns(self, data: EffectData, theta: Any) -> FloatArray:  # noqa: D102
         offset = np.zeros(data.frame.n)
-        for run, delta in theta or ():
-            offset[data.frame.run == run] = delta
+        if theta is not None:  # each sample's run's offset (a run the search saw none of: 0)
+            runs, delta = theta
+            at = np.minimum(np.searchsorted(runs, data.frame.run), runs.size - 1)
+            seen = runs[at] == data.frame.run
+            offset[seen] = delta[at[seen]]
         return self._plane(data, offset)
 
     def _name_params(self, data: EffectData, theta: Any, coef: FloatArray) -> dict[str, float]:
