@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import lsq_linear
 
@@ -136,6 +136,7 @@ def test_borealtc_flooring_calibration_is_physical_and_finite() -> None:
     k=st.integers(2, 7),
     ridge=st.sampled_from([0.0, 0.1]),
 )
+@example(seed=3890, n=77, k=3, ridge=0.1)  # the reference's 0 * inf warning (below)
 def test_the_bounded_fit_reaches_the_optimum_of_the_whole_problem(
     seed: int, n: int, k: int, ridge: float
 ) -> None:
@@ -156,7 +157,12 @@ def test_the_bounded_fit_reaches_the_optimum_of_the_whole_problem(
     w = np.sqrt(ridge * n / env.shape[0])
     a_full = np.vstack([X, w * env])
     b_full = np.concatenate([y, w * (env @ prior)])
-    ref = lsq_linear(a_full, b_full, bounds=(lower, upper), method="trf", tol=1e-12).x
+    # trf's reflective step multiplies by infinite bounds' distances (0 * inf) when a solution
+    # sits on a finite bound next to an unbounded one: a RuntimeWarning, not a wrong answer
+    # (seed 3890, n 77, k 3, ridge 0.1: the same cost as BVLS to the last digit)
+    with np.errstate(invalid="ignore"):
+        ref = lsq_linear(a_full, b_full, bounds=(lower, upper), method="trf", tol=1e-12).x
+    assert np.all(np.isfinite(ref))
     cost = float(np.sum((a_full @ x - b_full) ** 2))
     ref_cost = float(np.sum((a_full @ ref - b_full) ** 2))
     assert cost <= ref_cost * (1.0 + 1e-7) + 1e-9
