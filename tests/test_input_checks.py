@@ -49,18 +49,64 @@ def _still(lg: Log) -> Log:
         (lambda lg: R(lg, p_total=lg.p_total * 1000.0), r"'p_total'.*mW"),
         (lambda lg: R(lg, p_total=lg.p_total / 24.0), r"'p_total'.*currents in A"),
         (lambda lg: R(lg, t=lg.t * 1000.0), r"'t'.*milliseconds"),
+        (lambda lg: R(lg, t=lg.t * 1e6), r"'t'.*microseconds"),
+        (lambda lg: R(lg, t=lg.t * 1e9), r"'t'.*nanoseconds"),
         (lambda lg: R(lg, v_left=lg.v_left * 3.6, v_right=lg.v_right * 3.6), r"'v_\w+'.*km/h"),
         (_still, r"too little excitation"),
         (lambda lg: R(lg, wz=np.degrees(lg.wz)), r"'wz'.*degrees per second"),
         (lambda lg: R(lg, wz=-lg.wz), r"'wz'.*clockwise"),
+        (lambda lg: R(lg, p_total=-lg.p_total), r"'p_total'.*negative.*battery_current_sign"),
+        (lambda lg: R(lg, v_left=lg.v_right, v_right=lg.v_left), r"'wz'.*'v_left'.*swapped"),
     ],
-    ids=["kW", "mW", "amperes", "ms", "km/h", "no motion", "deg/s", "clockwise"],
+    ids=[
+        *("kW", "mW", "amperes", "ms", "us", "ns", "km/h", "no motion", "deg/s"),
+        *("clockwise", "sign", "sides swapped"),
+    ],
 )
 def test_wrong_units_and_no_motion_are_one_line_input_errors(change, match) -> None:  # type: ignore[no-untyped-def]
     logs = [change(lg) for lg in _session()]
     with pytest.raises(InputError, match=match) as info:
         diagnose(logs, "auriga-beta-narrow", "asphalt")
     assert "\n" not in str(info.value)
+
+
+def _braking_returns_power(lg: Log, share: float) -> Log:
+    # a regenerating drive: the lowest-power ``share`` of the samples in motion (the braking
+    # ones in this stand-in) are logged as power returned to the battery
+    moving = np.maximum(np.abs(lg.v_left), np.abs(lg.v_right)) > 0.1
+    cut = np.quantile(lg.p_total[moving], share)
+    p = np.where(moving & (lg.p_total <= cut), -np.abs(lg.p_total), lg.p_total)
+    return R(lg, p_total=p)
+
+
+@pytest.mark.parametrize("share", [0.4, 0.7])
+def test_power_returned_while_braking_is_not_a_sign_error(share: float) -> None:
+    # the sign check refuses power negative in most of the motion *and* falling where the
+    # vehicle draws more; a drive that regenerates for part of the motion -- even for most of
+    # it -- keeps its turns' peaks positive, and is diagnosed
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    logs = [_braking_returns_power(lg, share) for lg in _session()]
+    moving = np.concatenate([np.maximum(abs(lg.v_left), abs(lg.v_right)) > 0.1 for lg in logs])
+    negative = np.concatenate([lg.p_total < 0 for lg in logs])
+    assert share - 0.1 < np.mean(negative[moving]) <= share + 0.01
+    check_logs(logs, params)  # no InputError
+    flipped = [R(lg, p_total=-lg.p_total) for lg in logs]
+    if share < 0.5:  # its mirror image is negative in most of the motion, peaks turned troughs
+        with pytest.raises(InputError, match=r"'p_total' is negative.*falls where"):
+            check_logs(flipped, params)
+
+
+def test_a_log_too_short_for_the_split_says_how_long_it_is() -> None:
+    # 4 s at 100 Hz: 400 samples, but the split alternates blocks of at least 5 s, so all of
+    # them land on one side; the error gives the span and the counts, not "40 samples"
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    t = np.arange(400) / 100.0
+    vl, vr = 0.4 + 0.1 * np.sin(t), 0.4 - 0.2 * np.sin(t)
+    log = Log(t=t, v_left=vl, v_right=vr, p_total=np.asarray(params.power(vl, vr).total_w))
+    with pytest.raises(
+        InputError, match=r"too short.*: 4 s in column 't' gives 400 training and 0 held-out"
+    ):
+        diagnose([log], params)
 
 
 def test_a_log_of_another_vehicle_is_refused() -> None:

@@ -11,11 +11,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from ecoplan.diagnose.checks import check_logs
 from ecoplan.dynamics.log import Log, join_runs
 from ecoplan.errors import InputError, LogFormatError
 from ecoplan.io.logcsv import read_log_csv, write_log_csv
 from ecoplan.io.logs import read_logs
 from ecoplan.io.rosbag import FieldRef, TopicMap, read_rosbag
+from ecoplan.presets import vehicle
 
 BAD = Path(__file__).parent / "logs_bad"
 
@@ -23,6 +25,8 @@ BAD = Path(__file__).parent / "logs_bad"
 BAD_CASES: dict[str, tuple[str, ...]] = {
     "missing_p_total.csv": ("'p_total'", "line 1", "missing"),
     "foreign_header.csv": ("'t'", "'v_left'", "'p_total'", "missing"),
+    "semicolon_separated.csv": ("'p_total'", "missing", "separated by ';'", "comma-separated"),
+    "tab_separated.csv": ("'t'", "missing", "separated by tabs", "comma-separated"),
     "empty.csv": ("empty file",),
     "metadata_only.csv": ("empty file",),
     "header_only.csv": ("no data rows",),
@@ -419,6 +423,19 @@ def test_rosbag_round_trip_on_a_common_time_base(tmp_path: Path) -> None:
     assert log.wz is not None and np.allclose(log.wz, 0.2)
     assert any("voltage x current" in n for n in log.notes)
     assert len(truth["t"]) == 41
+
+
+def test_a_bag_read_with_the_wrong_current_sign_is_refused_by_the_diagnosis(
+    tmp_path: Path,
+) -> None:
+    # the bag's battery follows the ROS convention (current negative when discharging); read
+    # with the sign of a driver that publishes the drawn current positive, every power sample
+    # is negative: the diagnosis's input check names the column and the map's key
+    _write_bag(tmp_path / "bag")
+    log = read_rosbag(tmp_path / "bag", _topic_map(battery_current_sign=1.0))
+    assert np.all(log.p_total < 0)
+    with pytest.raises(InputError, match=r"'p_total' is negative.*battery_current_sign"):
+        check_logs([log], vehicle("pioneer-3at"))
 
 
 def test_rosbag_odometry_in_each_runs_own_frame_is_said_so(tmp_path: Path) -> None:

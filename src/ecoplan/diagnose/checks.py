@@ -7,13 +7,19 @@ any fitting, and raises :class:`~ecoplan.errors.InputError` with one line that n
 column and the likely unit:
 
 * ``t`` — a median sample step above :data:`MAX_STEP_S` (1 s) is a time in milliseconds
-  (20 Hz logged in ms has a step of 50);
+  (20 Hz logged in ms has a step of 50), microseconds or nanoseconds (ROS stamps), told
+  apart by the step's size;
 * ``v_left`` / ``v_right`` — speeds well above the vehicle's top side speed
   (``top_track_speed_mps``, tracked paper eq. 5) are km/h, wheel rad/s, or another vehicle;
 * ``p_total`` — the logged energy against the energy the named vehicle's model draws on the
   same measured side speeds: below ``1/MAX_ENERGY_RATIO`` it is kW (ratio ~1/1000),
   currents in A (ratio ~1/bus voltage) or a lighter vehicle, above ``MAX_ENERGY_RATIO`` mW
   or a heavier one;
+* ``p_total``'s sign — power negative in most of the samples in motion (more than
+  :data:`MAX_NEGATIVE_SHARE`) *and* falling where the named vehicle's model power rises is
+  signed as charge into the battery (a battery current negative when discharging, the ROS
+  ``BatteryState`` convention); a drive that regenerates while braking or descending returns
+  power without turning the turns' peaks into troughs;
 * excitation — the robot must move in at least :data:`MIN_MOVING_SHARE` of the samples
   (else an error: "too little excitation"); a log that turns in less than
   :data:`MIN_TURNING_SHARE` of them is diagnosed, but the summary says that turning effects
@@ -55,6 +61,7 @@ from ecoplan.presets import VehicleParams
 __all__ = [
     "ICR_OFFSET_SHARE",
     "MAX_ENERGY_RATIO",
+    "MAX_NEGATIVE_SHARE",
     "MAX_SPEED_RATIO",
     "MAX_STEP_S",
     "MIN_MOVING_SHARE",
@@ -69,6 +76,7 @@ __all__ = [
     "check_logs",
     "effect_resolution",
     "gaussian_mae_rise",
+    "sources",
 ]
 
 #: Fewest samples (over all logs) the split into training and held-out data needs.
@@ -82,6 +90,10 @@ MAX_SPEED_RATIO = 1.5
 #: beyond it the log is in other units or of another vehicle (a factor 5 leaves room for
 #: terrain: soft snow draws 3-4x the hard-floor power).
 MAX_ENERGY_RATIO = 5.0
+#: Largest share of the samples in motion whose logged power may be negative while it falls
+#: where the model's rises (a sign error); a regenerating drive braking or descending may
+#: exceed it with power that still rises in the turns (:func:`_check_sign`).
+MAX_NEGATIVE_SHARE = 0.5
 #: Share of the samples in which the robot must move (side speed above 5 % of top speed).
 MIN_MOVING_SHARE = 0.05
 #: Share of the samples in which the robot must turn (side-speed difference above 10 % of the
@@ -129,7 +141,8 @@ class InputSummary:
     excitation_notes: tuple[str, ...] = ()
 
 
-def _sources(logs: Sequence[LogLike]) -> str:
+def sources(logs: Sequence[LogLike]) -> str:
+    """How an error names the session: its log's source, or the first's and how many more."""
     names = [str(getattr(lg, "source", "<memory>")) for lg in logs]
     return names[0] if len(names) == 1 else f"{names[0]} (+{len(names) - 1} more logs)"
 
@@ -160,7 +173,7 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
     """
     if not logs:
         raise InputError("no logs given to diagnose")
-    src = _sources(logs)
+    src = sources(logs)
     n_total = sum(int(np.asarray(lg.t).size) for lg in logs)
     if n_total < MIN_SAMPLES:
         raise InputError(
@@ -174,8 +187,8 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
     if step > MAX_STEP_S:
         raise InputError(
             f"{src}: column 't' steps by {step:g} (median) between samples: "
-            f"{1.0 / step:.3g} Hz is too slow for a drive log; is the time in milliseconds? "
-            "(expected seconds)"
+            f"{1.0 / step:.3g} Hz is too slow for a drive log; is the time in "
+            f"{_time_unit(step)}? (expected seconds)"
         )
     vl, vr, p = _cat(logs, "v_left"), _cat(logs, "v_right"), _cat(logs, "p_total")
     dt = np.concatenate([_sample_dt(np.asarray(lg.t, dtype=np.float64)) for lg in logs])
@@ -209,6 +222,8 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"(above {0.05 * vtop:.2g} m/s) in {100 * moving_share:.1f} % of the samples "
             f"(need {100 * MIN_MOVING_SHARE:.0f} %); log a run that drives and turns"
         )
+    p_model = np.asarray(logged_power_w(params, vl, vr))  # what the log shows (power_log)
+    _check_sign(p[moving], p_model[moving], name, src)
     notes: list[str] = []
     if turning_share < MIN_TURNING_SHARE:
         notes.append(
@@ -217,7 +232,6 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"{100 * MIN_TURNING_SHARE:.0f} %); log turns of both directions"
         )
     _check_yaw_rate(logs, params, src)
-    p_model = logged_power_w(params, vl, vr)  # what the log shows (vehicle file: power_log)
     e_model = float(np.sum(np.abs(p_model) * dt))
     e_log = float(np.sum(np.abs(p) * dt))
     ratio = e_log / e_model if e_model > 0.0 else float("inf")
@@ -241,6 +255,38 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"{name} draws on these side speeds: {hint}, or a log of a lighter vehicle?"
         )
     return InputSummary(step, p99, ratio, moving_share, turning_share, tuple(notes))
+
+
+def _time_unit(step: float) -> str:
+    """The unit a drive log's median time step of ``step`` (> 1) is likely in.
+
+    Drive logs sample at 1-1000 Hz, so a step of 1-1000 is milliseconds, up to 10^6
+    microseconds, beyond it nanoseconds (ROS time stamps).
+    """
+    if step < 1e3:
+        return "milliseconds"
+    return "microseconds" if step < 1e6 else "nanoseconds (ROS stamps)"
+
+
+def _check_sign(p: FloatArray, p_model: FloatArray, name: str, src: str) -> None:
+    """Refuse a ``p_total`` signed as charge: negative in motion and falling where power rises.
+
+    ``p`` and ``p_model`` are the logged and the named vehicle's model power on the samples in
+    motion.  Both conditions must hold: power negative in more than
+    :data:`MAX_NEGATIVE_SHARE` of them, and a negative least-squares gain of ``p`` on
+    ``p_model`` (the log's turns and speed-ups draw *less*).  A regenerating drive braking, or
+    a descent, makes power negative without turning the turns' peaks into troughs.
+    """
+    negative_share = float(np.mean(p < 0.0))
+    gain = float(p @ p_model) / max(float(p_model @ p_model), 1e-300)
+    if negative_share > MAX_NEGATIVE_SHARE and gain < 0.0:
+        raise InputError(
+            f"{src}: column 'p_total' is negative in {100 * negative_share:.0f} % of the samples "
+            f"in motion and falls where {name} draws more (gain {gain:.2g} on its model power): "
+            "power signed as charge into the battery (a current negative when discharging)? "
+            "expected the power drawn, positive: negate the column (ROS 2 bag: the topic map's "
+            "battery_current_sign)"
+        )
 
 
 def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) -> None:
@@ -278,7 +324,8 @@ def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) ->
     if gain < MIN_YAW_GAIN:
         raise InputError(
             f"{src}: column 'wz' turns against the side speeds (gain {gain:.2g}): a clockwise "
-            "yaw rate? (expected REP-103: counter-clockwise, a left turn positive)"
+            "yaw rate, or columns 'v_left' and 'v_right' swapped? (expected REP-103: "
+            "counter-clockwise, a left turn positive; the left side slower in a left turn)"
         )
 
 

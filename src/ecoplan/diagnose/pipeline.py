@@ -47,7 +47,7 @@ import numpy as np
 from ecoplan._typing import BoolArray, FloatArray, RngLike
 from ecoplan.diagnose.attribute import split_masks
 from ecoplan.diagnose.calibrate import SETTLE_S, settling
-from ecoplan.diagnose.checks import check_logs, effect_resolution
+from ecoplan.diagnose.checks import check_logs, effect_resolution, sources
 from ecoplan.diagnose.effects.terrain import known_terrains, segmentation_models
 from ecoplan.diagnose.law_rival import calibrate_and_attribute, final_effect_name
 from ecoplan.diagnose.localise import (
@@ -295,8 +295,15 @@ def diagnose(
         split.test,
         split.stops,
     )
-    if np.count_nonzero(train_m) < 20 or np.count_nonzero(test_m) < 20:
-        raise InputError("log too short to diagnose: need at least 40 samples after the split")
+    n_train, n_test = int(np.count_nonzero(train_m)), int(np.count_nonzero(test_m))
+    if n_train < 20 or n_test < 20:
+        span = float(np.sum(frame.dt))
+        raise InputError(
+            f"{sources(log_list)}: log too short to "
+            f"diagnose: {span:.3g} s in column 't' gives {n_train} training and {n_test} "
+            "held-out samples in alternating time blocks of at least 5 s (need 20 each); "
+            "log at least 10 s of driving (or is 't' in minutes? expected seconds)"
+        )
     replay = replay_residuals(
         frame, params.power(frame.vl, frame.vr).total_w, params.accel_max_mps2
     )

@@ -149,8 +149,27 @@ def _canonical_header(names: list[str], where: str, notes: list[str]) -> list[st
         raise LogFormatError(
             f"{where}: missing required column(s) "
             f"{', '.join(repr(c) for c in missing)}; header is {', '.join(names)}"
+            f"{_separator_hint(names)}"
         )
     return header
+
+
+def _separator_hint(names: list[str]) -> str:
+    """Why a header misses columns when its one name splits at another separator into them.
+
+    A spreadsheet in a locale with a decimal comma exports ``;``-separated files; other
+    loggers write tabs.  The reader takes commas only (and ``.`` as the decimal point).
+    """
+    if len(names) != 1:
+        return ""
+    for sep, said in ((";", "';'"), ("\t", "tabs"), ("|", "'|'")):
+        parts = [ALIASES.get(c.strip(), c.strip()) for c in names[0].split(sep)]
+        if all(c in parts for c in REQUIRED_COLUMNS):
+            return (
+                f" -- separated by {said}: the log format is comma-separated, with '.' as the "
+                "decimal point"
+            )
+    return ""
 
 
 def _alias_names(names: list[str], col: str) -> str:
