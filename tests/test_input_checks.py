@@ -109,6 +109,24 @@ def test_a_log_too_short_for_the_split_says_how_long_it_is() -> None:
         diagnose([log], params)
 
 
+def _held(lg: Log, rows: int) -> Log:
+    # a merged log written at every row: the power meter's reading repeated until the next
+    return R(lg, p_total=lg.p_total[(np.arange(len(lg)) // rows) * rows])
+
+
+def test_power_held_between_readings_is_not_a_sensor_delay() -> None:
+    # power read every 4th row and repeated on the rows between (a merged CSV): taken for
+    # fresh samples, the repeats lag the speeds by up to 3 rows, which reads as sensor_delay;
+    # the diagnosis keeps the rows where a reading arrives and says so
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    clean = diagnose(list(_session()), params)
+    held = diagnose([_held(lg, 4) for lg in _session()], params)
+    assert clean.verdict == "none"
+    assert held.verdict == "none", held.verdict
+    assert any(n.startswith("p_total held") and "every 4 rows" in n for n in held.log_notes)
+    assert not any("p_total held" in n for n in clean.log_notes)
+
+
 def test_a_log_of_another_vehicle_is_refused() -> None:
     # a Pioneer 3-AT draws tens of watts where an Auriga-beta draws hundreds (wheeled paper
     # Fig. 6 vs tracked paper Fig. 7): more than MAX_ENERGY_RATIO apart

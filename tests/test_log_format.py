@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ecoplan.diagnose.checks import check_logs
-from ecoplan.dynamics.log import Log, join_runs
+from ecoplan.dynamics.log import Log, held_power, join_runs
 from ecoplan.errors import InputError, LogFormatError
 from ecoplan.io.logcsv import read_log_csv, write_log_csv
 from ecoplan.io.logs import read_logs
@@ -796,3 +796,41 @@ def test_joined_clock_is_increasing_and_each_run_starts_where_it_was_said(
     # within a run the clock keeps its spacing
     for (_, dt, n), i0 in zip(runs, np.cumsum([0] + [n for _, _, n in runs]), strict=False):
         np.testing.assert_allclose(np.diff(joined.t[i0 : i0 + n]), dt, rtol=1e-6, atol=1e-9)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    steps=st.lists(st.integers(1, 5), min_size=3, max_size=60),
+    rows=st.integers(2, 12),
+    offset=st.integers(0, 11),
+)
+def test_held_power_keeps_the_row_where_each_reading_arrives(
+    steps: list[int], rows: int, offset: int
+) -> None:
+    # a meter read every ``rows`` rows of a 100 Hz log (each reading differs from the one
+    # before), repeated until the next; the log starts ``offset`` rows into the first reading
+    readings = np.cumsum(np.array(steps, dtype=float))
+    skip = offset % rows
+    p = np.repeat(readings, rows)[skip:]
+    n = p.size
+    log = Log(t=np.arange(n) * 0.01, v_left=np.zeros(n), v_right=np.zeros(n), p_total=p)
+    fresh = held_power(log)
+    # by construction: row 0, then reading k arrives at row k * rows - skip
+    arrive = np.r_[0, np.arange(1, readings.size) * rows - skip]
+    np.testing.assert_array_equal(fresh.t, np.arange(n)[arrive] * 0.01)
+    np.testing.assert_array_equal(fresh.p_total, readings)
+    assert fresh.notes[-1].startswith(
+        f"p_total held: it repeats its previous value on {n - readings.size} of {n} rows"
+    )
+
+
+def test_a_quantised_meter_is_not_taken_for_held_power() -> None:
+    # a 1 W meter on a power that changes by a few W per row: values repeat on a share of the
+    # rows (here about a quarter), at random, not in runs: every row is a fresh reading
+    g = np.random.default_rng(3)
+    n = 2000
+    p = np.round(40.0 + np.cumsum(g.normal(0.0, 0.8, n)))
+    log = Log(t=np.arange(n) * 0.05, v_left=np.ones(n), v_right=np.ones(n), p_total=p)
+    repeats = float(np.mean(p[1:] == p[:-1]))
+    assert 0.15 < repeats < 0.5
+    assert held_power(log) is log

@@ -78,6 +78,7 @@ __all__ = [
     "check_pose_frame",
     "check_power_sampling",
     "check_values",
+    "held_power",
     "join_runs",
 ]
 
@@ -445,6 +446,44 @@ class Log:
     def with_notes(self, *notes: str) -> Log:
         """A copy with more notes appended."""
         return dataclasses.replace(self, notes=(*self.notes, *notes))
+
+
+def held_power(log: Log) -> Log:
+    """The rows of ``log`` that carry a fresh power reading, when ``p_total`` was held.
+
+    A logger that writes a row whenever any stream updates (a merged CSV, PlotJuggler's
+    export) repeats the slower stream's last value until its next message: a power meter at
+    5 Hz in a 20 Hz log shows each reading on four rows.  Read as fresh samples, the repeats
+    lag the speeds by up to one power interval, which a diagnosis takes for a sensor delay.
+    ``p_total`` is taken for held when the median length of its runs of equal consecutive
+    values is at least 2 (more than half the runs repeat; a quantised meter repeats on a few
+    rows, mostly at rest, and keeps a median of 1); the log then keeps the first row of every
+    run (the row at which the reading arrived), with a note.  A log whose power is not held,
+    or that would keep fewer than 2 rows, is returned as it is.  With ``power_sampling:
+    interval_mean`` a kept reading stands for the interval since the one before (an energy
+    counter read at its own rate), which is what the kept rows' time steps then say.
+
+    >>> import numpy as np
+    >>> p = np.repeat([10.0, 12.0, 11.0, 15.0], 4)  # 4 rows per reading
+    >>> log = Log(t=np.arange(16) * 0.05, v_left=np.ones(16), v_right=np.ones(16), p_total=p)
+    >>> fresh = held_power(log)
+    >>> fresh.t.tolist(), fresh.p_total.tolist()
+    ([0.0, 0.2, 0.4, 0.6000000000000001], [10.0, 12.0, 11.0, 15.0])
+    """
+    p = log.p_total
+    fresh = np.ones(p.size, dtype=np.bool_)
+    fresh[1:] = p[1:] != p[:-1]
+    starts = np.flatnonzero(fresh)
+    runs = np.diff(np.append(starts, p.size))
+    if starts.size < 2 or float(np.median(runs)) < 2.0:
+        return log
+    period = float(np.median(np.diff(log.t[starts])))
+    note = (
+        f"p_total held: it repeats its previous value on {p.size - starts.size} of {p.size} "
+        f"rows (a reading every {float(np.median(runs)):g} rows, about {period:.3g} s); only "
+        f"the {starts.size} rows where a reading arrives are used"
+    )
+    return log.slice(fresh).with_notes(note)
 
 
 def join_runs(
