@@ -109,9 +109,10 @@ def test_a_log_too_short_for_the_split_says_how_long_it_is() -> None:
         diagnose([log], params)
 
 
-def _held(lg: Log, rows: int) -> Log:
-    # a merged log written at every row: the power meter's reading repeated until the next
-    return R(lg, p_total=lg.p_total[(np.arange(len(lg)) // rows) * rows])
+def _held(lg: Log, rows: int, columns: tuple[str, ...] = ("p_total",)) -> Log:
+    # a merged log written at every row: a stream's reading repeated until the next
+    idx = (np.arange(len(lg)) // rows) * rows
+    return R(lg, **{c: getattr(lg, c)[idx] for c in columns})
 
 
 def test_power_held_between_readings_is_not_a_sensor_delay() -> None:
@@ -125,6 +126,15 @@ def test_power_held_between_readings_is_not_a_sensor_delay() -> None:
     assert held.verdict == "none", held.verdict
     assert any(n.startswith("p_total held") and "every 4 rows" in n for n in held.log_notes)
     assert not any("p_total held" in n for n in clean.log_notes)
+
+
+def test_side_speeds_held_between_readings_are_not_an_actuator_lag() -> None:
+    # the encoders' driver at a quarter of the log's rate: taken for fresh samples, the
+    # repeated speeds trail the commands, which reads as actuator_lag
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    held = diagnose([_held(lg, 4, ("v_left", "v_right")) for lg in _session()], params)
+    assert held.verdict == "none", held.verdict
+    assert any(n.startswith("v_left and v_right held") for n in held.log_notes)
 
 
 def test_a_log_of_another_vehicle_is_refused() -> None:

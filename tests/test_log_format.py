@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from ecoplan.diagnose.checks import check_logs
-from ecoplan.dynamics.log import Log, held_power, join_runs
+from ecoplan.dynamics.log import Log, fresh_readings, join_runs
 from ecoplan.errors import InputError, LogFormatError
 from ecoplan.io.logcsv import read_log_csv, write_log_csv
 from ecoplan.io.logs import read_logs
@@ -804,7 +804,7 @@ def test_joined_clock_is_increasing_and_each_run_starts_where_it_was_said(
     rows=st.integers(2, 12),
     offset=st.integers(0, 11),
 )
-def test_held_power_keeps_the_row_where_each_reading_arrives(
+def test_fresh_readings_keeps_the_row_where_each_reading_arrives(
     steps: list[int], rows: int, offset: int
 ) -> None:
     # a meter read every ``rows`` rows of a 100 Hz log (each reading differs from the one
@@ -814,17 +814,15 @@ def test_held_power_keeps_the_row_where_each_reading_arrives(
     p = np.repeat(readings, rows)[skip:]
     n = p.size
     log = Log(t=np.arange(n) * 0.01, v_left=np.zeros(n), v_right=np.zeros(n), p_total=p)
-    fresh = held_power(log)
+    fresh = fresh_readings(log)
     # by construction: row 0, then reading k arrives at row k * rows - skip
     arrive = np.r_[0, np.arange(1, readings.size) * rows - skip]
     np.testing.assert_array_equal(fresh.t, np.arange(n)[arrive] * 0.01)
     np.testing.assert_array_equal(fresh.p_total, readings)
-    assert fresh.notes[-1].startswith(
-        f"p_total held: it repeats its previous value on {n - readings.size} of {n} rows"
-    )
+    assert fresh.notes[-1].startswith(f"p_total held: repeated on {n - readings.size} of {n} rows")
 
 
-def test_a_quantised_meter_is_not_taken_for_held_power() -> None:
+def test_a_quantised_meter_is_not_taken_for_fresh_readings() -> None:
     # a 1 W meter on a power that changes by a few W per row: values repeat on a share of the
     # rows (here about a quarter), at random, not in runs: every row is a fresh reading
     g = np.random.default_rng(3)
@@ -833,4 +831,11 @@ def test_a_quantised_meter_is_not_taken_for_held_power() -> None:
     log = Log(t=np.arange(n) * 0.05, v_left=np.ones(n), v_right=np.ones(n), p_total=p)
     repeats = float(np.mean(p[1:] == p[:-1]))
     assert 0.15 < repeats < 0.5
-    assert held_power(log) is log
+    assert fresh_readings(log) is log
+    # a drive of constant-speed legs (noise-free encoders, a simulator): plateaus of every
+    # length, not readings at a steady rate
+    legs = g.integers(5, 200, size=30)
+    v = np.repeat(g.uniform(0.1, 0.5, size=legs.size), legs)
+    m = v.size
+    plateaus = Log(t=np.arange(m) * 0.05, v_left=v, v_right=v, p_total=g.normal(50.0, 5.0, m))
+    assert fresh_readings(plateaus) is plateaus

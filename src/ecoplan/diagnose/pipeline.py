@@ -66,7 +66,7 @@ from ecoplan.diagnose.replay import (
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import block_bootstrap
 from ecoplan.diagnose.where_time import TimeSegment, label_segments, where_time
-from ecoplan.dynamics.log import Log, held_power
+from ecoplan.dynamics.log import Log, fresh_readings
 from ecoplan.errors import InputError
 from ecoplan.models.logged_power import logged_power_w
 from ecoplan.models.wheeled import WheeledParams
@@ -288,8 +288,8 @@ def diagnose(
         name = params.source.name if params.source is not None else params.name
     log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item]
     checked = check_logs(log_list, params)
-    # a power reading repeated on the rows until the next one lags the speeds: fresh rows only
-    log_list = [held_power(lg) if isinstance(lg, Log) else lg for lg in log_list]
+    # a reading repeated on the rows until the next lags the other columns: fresh rows only
+    log_list = [fresh_readings(lg) if isinstance(lg, Log) else lg for lg in log_list]
     split = diagnosis_split(log_list, params, block_s)
     params, frame, train_m, test_m, stops = (
         split.params,

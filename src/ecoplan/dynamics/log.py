@@ -64,6 +64,8 @@ __all__ = [
     "ALIASES",
     "COLUMNS",
     "FLOAT_COLUMNS",
+    "HELD_REGULARITY",
+    "HELD_STREAMS",
     "MAX_PLAUSIBLE_SPEED_MPS",
     "OPTIONAL_COLUMNS",
     "OPTIONAL_FLOAT_COLUMNS",
@@ -78,7 +80,7 @@ __all__ = [
     "check_pose_frame",
     "check_power_sampling",
     "check_values",
-    "held_power",
+    "fresh_readings",
     "join_runs",
 ]
 
@@ -448,40 +450,71 @@ class Log:
         return dataclasses.replace(self, notes=(*self.notes, *notes))
 
 
-def held_power(log: Log) -> Log:
-    """The rows of ``log`` that carry a fresh power reading, when ``p_total`` was held.
+#: The measured streams a logger may repeat between readings, each read together:
+#: ``p_total``, and the two side speeds (one encoder driver).
+HELD_STREAMS: tuple[tuple[str, ...], ...] = (("p_total",), ("v_left", "v_right"))
+#: Share of a stream's inner runs of equal values that must be within one row (or 10 %) of
+#: their median length for the stream to count as held: readings arrive at a steady rate.
+HELD_REGULARITY = 0.8
+
+
+def _arrivals(values: Sequence[FloatArray]) -> tuple[BoolArray, float]:
+    """Rows where any of ``values`` changes (row 0 included), and the held run length (0: not held).
+
+    Held: the median run of unchanged rows is at least 2 and at least
+    :data:`HELD_REGULARITY` of the runs between the first and the last (which the log's ends
+    cut) are within ``max(1, 0.1 median)`` rows of the median.  A speed plateau or a
+    quantised meter repeats on runs of every length, or on few rows.
+    """
+    n = values[0].size
+    fresh = np.ones(n, dtype=np.bool_)
+    fresh[1:] = np.any([v[1:] != v[:-1] for v in values], axis=0)
+    runs = np.diff(np.append(np.flatnonzero(fresh), n))
+    inner = runs[1:-1]
+    if inner.size == 0:
+        return fresh, 0.0
+    median = float(np.median(runs))
+    steady = float(np.mean(np.abs(inner - median) <= max(1.0, 0.1 * median)))
+    return fresh, (median if median >= 2.0 and steady >= HELD_REGULARITY else 0.0)
+
+
+def fresh_readings(log: Log) -> Log:
+    """The rows of ``log`` at which a held stream's reading arrives (``log`` when none is held).
 
     A logger that writes a row whenever any stream updates (a merged CSV, PlotJuggler's
-    export) repeats the slower stream's last value until its next message: a power meter at
+    export) repeats a slower stream's last value until its next message: a power meter at
     5 Hz in a 20 Hz log shows each reading on four rows.  Read as fresh samples, the repeats
-    lag the speeds by up to one power interval, which a diagnosis takes for a sensor delay.
-    ``p_total`` is taken for held when the median length of its runs of equal consecutive
-    values is at least 2 (more than half the runs repeat; a quantised meter repeats on a few
-    rows, mostly at rest, and keeps a median of 1); the log then keeps the first row of every
-    run (the row at which the reading arrived), with a note.  A log whose power is not held,
-    or that would keep fewer than 2 rows, is returned as it is.  With ``power_sampling:
-    interval_mean`` a kept reading stands for the interval since the one before (an energy
-    counter read at its own rate), which is what the kept rows' time steps then say.
+    lag the other columns by up to one reading interval, which a diagnosis takes for a
+    ``sensor_delay`` (held power) or an ``actuator_lag`` (held speeds).  A stream of
+    :data:`HELD_STREAMS` is held when its readings repeat on runs of a steady length of at
+    least 2 rows (:func:`_arrivals`).  The log then keeps the rows at which the slowest held
+    stream's readings arrive, with a note; a faster held stream is then at most one of its
+    own intervals old.  With ``power_sampling: interval_mean`` a kept reading stands for the
+    interval since the one before (an energy counter read at its own rate), which is what the
+    kept rows' time steps then say.
 
     >>> import numpy as np
     >>> p = np.repeat([10.0, 12.0, 11.0, 15.0], 4)  # 4 rows per reading
     >>> log = Log(t=np.arange(16) * 0.05, v_left=np.ones(16), v_right=np.ones(16), p_total=p)
-    >>> fresh = held_power(log)
+    >>> fresh = fresh_readings(log)
     >>> fresh.t.tolist(), fresh.p_total.tolist()
     ([0.0, 0.2, 0.4, 0.6000000000000001], [10.0, 12.0, 11.0, 15.0])
     """
-    p = log.p_total
-    fresh = np.ones(p.size, dtype=np.bool_)
-    fresh[1:] = p[1:] != p[:-1]
-    starts = np.flatnonzero(fresh)
-    runs = np.diff(np.append(starts, p.size))
-    if starts.size < 2 or float(np.median(runs)) < 2.0:
+    best: tuple[float, BoolArray, tuple[str, ...]] | None = None
+    for names in HELD_STREAMS:
+        fresh, run = _arrivals([np.asarray(getattr(log, c)) for c in names])
+        if run > 0.0 and (best is None or run > best[0]):
+            best = (run, fresh, names)
+    if best is None or int(best[1].sum()) < 2:
         return log
-    period = float(np.median(np.diff(log.t[starts])))
+    run, fresh, names = best
+    kept = int(fresh.sum())
+    period = float(np.median(np.diff(log.t[fresh])))
+    cols = " and ".join(names)
     note = (
-        f"p_total held: it repeats its previous value on {p.size - starts.size} of {p.size} "
-        f"rows (a reading every {float(np.median(runs)):g} rows, about {period:.3g} s); only "
-        f"the {starts.size} rows where a reading arrives are used"
+        f"{cols} held: repeated on {len(log) - kept} of {len(log)} rows (a reading every "
+        f"{run:g} rows, about {period:.3g} s); only the {kept} rows where a reading arrives "
+        "are used"
     )
     return log.slice(fresh).with_notes(note)
 
