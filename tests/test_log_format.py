@@ -386,6 +386,16 @@ def _write_bag(path: Path, *, battery_nan_at: int | None = None) -> dict[str, np
             t = 0.2 * k
             cmd = T["std_msgs/msg/Float64MultiArray"](layout, np.array([0.25, 0.3 + 0.01 * t]))
             w.write(c_cmd, stamp_ns(t), ts.serialize_cdr(cmd, cmd.__msgtype__))
+        # a velocity command (cmd_vel) at 10 Hz, stamped and plain: v = 0.3 m/s, w = 0.2 + 0.1 t
+        c_tw = w.add_connection("/cmd_vel", "geometry_msgs/msg/TwistStamped", typestore=ts)
+        c_tp = w.add_connection("/cmd_vel_plain", "geometry_msgs/msg/Twist", typestore=ts)
+        v3 = T["geometry_msgs/msg/Vector3"]
+        for k in range(41):
+            t = 0.1 * k
+            twist = T["geometry_msgs/msg/Twist"](v3(0.3, 0.0, 0.0), v3(0.0, 0.0, 0.2 + 0.1 * t))
+            stamped = T["geometry_msgs/msg/TwistStamped"](header(t), twist)
+            w.write(c_tw, stamp_ns(t), ts.serialize_cdr(stamped, stamped.__msgtype__))
+            w.write(c_tp, stamp_ns(t), ts.serialize_cdr(twist, twist.__msgtype__))
     return {k: np.array(v) for k, v in truth.items()}
 
 
@@ -436,6 +446,23 @@ def test_a_bag_read_with_the_wrong_current_sign_is_refused_by_the_diagnosis(
     assert np.all(log.p_total < 0)
     with pytest.raises(InputError, match=r"'p_total' is negative.*battery_current_sign"):
         check_logs([log], vehicle("pioneer-3at"))
+
+
+@pytest.mark.parametrize("topic", ["/cmd_vel", "/cmd_vel_plain"])
+def test_rosbag_side_commands_from_a_velocity_command(tmp_path: Path, topic: str) -> None:
+    # a differential-drive controller sends v -+ w s / 2 to the sides (s = 0.5 m here)
+    _write_bag(tmp_path / "bag")
+    tmap = TopicMap.joint_states(
+        "/joint_states", "left_wheel", "right_wheel", 0.1, battery_topic="/battery",
+        cmd_vel_topic=topic, cmd_separation_m=0.5,
+    )  # fmt: skip
+    log = read_rosbag(tmp_path / "bag", tmap)
+    t_abs = 0.005 + log.t
+    w = 0.2 + 0.1 * t_abs
+    assert log.v_left_cmd is not None and log.v_right_cmd is not None
+    np.testing.assert_allclose(log.v_left_cmd, 0.3 - 0.25 * w, atol=1e-9)
+    np.testing.assert_allclose(log.v_right_cmd, 0.3 + 0.25 * w, atol=1e-9)
+    assert any(topic in n and "0.5 m" in n for n in log.notes)
 
 
 def test_rosbag_odometry_in_each_runs_own_frame_is_said_so(tmp_path: Path) -> None:
@@ -588,6 +615,13 @@ def test_read_logs_dispatches_bags_with_a_topic_map_file(tmp_path: Path) -> None
         ("v_left: /a\nv_right: /b\npower: /p\nbattery_current_sign: 2\n", "accepted: -1, 1"),
         ("v_left: [1, 2]\nv_right: /b\npower: /p\n", "v_left: expected a topic name"),
         ("v_left: /a\nv_right: /b\n", "exactly one of 'power' and 'battery_topic'"),
+        ("v_left: /a\nv_right: /b\npower: /p\ncmd_vel_topic: /c\n", "'cmd_separation_m'"),
+        (
+            "v_left: /a\nv_right: /b\npower: /p\ncmd_vel_topic: /c\ncmd_separation_m: 0.5\n"
+            "v_left_cmd: /l\nv_right_cmd: /r\n",
+            "'cmd_vel_topic' or 'v_left_cmd' and 'v_right_cmd', not both",
+        ),
+        ("v_left: /a\nv_right: /b\npower: /p\ncmd_separation_m: -1\n", "cmd_separation_m"),
         ("- just\n- a list\n", "must be a mapping"),
         ("v_left: {topic: /a\n", "invalid YAML"),
     ],
@@ -688,6 +722,7 @@ def test_extra_columns_are_written_after_the_format_and_ignored_on_reading(
 _MAP_KEYS = (
     *("v_left", "v_right", "power", "battery_topic", "battery_current_sign", "rate_hz"),
     *("p_offset_w", "v_left_cmd", "v_right_cmd", "odom_topic", "wz", "speed"),
+    *("cmd_vel_topic", "cmd_separation_m"),
 )
 _MAP_VALUES = st.one_of(
     st.none(),
@@ -729,6 +764,8 @@ def test_any_topic_map_gives_a_map_or_one_line(data: dict[str, Any]) -> None:
             assert tmap.rate_hz is None or 0.0 < tmap.rate_hz <= 10000.0
             assert isinstance(tmap.v_left, FieldRef) and tmap.v_left.topic
             assert math.isfinite(tmap.p_offset_w) and math.isfinite(tmap.v_left.scale)
+            assert (tmap.cmd_vel_topic is None) == (tmap.cmd_separation_m is None)
+            assert tmap.cmd_vel_topic is None or tmap.v_left_cmd is None
 
 
 def _run(t0: float, dt: float, n: int, *, pose: bool = True, wz: bool = True, **kw: Any) -> Log:

@@ -90,6 +90,8 @@ class _TopicMapSchema(BaseModel):
     p_offset_w: float = 0.0
     v_left_cmd: FieldRef | None = None
     v_right_cmd: FieldRef | None = None
+    cmd_vel_topic: str | None = Field(default=None, min_length=1)
+    cmd_separation_m: float | None = Field(default=None, gt=0.0, le=100.0)
     odom_topic: str | None = Field(default=None, min_length=1)
     wz: FieldRef | None = None
     rate_hz: float | None = Field(default=None, gt=0.0, le=10000.0)
@@ -116,6 +118,13 @@ class _TopicMapSchema(BaseModel):
             raise ValueError("needs exactly one of 'power' and 'battery_topic'")
         if (self.v_left_cmd is None) != (self.v_right_cmd is None):
             raise ValueError("needs both 'v_left_cmd' and 'v_right_cmd' or neither")
+        if self.cmd_vel_topic is not None and self.v_left_cmd is not None:
+            raise ValueError("needs 'cmd_vel_topic' or 'v_left_cmd' and 'v_right_cmd', not both")
+        if (self.cmd_vel_topic is None) != (self.cmd_separation_m is None):
+            raise ValueError(
+                "needs both 'cmd_vel_topic' and 'cmd_separation_m' (the separation the drive "
+                "controller divides the angular command by) or neither"
+            )
         if self.battery_current_sign not in (-1.0, 1.0):
             raise ValueError(
                 f"battery_current_sign = {self.battery_current_sign!r}; accepted: -1, 1"
@@ -145,6 +154,14 @@ class TopicMap(_TopicMapSchema):
         Power of non-locomotion loads subtracted from the battery power [W].
     v_left_cmd, v_right_cmd : FieldRef, optional
         Commanded side speeds (m/s after ``scale``); both or neither.
+    cmd_vel_topic : str, optional
+        A ``geometry_msgs/Twist`` or ``TwistStamped`` command topic (``cmd_vel``), instead of
+        ``v_left_cmd`` / ``v_right_cmd``: the side commands are ``v -+ w s / 2`` from its
+        ``linear.x`` and ``angular.z``, as a differential-drive controller splits them.
+    cmd_separation_m : float, optional
+        ``s`` above [m], with ``cmd_vel_topic``: the separation the robot's drive controller
+        divides the angular command by (ROS ``diff_drive_controller``: ``wheel_separation``
+        times ``wheel_separation_multiplier``), not the vehicle's track gauge or ICR spread.
     odom_topic : str, optional
         A ``nav_msgs/Odometry`` topic: ``x``, ``y``, ``yaw`` (from the quaternion) and
         ``wz`` (``twist.twist.angular.z``).
@@ -344,6 +361,11 @@ def _extractors(topics: TopicMap) -> _Extractors:
     if topics.v_left_cmd is not None and topics.v_right_cmd is not None:
         add("v_left_cmd", topics.v_left_cmd.topic, _ref_value(topics.v_left_cmd))
         add("v_right_cmd", topics.v_right_cmd.topic, _ref_value(topics.v_right_cmd))
+    if topics.cmd_vel_topic is not None and topics.cmd_separation_m is not None:
+        half = 0.5 * topics.cmd_separation_m
+        c = topics.cmd_vel_topic
+        add("v_left_cmd", c, lambda m: _twist(m).linear.x - half * _twist(m).angular.z)
+        add("v_right_cmd", c, lambda m: _twist(m).linear.x + half * _twist(m).angular.z)
     if topics.odom_topic is not None:
         o = topics.odom_topic
         add("x", o, lambda m: m.pose.pose.position.x)
@@ -354,6 +376,11 @@ def _extractors(topics: TopicMap) -> _Extractors:
     if topics.wz is not None:
         add("wz", topics.wz.topic, _ref_value(topics.wz))
     return out
+
+
+def _twist(msg: Any) -> Any:
+    """The ``Twist`` of a ``geometry_msgs/Twist`` or ``TwistStamped`` message."""
+    return msg.twist if hasattr(msg, "twist") else msg
 
 
 def _read_series(
@@ -468,6 +495,11 @@ def _resample(
         notes.append(
             "p_total: each message the mean power over the interval before it (power_sampling: "
             "interval_mean), stamped half the median interval earlier before resampling"
+        )
+    if topics.cmd_vel_topic is not None:
+        notes.append(
+            f"v_left_cmd, v_right_cmd = linear.x -+ angular.z x {topics.cmd_separation_m:g} m / 2 "
+            f"of {topics.cmd_vel_topic} (the drive controller's separation, cmd_separation_m)"
         )
     if topics.battery_topic is not None:
         notes.append(
