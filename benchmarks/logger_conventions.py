@@ -1,0 +1,259 @@
+"""The zoo's logs as field loggers write them: does the diagnosis hold? (issue 12, item 3).
+
+``plant_zoo_diagnosis.py`` diagnoses the zoo's logs as the zoo writes them: one file per
+case, one world frame for the pose, every column fresh at every row.  Field logs are
+seldom like that.  This benchmark rewrites each zoo case the way a logger, an export or an
+operator would, with numpy on the zoo's own columns (nothing of ecoplan's is used to make
+them), reads the files with the library's CSV reader and diagnoses them:
+
+``as_logged``
+    The zoo's file, unchanged (the reference).
+``power_held``
+    ``p_total`` repeated over 4 rows (a 5 Hz meter in the 20 Hz rows of an export that
+    writes a row whenever any stream updates); the export carries no ``power_sampling`` line.
+``speeds_held``
+    ``v_left`` and ``v_right`` repeated over 4 rows (an encoder driver at 5 Hz), likewise.
+``runs_no_pose``
+    Cut into three files (runs) at 60 s and 120 s, ``x``, ``y``, ``yaw`` removed: the heading
+    is known only per run, from ``wz``.
+``runs_odom``
+    Cut likewise, each run's pose re-expressed in the frame it started in (odometry restarted
+    with every launch) and declared ``# pose_frame: run``.
+``sign_flipped``
+    ``p_total`` negated (a battery current signed negative when discharging): right is a
+    refusal naming ``p_total``.
+
+A verdict is right as in ``plant_zoo_diagnosis.py`` (the injected effect, ``none``, or
+``unexplained`` for the out-of-library effects).  Per transform it prints the right share,
+how many verdicts reached confidence 0.9 and how many of those are wrong, and how many
+verdicts equal the ``as_logged`` one; per-case rows go to
+``reports/logger_conventions/results.csv``, the files to ``reports/logger_conventions/logs/``.
+The held-out variants (c, d, g) are refused, like ``gap_split.py``: this benchmark is for
+finding what to fix.
+
+Usage::
+
+    PYTHONPATH=src .venv/bin/python benchmarks/logger_conventions.py --jobs 2
+    PYTHONPATH=src .venv/bin/python benchmarks/logger_conventions.py --variants a,f --seeds 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import os
+import sys
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+from typing import Any
+
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import plant_zoo  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+HELD_OUT = {"c", "d", "g"}
+#: Rows a held stream repeats each reading over (5 Hz readings in the zoo's 20 Hz rows).
+HOLD_ROWS = 4
+#: Where the zoo's 180 s runs are cut into three files [s].
+CUTS_S = (60.0, 120.0)
+
+Columns = dict[str, np.ndarray]
+Meta = dict[str, str]
+Files = list[tuple[Columns, Meta]]
+
+
+def _hold(cols: Columns, names: tuple[str, ...]) -> Columns:
+    idx = (np.arange(cols["t"].size) // HOLD_ROWS) * HOLD_ROWS
+    return {k: (v[idx] if k in names else v) for k, v in cols.items()}
+
+
+def _no_sampling(meta: Meta) -> Meta:
+    return {k: v for k, v in meta.items() if k != "power_sampling"}
+
+
+def _cut(cols: Columns, meta: Meta) -> Files:
+    edges = (-np.inf, *CUTS_S, np.inf)
+    out: Files = []
+    for k in range(len(edges) - 1):
+        m = (cols["t"] >= edges[k]) & (cols["t"] < edges[k + 1])
+        run_meta = {**meta, "run_id": f"{meta.get('run_id', 'run')}-r{k}"}
+        out.append(({c: v[m] for c, v in cols.items()}, run_meta))
+    return out
+
+
+def _own_frame(cols: Columns) -> Columns:
+    """The pose rotated and moved into the frame of the run's first sample."""
+    x, y, yaw = cols["x"], cols["y"], cols["yaw"]
+    c, s = np.cos(yaw[0]), np.sin(yaw[0])
+    dx, dy = x - x[0], y - y[0]
+    yaw_r = np.arctan2(np.sin(yaw - yaw[0]), np.cos(yaw - yaw[0]))
+    return {**cols, "x": c * dx + s * dy, "y": -s * dx + c * dy, "yaw": yaw_r}
+
+
+def _as_logged(cols: Columns, meta: Meta) -> Files:
+    return [(cols, meta)]
+
+
+def _power_held(cols: Columns, meta: Meta) -> Files:
+    return [(_hold(cols, ("p_total",)), _no_sampling(meta))]
+
+
+def _speeds_held(cols: Columns, meta: Meta) -> Files:
+    return [(_hold(cols, ("v_left", "v_right")), _no_sampling(meta))]
+
+
+def _runs_no_pose(cols: Columns, meta: Meta) -> Files:
+    bare = {k: v for k, v in cols.items() if k not in ("x", "y", "yaw")}
+    return _cut(bare, meta)
+
+
+def _runs_odom(cols: Columns, meta: Meta) -> Files:
+    return [(_own_frame(c), {**m, "pose_frame": "run"}) for c, m in _cut(cols, meta)]
+
+
+def _sign_flipped(cols: Columns, meta: Meta) -> Files:
+    return [({**cols, "p_total": -cols["p_total"]}, meta)]
+
+
+TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
+    "as_logged": _as_logged,
+    "power_held": _power_held,
+    "speeds_held": _speeds_held,
+    "runs_no_pose": _runs_no_pose,
+    "runs_odom": _runs_odom,
+    "sign_flipped": _sign_flipped,
+}
+
+
+def _write(cols: Columns, meta: Meta, path: Path) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    names = list(cols)
+    header = "".join(f"# {k}: {v}\n" for k, v in meta.items()) + ",".join(names)
+    data = np.column_stack([cols[k] for k in names])
+    np.savetxt(path, data, delimiter=",", header=header, comments="", fmt="%.6g")
+    return path
+
+
+def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
+    """Diagnose one zoo case rewritten by one transform; the row of the results table."""
+    variant, effect, seed, transform, out = args
+    from ecoplan.diagnose.pipeline import diagnose
+    from ecoplan.errors import EcoplanError
+    from ecoplan.io.logcsv import read_log_csv
+
+    case = plant_zoo.make_case(variant, effect, seed)
+    files = TRANSFORMS[transform](dict(case.columns), dict(case.meta))
+    folder = Path(out) / "logs" / transform
+    paths = [
+        _write(c, m, folder / f"{variant}-{effect}-s{seed}-r{k}.csv")
+        for k, (c, m) in enumerate(files)
+    ]
+    row: dict[str, Any] = {
+        "variant": variant,
+        "effect": effect,
+        "seed": seed,
+        "transform": transform,
+        "expected": "refused" if transform == "sign_flipped" else case.expected,
+        "verdict": "",
+        "confidence": float("nan"),
+        "error": "",
+    }
+    try:
+        d = diagnose([read_log_csv(p) for p in paths], case.vehicle, case.terrain, rng=seed)
+    except EcoplanError as exc:
+        row["verdict"] = "refused"
+        row["error"] = str(exc).splitlines()[0]
+    except Exception as exc:  # counted and listed, never hidden
+        row["verdict"] = "crash"
+        row["error"] = f"{type(exc).__name__}: {exc}"
+    else:
+        row["verdict"] = d.verdict
+        row["confidence"] = float(d.attribution.confidence)
+    right = row["verdict"] == row["expected"]
+    if transform == "sign_flipped":
+        right = right and "'p_total'" in row["error"] and "\n" not in row["error"]
+    row["right"] = right
+    return row
+
+
+def summarise(rows: list[dict[str, Any]]) -> None:
+    """Per transform: right, confident verdicts and confident wrong ones, same as as_logged."""
+    ref = {(r["variant"], r["effect"], r["seed"]): r["verdict"] for r in rows
+           if r["transform"] == "as_logged"}  # fmt: skip
+    print(
+        f"{'transform':14s} {'right':>12s}  {'conf >= 0.9: verdicts / wrong':>30s}  "
+        f"{'same verdict as as_logged':>26s}  crashes"
+    )
+    for name in TRANSFORMS:
+        sub = [r for r in rows if r["transform"] == name]
+        if not sub:
+            continue
+        right = sum(bool(r["right"]) for r in sub)
+        conf = [r for r in sub if r["confidence"] >= 0.9]
+        wrong = sum(not r["right"] for r in conf)
+        keyed = [r for r in sub if (r["variant"], r["effect"], r["seed"]) in ref]
+        same = sum(r["verdict"] == ref[(r["variant"], r["effect"], r["seed"])] for r in keyed)
+        crashes = sum(r["verdict"] == "crash" for r in sub)
+        same_s = f"{same}/{len(keyed)}" if keyed and name != "as_logged" else "-"
+        print(
+            f"{name:14s} {right:5d}/{len(sub):<3d} {100 * right / len(sub):5.1f}%  "
+            f"{len(conf):>21d} / {wrong:<6d}  {same_s:>26s}  {crashes}"
+        )
+    for r in rows:
+        if r["verdict"] == "crash":
+            print(
+                f"  crash: {r['variant']} {r['effect']} s{r['seed']} {r['transform']}: {r['error']}"
+            )
+
+
+def main() -> int:
+    """Run the transforms over the chosen zoo cases and print the table."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--variants", default="a,e,f,i", help="zoo variants (not c, d, g)")
+    ap.add_argument("--effects", default=",".join(plant_zoo.EFFECTS), help="zoo effects")
+    ap.add_argument("--seeds", type=int, default=1, help="seeds 0..N-1 per case")
+    ap.add_argument("--transforms", default=",".join(TRANSFORMS), help="which rewrites")
+    ap.add_argument("--jobs", type=int, default=1, help="worker processes")
+    ap.add_argument("--out", default=str(ROOT / "reports" / "logger_conventions"))
+    args = ap.parse_args()
+    variants = args.variants.split(",")
+    if HELD_OUT & set(variants):
+        ap.error(f"variants {', '.join(sorted(HELD_OUT))} are held out; not for finding fixes")
+    unknown = set(variants) - set(plant_zoo.VARIANTS)
+    if unknown:
+        ap.error(f"unknown variant(s) {', '.join(sorted(unknown))}")
+    transforms = args.transforms.split(",")
+    if set(transforms) - set(TRANSFORMS):
+        ap.error(f"transforms are {', '.join(TRANSFORMS)}")
+    effects = args.effects.split(",")
+    if set(effects) - set(plant_zoo.EFFECTS):
+        ap.error(f"effects are {', '.join(plant_zoo.EFFECTS)}")
+    jobs = [
+        (v, e, s, t, args.out)
+        for t in transforms
+        for v in variants
+        for e in effects
+        for s in range(args.seeds)
+    ]
+    with ProcessPoolExecutor(max_workers=args.jobs) as ex:
+        rows = list(ex.map(run_case, jobs))
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "results.csv", "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"{len(rows)} diagnoses: variants {args.variants}, seeds 0-{args.seeds - 1}")
+    summarise(rows)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
