@@ -27,6 +27,7 @@ from ecoplan.diagnose.effects.terrain import TERRAIN_FACTOR_RANGE, known_terrain
 from ecoplan.diagnose.pipeline import diagnose
 from ecoplan.diagnose.replay import build_frame
 from ecoplan.diagnose.report import to_json_dict
+from ecoplan.diagnose.report_md import report_markdown
 from ecoplan.diagnose.result import Diagnosis
 from ecoplan.diagnose.stats import coloured_noise_floor
 from ecoplan.diagnose.where_time import TimeSegment, label_segments
@@ -83,6 +84,9 @@ def test_a_two_terrain_log_is_split_at_the_switch_and_named_terrain_change(seed:
     before = [s for s in d.where_time if s.t_end_s <= t_switch + 5.0]
     assert min(s.excess_w for s in after) > max(s.excess_w for s in before)
     assert d.gap_final_w < d.gap_calibrated_w
+    # the report names the verdict's look-alikes: a payload step, a meter gain change
+    text = report_markdown(d)
+    assert "a load added or removed" in text and "gain changed" in text
 
 
 @pytest.mark.parametrize("seed", [0, 1])

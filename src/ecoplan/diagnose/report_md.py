@@ -289,6 +289,16 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
     todo: list[str] = []
     for e1, e2, c, m in att.indistinguishable:
         todo.append(f"`{e1}` and `{e2}` look alike on this log (correlation {c:.2f}): drive {m}.")
+    if att.verdict == "terrain_change":
+        # friction and resistance both scale with the weight: a load added or removed is the
+        # same step in power (only the inertia of the accelerations differs), and so, nearly,
+        # is a power meter whose gain changed
+        todo.append(
+            "Before reading `terrain_change` as ground: a load added or removed at the "
+            "segments' boundaries (`where_time.csv`) steps friction and resistance alike, "
+            "and a power meter whose gain changed looks nearly the same; check what changed "
+            "at those times."
+        )
     for note in d.input_notes:
         todo.append(note[0].upper() + note[1:] + ".")
     if att.not_excited:
