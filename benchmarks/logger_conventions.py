@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import os
 import sys
 from collections.abc import Callable
@@ -132,15 +133,6 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
 }
 
 
-def _write(cols: Columns, meta: Meta, path: Path) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    names = list(cols)
-    header = "".join(f"# {k}: {v}\n" for k, v in meta.items()) + ",".join(names)
-    data = np.column_stack([cols[k] for k in names])
-    np.savetxt(path, data, delimiter=",", header=header, comments="", fmt="%.6g")
-    return path
-
-
 def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
     """Diagnose one zoo case rewritten by one transform; the row of the results table."""
     variant, effect, seed, transform, out = args
@@ -152,7 +144,10 @@ def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
     files = TRANSFORMS[transform](dict(case.columns), dict(case.meta))
     folder = Path(out) / "logs" / transform
     paths = [
-        _write(c, m, folder / f"{variant}-{effect}-s{seed}-r{k}.csv")
+        plant_zoo.write_log(
+            dataclasses.replace(case, columns=c, meta=m),
+            folder / f"{variant}-{effect}-s{seed}-r{k}.csv",
+        )
         for k, (c, m) in enumerate(files)
     ]
     row: dict[str, Any] = {
