@@ -36,7 +36,8 @@ BAD_CASES: dict[str, tuple[str, ...]] = {
     "empty_required_cell.csv": ("'v_right'", "line 3", "empty"),
     "inf_optional.csv": ("'wz'", "line 3", "-inf"),
     "duplicated_time.csv": ("'t'", "line 4", "duplicated"),
-    "time_backwards.csv": ("'t'", "line 4", "backwards"),
+    "time_backwards.csv": ("'t'", "line 4", "backwards", "out of order"),
+    "runs_joined.csv": ("'t'", "line 5", "jumps back 60 s", "own file"),
     "speeds_in_mm_per_s.csv": ("'v_left'", "line 2", "mm/s"),
     "command_in_mm_per_s.csv": ("'v_left_cmd'", "line 3", "mm/s"),
     "non_numeric.csv": ("'v_right'", "line 3", "'fast'"),
@@ -118,6 +119,87 @@ def test_partial_nan_in_optional_column_drops_and_counts_rows(tmp_path: Path) ->
     np.testing.assert_array_equal(log.t, [0.0, 0.4])
     assert log.terrain is not None and list(log.terrain) == ["asphalt", "grass"]
     assert any("dropped 3 of 5 rows" in n and "line 3" in n for n in log.notes)
+
+
+def test_exact_repeats_of_earlier_rows_are_dropped_and_counted(tmp_path: Path) -> None:
+    # two files of a rotating logger joined end to end: the second repeats the first's last
+    # two rows; then a message logged twice.  Every repeat has an earlier row's time and values
+    text = (
+        "t,v_left,v_right,p_total,wz,terrain\n"
+        "0.0,0.1,0.1,100,0.0,asphalt\n"
+        "0.1,0.1,0.2,104,0.1,asphalt\n"
+        "0.2,0.2,0.2,108,0.0,asphalt\n"
+        "0.1,0.1,0.2,104,0.1,asphalt\n"  # line 5: repeat of line 3
+        "0.2,0.2,0.2,108,0.0,asphalt\n"  # repeat of line 4
+        "0.3,0.2,0.3,111,0.1,grass\n"
+        "0.3,0.2,0.3,111,0.1,grass\n"  # repeat of line 7
+        "0.4,0.3,0.3,115,0.0,grass\n"
+    )
+    log = read_log_csv(_write(tmp_path, text))
+    np.testing.assert_array_equal(log.t, [0.0, 0.1, 0.2, 0.3, 0.4])
+    np.testing.assert_array_equal(log.p_total, [100, 104, 108, 111, 115])
+    assert log.terrain is not None and list(log.terrain) == ["asphalt"] * 3 + ["grass"] * 2
+    assert log.dropped_rows == 3
+    note = "dropped 3 of 8 rows repeating an earlier row"
+    assert any(note in n and "line 5" in n for n in log.notes)
+
+
+@pytest.mark.parametrize(
+    ("row", "fragment"),
+    [
+        ("0.1,0.1,0.2,105,0.1,asphalt", "duplicated"),  # same time, another power
+        ("0.1,0.1,0.2,104,0.1,grass", "duplicated"),  # same time, another terrain
+        ("0.05,0.1,0.2,104,0.1,asphalt", "backwards"),  # same readings, another time
+    ],
+)
+def test_a_row_that_differs_from_the_earlier_one_is_not_a_repeat(
+    tmp_path: Path, row: str, fragment: str
+) -> None:
+    text = (
+        "t,v_left,v_right,p_total,wz,terrain\n"
+        "0.0,0.1,0.1,100,0.0,asphalt\n"
+        "0.1,0.1,0.2,104,0.1,asphalt\n"
+        f"{row}\n"
+        "0.2,0.2,0.2,108,0.0,asphalt\n"
+    )
+    with pytest.raises(LogFormatError, match=fragment) as err:
+        read_log_csv(_write(tmp_path, text))
+    assert "line 4" in str(err.value)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    n=st.integers(3, 40),
+    picks=st.lists(st.tuples(st.integers(0, 39), st.integers(1, 4)), min_size=1, max_size=4),
+    seed=st.integers(0, 2**16),
+)
+def test_a_log_with_repeated_blocks_reads_as_the_log_without_them(
+    n: int, picks: list[tuple[int, int]], seed: int
+) -> None:
+    """Blocks of rows written again after themselves (a rotated logger's overlap) vanish."""
+    import tempfile
+
+    rng = np.random.default_rng(seed)
+    rows = [
+        f"{0.05 * i!r},{rng.uniform(-1, 1)!r},{rng.uniform(-1, 1)!r},{rng.uniform(0, 200)!r}"
+        for i in range(n)
+    ]
+    written = list(rows)
+    repeated = 0
+    for at, width in sorted(picks, reverse=True):  # from the end: earlier positions hold
+        end = min(at, n - 1) + 1
+        block = rows[max(end - width, 0) : end]
+        pos = written.index(rows[end - 1]) + 1
+        written[pos:pos] = block
+        repeated += len(block)
+    with tempfile.TemporaryDirectory() as d:
+        path = Path(d) / "r.csv"
+        path.write_text("t,v_left,v_right,p_total\n" + "\n".join(written) + "\n")
+        log = read_log_csv(path)
+    want = np.array([[float(c) for c in r.split(",")] for r in rows])
+    np.testing.assert_array_equal(log.t, want[:, 0])
+    np.testing.assert_array_equal(log.p_total, want[:, 3])
+    assert log.dropped_rows == repeated
 
 
 def test_all_empty_optional_column_is_absent_not_dropped(tmp_path: Path) -> None:

@@ -73,6 +73,7 @@ __all__ = [
     "POSE_FRAMES",
     "POWER_SAMPLINGS",
     "REQUIRED_COLUMNS",
+    "RESTART_S",
     "SPEED_COLUMNS",
     "Column",
     "Log",
@@ -173,6 +174,9 @@ SPEED_COLUMNS: tuple[str, ...] = tuple(c.name for c in COLUMNS if c.speed)
 ALIASES: Mapping[str, str] = {a: c.name for c in COLUMNS for a in c.aliases}
 #: Side speeds above this magnitude [m/s] are taken for a unit error (mm/s, rpm, ...).
 MAX_PLAUSIBLE_SPEED_MPS = 20.0
+#: Time falling back by more than this [s] is read as a restarted clock: runs joined in one
+#: file (each run belongs in its own file); a smaller step back, as rows out of order.
+RESTART_S = 1.0
 
 #: How the logged power was taken (``# power_sampling:`` in a CSV log): ``"row"``, the power
 #: at the row's time (the default); ``"interval_mean"``, the mean over the sample interval
@@ -256,7 +260,8 @@ class Log:
     run_id : str
         Identifier of the run (file stem by default).
     dropped_rows : int
-        Rows dropped by the reader for a missing value in an optional column.
+        Rows dropped by the reader: a missing value in an optional column, or an exact repeat
+        of an earlier row.
     notes : tuple of str
         Assumptions and remarks (bus voltage, ignored columns, dropped rows, ...).
     power_sampling : str
@@ -669,10 +674,20 @@ def check_values(
     bad = np.flatnonzero(dt <= 0.0)
     if bad.size:
         i = int(bad[0]) + 1
-        what = "duplicated" if dt[i - 1] == 0.0 else "goes backwards"
+        back = float(t[i - 1] - t[i])
+        if back == 0.0:
+            what, hint = "duplicated", ""
+        elif back > RESTART_S:
+            what = f"jumps back {back:.6g} s"
+            hint = (
+                " (runs joined in one file? write each run to its own file and pass them "
+                "all: ecoplan diagnose run1.csv run2.csv ...)"
+            )
+        else:
+            what, hint = "goes backwards", " (rows out of order? sort them by time)"
         raise LogFormatError(
             f"{source}, {line_label} {int(lines[i])}: time {what} in column 't' "
-            f"({float(t[i - 1])!r} then {float(t[i])!r}); 't' must be strictly increasing"
+            f"({float(t[i - 1])!r} then {float(t[i])!r}); 't' must be strictly increasing{hint}"
         )
     for name in SPEED_COLUMNS:
         arr = cols.get(name)

@@ -16,12 +16,16 @@ message names the file, the column and/or the 1-based line number of the file):
 * a required column missing, a duplicated column name (also through an alias);
 * a non-numeric cell (an empty cell counts as missing);
 * NaN or inf in a required column;
-* time not strictly increasing (duplicated or going backwards);
+* time not strictly increasing (duplicated with other readings, or going backwards; a
+  jump back by more than :data:`~ecoplan.dynamics.log.RESTART_S` is named as runs joined in
+  one file);
 * a speed above :data:`~ecoplan.dynamics.log.MAX_PLAUSIBLE_SPEED_MPS` in magnitude.
 
 Rows whose only defect is a missing/NaN value in an *optional* column are dropped and
-counted in :attr:`~ecoplan.dynamics.log.Log.dropped_rows` (never silently); an optional
-column that is empty on every row is treated as absent.  Infinite values in optional
+counted in :attr:`~ecoplan.dynamics.log.Log.dropped_rows` (never silently), and so are rows
+that repeat an earlier row exactly -- same time, same value in every column read -- as the
+joined files of a rotating logger or a re-sent message write them (:func:`_drop_repeats`); an
+optional column that is empty on every row is treated as absent.  Infinite values in optional
 columns are errors.  Clean files are read by ``numpy.loadtxt`` (one hour at 100 Hz with
 12 columns in about 1.4 s); anything unusual goes through a cell-by-cell parser that
 names the offending line.
@@ -330,6 +334,38 @@ def _drop_rows(body: _Body, drop: BoolArray, source: str, notes: list[str]) -> _
     return _Body({k: v[keep] for k, v in body.cols.items()}, labels, body.lines[keep])
 
 
+def _drop_repeats(body: _Body, source: str, notes: list[str]) -> tuple[_Body, int]:
+    """The body without rows that repeat an earlier row exactly, and how many were dropped.
+
+    A repeat has an earlier row's time and its value in every column read (and its terrain
+    label): files of a rotating logger joined end to end overlap by a few rows, a driver that
+    re-sends a message logs it twice.  Dropping the repeats loses nothing.  A row at an
+    earlier row's time with *other* readings stays, for the time check to refuse (which of
+    the two is right is unknown).  Looked for only when time is not strictly increasing.
+    """
+    t = body.cols["t"]
+    if np.all(np.diff(t) > 0.0):
+        return body, 0
+    n = body.lines.size
+    table = [body.cols[k] for k in sorted(body.cols)]
+    if body.labels is not None:
+        table.append(np.unique(body.labels, return_inverse=True)[1].astype(np.float64))
+    _, first = np.unique(np.column_stack(table), axis=0, return_index=True)
+    repeat = np.ones(n, dtype=np.bool_)
+    repeat[first] = False
+    n_drop = int(repeat.sum())
+    if not n_drop:
+        return body, 0
+    first_line = int(body.lines[int(np.flatnonzero(repeat)[0])])
+    notes.append(
+        f"dropped {n_drop} of {n} rows repeating an earlier row exactly (same time and "
+        f"readings; first at line {first_line})"
+    )
+    keep = ~repeat
+    labels = None if body.labels is None else body.labels[keep]
+    return _Body({k: v[keep] for k, v in body.cols.items()}, labels, body.lines[keep]), n_drop
+
+
 def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> Log:
     """Read and validate a log CSV (format in the module docstring).
 
@@ -343,7 +379,8 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
     Returns
     -------
     Log
-        The validated log; rows with a missing optional value are dropped and counted.
+        The validated log; rows with a missing optional value, and exact repeats of an
+        earlier row, are dropped and counted.
 
     Raises
     ------
@@ -362,6 +399,7 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
     notes = head.notes
     drop = _missing_optional(body, source, notes)
     body = _drop_rows(body, drop, source, notes)
+    body, repeats = _drop_repeats(body, source, notes)
     ignored = [c for c in head.header if c not in _KNOWN]
     if ignored:
         notes.append(f"ignored columns: {', '.join(ignored)}")
@@ -373,7 +411,7 @@ def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> 
         **cols,
         source=source,
         run_id=run_id if run_id is not None else (head.run_id or p.stem),
-        dropped_rows=int(drop.sum()),
+        dropped_rows=int(drop.sum()) + repeats,
         notes=tuple(notes),
         power_sampling=head.power_sampling,
         pose_frame=head.pose_frame,
