@@ -22,6 +22,14 @@ them), reads the files with the library's CSV reader and diagnoses them:
 ``sign_flipped``
     ``p_total`` negated (a battery current signed negative when discharging): right is a
     refusal naming ``p_total``.
+``rotated_overlap``
+    One file, the three 60 s pieces joined end to end, each after the first beginning with
+    the last :data:`OVERLAP_ROWS` rows of the one before (a rotating logger's files, which
+    overlap, joined with ``cat``).
+``runs_one_file``
+    One file, the three pieces each on its own clock from 0 (a logger that appends every
+    launch to one file, its time since start): right is a refusal naming ``t`` that says to
+    give each run its own file.
 
 A verdict is right as in ``plant_zoo_diagnosis.py`` (the injected effect, ``none``, or
 ``unexplained`` for the out-of-library effects).  Per transform it prints the right share,
@@ -64,6 +72,8 @@ HELD_OUT = {"c", "d", "g"}
 HOLD_ROWS = 4
 #: Where the zoo's 180 s runs are cut into three files [s].
 CUTS_S = (60.0, 120.0)
+#: Rows a rotated file repeats from the end of the one before it.
+OVERLAP_ROWS = 3
 
 Columns = dict[str, np.ndarray]
 Meta = dict[str, str]
@@ -123,6 +133,24 @@ def _sign_flipped(cols: Columns, meta: Meta) -> Files:
     return [({**cols, "p_total": -cols["p_total"]}, meta)]
 
 
+def _joined(pieces: list[Columns], meta: Meta) -> Files:
+    cols = {c: np.concatenate([p[c] for p in pieces]) for c in pieces[0]}
+    return [(cols, meta)]
+
+
+def _rotated_overlap(cols: Columns, meta: Meta) -> Files:
+    pieces = [c for c, _ in _cut(cols, meta)]
+    for k in range(1, len(pieces)):
+        prev = pieces[k - 1]
+        pieces[k] = {c: np.concatenate([prev[c][-OVERLAP_ROWS:], v]) for c, v in pieces[k].items()}
+    return _joined(pieces, meta)
+
+
+def _runs_one_file(cols: Columns, meta: Meta) -> Files:
+    pieces = [{**c, "t": c["t"] - c["t"][0]} for c, _ in _cut(cols, meta)]
+    return _joined(pieces, meta)
+
+
 TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "as_logged": _as_logged,
     "power_held": _power_held,
@@ -130,7 +158,11 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "runs_no_pose": _runs_no_pose,
     "runs_odom": _runs_odom,
     "sign_flipped": _sign_flipped,
+    "rotated_overlap": _rotated_overlap,
+    "runs_one_file": _runs_one_file,
 }
+#: Transforms whose right answer is a refusal, and what its one line must contain.
+REFUSALS = {"sign_flipped": ("'p_total'",), "runs_one_file": ("'t'", "own file")}
 
 
 def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
@@ -155,16 +187,18 @@ def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
         "effect": effect,
         "seed": seed,
         "transform": transform,
-        "expected": "refused" if transform == "sign_flipped" else case.expected,
+        "expected": "refused" if transform in REFUSALS else case.expected,
         "verdict": "",
         "confidence": float("nan"),
         "error": "",
     }
+    one_line = True
     try:
         d = diagnose([read_log_csv(p) for p in paths], case.vehicle, case.terrain, rng=seed)
     except EcoplanError as exc:
         row["verdict"] = "refused"
         row["error"] = str(exc).splitlines()[0]
+        one_line = "\n" not in str(exc).strip()
     except Exception as exc:  # counted and listed, never hidden
         row["verdict"] = "crash"
         row["error"] = f"{type(exc).__name__}: {exc}"
@@ -172,8 +206,9 @@ def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
         row["verdict"] = d.verdict
         row["confidence"] = float(d.attribution.confidence)
     right = row["verdict"] == row["expected"]
-    if transform == "sign_flipped":
-        right = right and "'p_total'" in row["error"] and "\n" not in row["error"]
+    if transform in REFUSALS:
+        said = all(frag in row["error"] for frag in REFUSALS[transform])
+        right = right and said and one_line
     row["right"] = right
     return row
 
