@@ -13,6 +13,9 @@ them), reads the files with the library's CSV reader and diagnoses them:
     writes a row whenever any stream updates); the export carries no ``power_sampling`` line.
 ``speeds_held``
     ``v_left`` and ``v_right`` repeated over 4 rows (an encoder driver at 5 Hz), likewise.
+``pose_held``
+    ``x``, ``y``, ``yaw`` repeated over 4 rows (a 5 Hz GNSS or localisation in the 20 Hz rows),
+    the other columns and the metadata as logged; ``pose_1hz`` over 20 rows (a 1 Hz fix).
 ``runs_no_pose``
     Cut into three files (runs) at 60 s and 120 s, ``x``, ``y``, ``yaw`` removed: the heading
     is known only per run, from ``wz``.
@@ -80,8 +83,8 @@ Meta = dict[str, str]
 Files = list[tuple[Columns, Meta]]
 
 
-def _hold(cols: Columns, names: tuple[str, ...]) -> Columns:
-    idx = (np.arange(cols["t"].size) // HOLD_ROWS) * HOLD_ROWS
+def _hold(cols: Columns, names: tuple[str, ...], rows: int = HOLD_ROWS) -> Columns:
+    idx = (np.arange(cols["t"].size) // rows) * rows
     return {k: (v[idx] if k in names else v) for k, v in cols.items()}
 
 
@@ -120,6 +123,14 @@ def _speeds_held(cols: Columns, meta: Meta) -> Files:
     return [(_hold(cols, ("v_left", "v_right")), _no_sampling(meta))]
 
 
+def _pose_held(cols: Columns, meta: Meta) -> Files:
+    return [(_hold(cols, ("x", "y", "yaw")), meta)]
+
+
+def _pose_1hz(cols: Columns, meta: Meta) -> Files:
+    return [(_hold(cols, ("x", "y", "yaw"), rows=20), meta)]
+
+
 def _runs_no_pose(cols: Columns, meta: Meta) -> Files:
     bare = {k: v for k, v in cols.items() if k not in ("x", "y", "yaw")}
     return _cut(bare, meta)
@@ -155,6 +166,8 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "as_logged": _as_logged,
     "power_held": _power_held,
     "speeds_held": _speeds_held,
+    "pose_held": _pose_held,
+    "pose_1hz": _pose_1hz,
     "runs_no_pose": _runs_no_pose,
     "runs_odom": _runs_odom,
     "sign_flipped": _sign_flipped,

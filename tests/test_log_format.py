@@ -958,3 +958,63 @@ def test_a_quantised_meter_is_not_taken_for_fresh_readings() -> None:
     m = v.size
     plateaus = Log(t=np.arange(m) * 0.05, v_left=v, v_right=v, p_total=g.normal(50.0, 5.0, m))
     assert fresh_readings(plateaus) is plateaus
+
+
+def _arc(n: int, dt: float = 0.05) -> tuple[np.ndarray, ...]:
+    """Pose and yaw rate of a robot on a circle (0.5 m/s, 0.6 rad/s), started at yaw 2.9 rad."""
+    t = np.arange(n) * dt
+    v, w, yaw0 = 0.5, 0.6, 2.9
+    yaw = yaw0 + w * t
+    x = (v / w) * (np.sin(yaw) - np.sin(yaw0))
+    y = -(v / w) * (np.cos(yaw) - np.cos(yaw0))
+    return t, x, y, np.arctan2(np.sin(yaw), np.cos(yaw)), np.full(n, w)
+
+
+def test_a_held_pose_is_interpolated_between_its_readings_and_every_row_kept() -> None:
+    # a 1 Hz position fix, a 2 Hz heading and a 5 Hz gyro in the rows of a 20 Hz log; the
+    # heading crosses +-pi (starts at 2.9 rad, turns left)
+    n = 400
+    t, x, y, yaw, wz = _arc(n)
+    g = np.random.default_rng(0)
+    wz = wz + g.normal(0.0, 0.01, n)  # a gyro's noise: each reading differs
+
+    def held(a: np.ndarray, rows: int) -> np.ndarray:
+        return a[(np.arange(n) // rows) * rows]
+
+    p = g.normal(80.0, 5.0, n)
+    log = Log(
+        t=t, v_left=np.full(n, 0.4), v_right=np.full(n, 0.6), p_total=p,
+        x=held(x, 20), y=held(y, 20), yaw=held(yaw, 10), wz=held(wz, 4),
+    )  # fmt: skip
+    fresh = fresh_readings(log)
+    assert len(fresh) == n  # nothing thinned: the power and the speeds are fresh
+    np.testing.assert_array_equal(fresh.p_total, p)
+    reading = np.arange(n) % 20 == 0
+    np.testing.assert_allclose(fresh.x[reading], x[reading], atol=1e-12)
+    inside = np.arange(n) < 380  # after the last fix the pose stays at it
+    chord_err = np.max(np.hypot(fresh.x - x, fresh.y - y)[inside])
+    held_err = np.max(np.hypot(log.x - x, log.y - y)[inside])
+    # between two fixes 1 s apart the robot turns 0.6 rad on a circle of r = 0.5 / 0.6 m: at
+    # the same time, the chord's point is at most the sagitta r (1 - cos 0.3) = 37 mm from the
+    # arc's; holding is off by up to the 0.475 m driven meanwhile
+    sagitta = (0.5 / 0.6) * (1.0 - np.cos(0.3))
+    assert chord_err < sagitta + 1e-9 < 0.4 < held_err
+    dyaw = np.angle(np.exp(1j * (fresh.yaw - yaw)))[np.arange(n) < 390]
+    assert np.max(np.abs(dyaw)) < 1e-9  # a constant turn rate: linear in time, across +-pi
+    assert np.all(np.abs(fresh.yaw) <= np.pi)
+    for said in ("x and y held", "yaw held", "wz held"):
+        assert any(note.startswith(said) and "interpolated" in note for note in fresh.notes)
+
+
+def test_a_pose_that_stands_still_and_moves_is_not_taken_for_held() -> None:
+    # a noise-free pose (a simulator) that rests now and then: runs of every length
+    g = np.random.default_rng(1)
+    legs = g.integers(5, 200, size=20)
+    moving = np.repeat(np.arange(legs.size) % 2 == 0, legs)
+    m = moving.size
+    x = np.cumsum(np.where(moving, 0.02, 0.0))
+    log = Log(
+        t=np.arange(m) * 0.05, v_left=np.ones(m), v_right=np.ones(m),
+        p_total=g.normal(50.0, 5.0, m), x=x, y=np.zeros(m), yaw=np.zeros(m),
+    )  # fmt: skip
+    assert fresh_readings(log) is log

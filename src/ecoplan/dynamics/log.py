@@ -66,6 +66,7 @@ __all__ = [
     "FLOAT_COLUMNS",
     "HELD_REGULARITY",
     "HELD_STREAMS",
+    "INTERPOLATED_STREAMS",
     "MAX_PLAUSIBLE_SPEED_MPS",
     "OPTIONAL_COLUMNS",
     "OPTIONAL_FLOAT_COLUMNS",
@@ -458,6 +459,10 @@ class Log:
 #: The measured streams a logger may repeat between readings, each read together:
 #: ``p_total``, and the two side speeds (one encoder driver).
 HELD_STREAMS: tuple[tuple[str, ...], ...] = (("p_total",), ("v_left", "v_right"))
+#: The streams a logger may repeat between readings that :func:`fresh_readings` interpolates
+#: in time instead (a pose fix at 1-5 Hz, a slower gyro): the position, the heading, the yaw
+#: rate, each read together.
+INTERPOLATED_STREAMS: tuple[tuple[str, ...], ...] = (("x", "y"), ("yaw",), ("wz",))
 #: Share of a stream's inner runs of equal values that must be within one row (or 10 %) of
 #: their median length for the stream to count as held: readings arrive at a steady rate.
 HELD_REGULARITY = 0.8
@@ -483,20 +488,63 @@ def _arrivals(values: Sequence[FloatArray]) -> tuple[BoolArray, float]:
     return fresh, (median if median >= 2.0 and steady >= HELD_REGULARITY else 0.0)
 
 
+def _held_note(names: Sequence[str], log: Log, fresh: BoolArray, run: float, how: str) -> str:
+    kept = int(fresh.sum())
+    period = float(np.median(np.diff(log.t[fresh])))
+    return (
+        f"{' and '.join(names)} held: repeated on {len(log) - kept} of {len(log)} rows (a reading "
+        f"every {run:g} rows, about {period:.3g} s); {how}"
+    )
+
+
+def _interpolate_held(log: Log) -> Log:
+    """``log`` with each held stream of :data:`INTERPOLATED_STREAMS` interpolated in time.
+
+    Between two rows where a reading arrives the stream moves linearly in time, as ROS ``tf``
+    interpolates between stamped transforms; after the last reading it stays.  The heading is
+    interpolated unwrapped and wrapped back to ``(-pi, pi]``.
+    """
+    changes: dict[str, Any] = {}
+    notes: list[str] = []
+    for names in INTERPOLATED_STREAMS:
+        cols = [getattr(log, c) for c in names]
+        if any(c is None for c in cols):
+            continue
+        values = [np.asarray(c, dtype=np.float64) for c in cols]
+        fresh, run = _arrivals(values)
+        if run <= 0.0 or int(fresh.sum()) < 2:
+            continue
+        for name, v in zip(names, values, strict=True):
+            at = np.unwrap(v[fresh]) if name == "yaw" else v[fresh]
+            out = np.interp(log.t, log.t[fresh], at)
+            changes[name] = np.arctan2(np.sin(out), np.cos(out)) if name == "yaw" else out
+        how = "interpolated in time between the rows where a reading arrives"
+        notes.append(_held_note(names, log, fresh, run, how))
+    if not changes:
+        return log
+    return dataclasses.replace(log, **changes).with_notes(*notes)
+
+
 def fresh_readings(log: Log) -> Log:
-    """The rows of ``log`` at which a held stream's reading arrives (``log`` when none is held).
+    """``log`` with its held streams' readings taken where they arrive (``log`` if none is held).
 
     A logger that writes a row whenever any stream updates (a merged CSV, PlotJuggler's
     export) repeats a slower stream's last value until its next message: a power meter at
     5 Hz in a 20 Hz log shows each reading on four rows.  Read as fresh samples, the repeats
     lag the other columns by up to one reading interval, which a diagnosis takes for a
-    ``sensor_delay`` (held power) or an ``actuator_lag`` (held speeds).  A stream of
-    :data:`HELD_STREAMS` is held when its readings repeat on runs of a steady length of at
-    least 2 rows (:func:`_arrivals`).  The log then keeps the rows at which the slowest held
-    stream's readings arrive, with a note; a faster held stream is then at most one of its
-    own intervals old.  With ``power_sampling: interval_mean`` a kept reading stands for the
-    interval since the one before (an energy counter read at its own rate), which is what the
-    kept rows' time steps then say.
+    ``sensor_delay`` (held power) or an ``actuator_lag`` (held speeds).  A stream is held when
+    its readings repeat on runs of a steady length of at least 2 rows (:func:`_arrivals`).
+
+    * The pose and the yaw rate (:data:`INTERPOLATED_STREAMS`): a held stream is interpolated
+      in time between its readings, every row kept (a 1 Hz fix held over a second made the
+      pose speed lag the side speeds and hid an ICR offset).
+    * The power and the side speeds (:data:`HELD_STREAMS`): the log keeps the rows at which
+      the slowest held stream's readings arrive; a faster held stream is then at most one of
+      its own intervals old.  With ``power_sampling: interval_mean`` a kept reading stands
+      for the interval since the one before (an energy counter read at its own rate), which
+      is what the kept rows' time steps then say.
+
+    Each change is said in a note.
 
     >>> import numpy as np
     >>> p = np.repeat([10.0, 12.0, 11.0, 15.0], 4)  # 4 rows per reading
@@ -505,6 +553,7 @@ def fresh_readings(log: Log) -> Log:
     >>> fresh.t.tolist(), fresh.p_total.tolist()
     ([0.0, 0.2, 0.4, 0.6000000000000001], [10.0, 12.0, 11.0, 15.0])
     """
+    log = _interpolate_held(log)
     best: tuple[float, BoolArray, tuple[str, ...]] | None = None
     for names in HELD_STREAMS:
         fresh, run = _arrivals([np.asarray(getattr(log, c)) for c in names])
@@ -513,15 +562,8 @@ def fresh_readings(log: Log) -> Log:
     if best is None or int(best[1].sum()) < 2:
         return log
     run, fresh, names = best
-    kept = int(fresh.sum())
-    period = float(np.median(np.diff(log.t[fresh])))
-    cols = " and ".join(names)
-    note = (
-        f"{cols} held: repeated on {len(log) - kept} of {len(log)} rows (a reading every "
-        f"{run:g} rows, about {period:.3g} s); only the {kept} rows where a reading arrives "
-        "are used"
-    )
-    return log.slice(fresh).with_notes(note)
+    how = f"only the {int(fresh.sum())} rows where a reading arrives are used"
+    return log.slice(fresh).with_notes(_held_note(names, log, fresh, run, how))
 
 
 def join_runs(
