@@ -16,6 +16,9 @@ them), reads the files with the library's CSV reader and diagnoses them:
 ``pose_held``
     ``x``, ``y``, ``yaw`` repeated over 4 rows (a 5 Hz GNSS or localisation in the 20 Hz rows),
     the other columns and the metadata as logged; ``pose_1hz`` over 20 rows (a 1 Hz fix).
+``time_jitter``
+    ``t`` moved by up to :data:`JITTER_S` either way at random, the readings kept: a logger
+    that stamps rows on receipt, not at sampling.
 ``runs_no_pose``
     Cut into three files (runs) at 60 s and 120 s, ``x``, ``y``, ``yaw`` removed: the heading
     is known only per run, from ``wz``.
@@ -55,6 +58,7 @@ import csv
 import dataclasses
 import os
 import sys
+import zlib
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -75,6 +79,8 @@ HELD_OUT = {"c", "d", "g"}
 HOLD_ROWS = 4
 #: Where the zoo's 180 s runs are cut into three files [s].
 CUTS_S = (60.0, 120.0)
+#: Largest shift of a jittered time stamp [s] (the zoo's rows are 50 ms apart).
+JITTER_S = 0.01
 #: Rows a rotated file repeats from the end of the one before it.
 OVERLAP_ROWS = 3
 
@@ -131,6 +137,12 @@ def _pose_1hz(cols: Columns, meta: Meta) -> Files:
     return [(_hold(cols, ("x", "y", "yaw"), rows=20), meta)]
 
 
+def _time_jitter(cols: Columns, meta: Meta) -> Files:
+    rng = np.random.default_rng(zlib.crc32(meta.get("run_id", "").encode()))
+    shift = rng.uniform(-JITTER_S, JITTER_S, cols["t"].size)
+    return [({**cols, "t": cols["t"] + shift}, meta)]
+
+
 def _runs_no_pose(cols: Columns, meta: Meta) -> Files:
     bare = {k: v for k, v in cols.items() if k not in ("x", "y", "yaw")}
     return _cut(bare, meta)
@@ -168,6 +180,7 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "speeds_held": _speeds_held,
     "pose_held": _pose_held,
     "pose_1hz": _pose_1hz,
+    "time_jitter": _time_jitter,
     "runs_no_pose": _runs_no_pose,
     "runs_odom": _runs_odom,
     "sign_flipped": _sign_flipped,
