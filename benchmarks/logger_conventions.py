@@ -8,6 +8,9 @@ them), reads the files with the library's CSV reader and diagnoses them:
 
 ``as_logged``
     The zoo's file, unchanged (the reference).
+``no_metadata``
+    The zoo's file without its ``#`` lines (a user's own CSV: the ``power_sampling:
+    interval_mean`` of the zoo's meter is not said).
 ``power_held``
     ``p_total`` repeated over 4 rows (a 5 Hz meter in the 20 Hz rows of an export that
     writes a row whenever any stream updates); the export carries no ``power_sampling`` line.
@@ -121,6 +124,10 @@ def _as_logged(cols: Columns, meta: Meta) -> Files:
     return [(cols, meta)]
 
 
+def _no_metadata(cols: Columns, meta: Meta) -> Files:
+    return [(cols, {})]
+
+
 def _power_held(cols: Columns, meta: Meta) -> Files:
     return [(_hold(cols, ("p_total",)), _no_sampling(meta))]
 
@@ -176,6 +183,7 @@ def _runs_one_file(cols: Columns, meta: Meta) -> Files:
 
 TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "as_logged": _as_logged,
+    "no_metadata": _no_metadata,
     "power_held": _power_held,
     "speeds_held": _speeds_held,
     "pose_held": _pose_held,
