@@ -38,6 +38,7 @@ BAD_CASES: dict[str, tuple[str, ...]] = {
     "duplicated_time.csv": ("'t'", "line 4", "duplicated"),
     "time_backwards.csv": ("'t'", "line 4", "backwards", "out of order"),
     "runs_joined.csv": ("'t'", "line 5", "jumps back 60 s", "own file"),
+    "only_repeats.csv": ("only 1 distinct row", "2 exact repeats"),
     "speeds_in_mm_per_s.csv": ("'v_left'", "line 2", "mm/s"),
     "command_in_mm_per_s.csv": ("'v_left_cmd'", "line 3", "mm/s"),
     "non_numeric.csv": ("'v_right'", "line 3", "'fast'"),

@@ -362,6 +362,11 @@ def _drop_repeats(body: _Body, source: str, notes: list[str]) -> tuple[_Body, in
         f"readings; first at line {first_line})"
     )
     keep = ~repeat
+    if int(keep.sum()) < 2:
+        raise LogFormatError(
+            f"{source}: only {int(keep.sum())} distinct row after dropping {n_drop} exact "
+            "repeats of it; a log needs at least 2"
+        )
     labels = None if body.labels is None else body.labels[keep]
     return _Body({k: v[keep] for k, v in body.cols.items()}, labels, body.lines[keep]), n_drop
 
