@@ -718,7 +718,13 @@ def check_values(
         i = int(bad[0]) + 1
         back = float(t[i - 1] - t[i])
         if back == 0.0:
-            what, hint = "duplicated", ""
+            what, ties = "duplicated", int(np.sum(dt == 0.0))
+            hint = (
+                f" ({ties} of {t.size} rows share the time of the row before: a clock coarser "
+                "than the logging rate? stamp each row when it is sampled)"
+                if ties > 1
+                else " (one row at the time of the row before, with other readings)"
+            )
         elif back > RESTART_S:
             what = f"jumps back {back:.6g} s"
             hint = (
