@@ -321,8 +321,10 @@ def test_slice_by_time_and_mask() -> None:
 
 def test_constructor_validates_like_the_reader() -> None:
     t = np.array([0.0, 0.1, 0.1])
-    with pytest.raises(LogFormatError, match=r"sample 2.*duplicated"):
+    with pytest.raises(LogFormatError, match=r"sample 2.*duplicated.*logged twice"):
         Log(t=t, v_left=np.zeros(3), v_right=np.zeros(3), p_total=np.zeros(3))
+    with pytest.raises(LogFormatError, match=r"sample 2.*duplicated.*other readings"):
+        Log(t=t, v_left=np.zeros(3), v_right=np.zeros(3), p_total=np.array([0.0, 1.0, 2.0]))
     with pytest.raises(LogFormatError, match="'p_total' has 2 samples"):
         Log(t=np.arange(3.0), v_left=np.zeros(3), v_right=np.zeros(3), p_total=np.zeros(2))
     with pytest.raises(LogFormatError, match=r"'v_left'.*mm/s"):

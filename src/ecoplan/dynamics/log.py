@@ -659,6 +659,20 @@ def _all_have(logs: Sequence[Log], column: str) -> bool:
     return all(getattr(lg, column) is not None for lg in logs)
 
 
+def _tie_hint(cols: Mapping[str, Any], ties: int, i: int) -> str:
+    """Why row ``i`` may share the time of row ``i - 1`` (``ties`` rows do so in all)."""
+    n = np.size(cols["t"])
+    if ties > 1:
+        return (
+            f" ({ties} of {n} rows share the time of the row before: a clock coarser than the "
+            "logging rate? stamp each row when it is sampled)"
+        )
+    rows = [np.asarray(v) for v in cols.values() if v is not None and np.size(v) == n]
+    if any(v.ndim == 1 and v[i] != v[i - 1] for v in rows):
+        return " (one row at the time of the row before, with other readings)"
+    return " (the row before, logged twice)"
+
+
 def check_values(
     cols: Mapping[str, Any],
     source: str,
@@ -718,13 +732,7 @@ def check_values(
         i = int(bad[0]) + 1
         back = float(t[i - 1] - t[i])
         if back == 0.0:
-            what, ties = "duplicated", int(np.sum(dt == 0.0))
-            hint = (
-                f" ({ties} of {t.size} rows share the time of the row before: a clock coarser "
-                "than the logging rate? stamp each row when it is sampled)"
-                if ties > 1
-                else " (one row at the time of the row before, with other readings)"
-            )
+            what, hint = "duplicated", _tie_hint(cols, int(np.sum(dt == 0.0)), i)
         elif back > RESTART_S:
             what = f"jumps back {back:.6g} s"
             hint = (
