@@ -31,6 +31,9 @@ them), reads the files with the library's CSV reader and diagnoses them:
 ``sign_flipped``
     ``p_total`` negated (a battery current signed negative when discharging): right is a
     refusal naming ``p_total``.
+``yaw_degrees``, ``yaw_bearing``
+    ``yaw`` in degrees, or as a compass bearing (from north, clockwise, in (-pi, pi]): right
+    is a refusal naming ``yaw``.
 ``rotated_overlap``
     One file, the three 60 s pieces joined end to end, each after the first beginning with
     the last :data:`OVERLAP_ROWS` rows of the one before (a rotating logger's files, which
@@ -163,6 +166,15 @@ def _sign_flipped(cols: Columns, meta: Meta) -> Files:
     return [({**cols, "p_total": -cols["p_total"]}, meta)]
 
 
+def _yaw_degrees(cols: Columns, meta: Meta) -> Files:
+    return [({**cols, "yaw": np.degrees(cols["yaw"])}, meta)]
+
+
+def _yaw_bearing(cols: Columns, meta: Meta) -> Files:
+    b = np.pi / 2 - cols["yaw"]
+    return [({**cols, "yaw": np.arctan2(np.sin(b), np.cos(b))}, meta)]
+
+
 def _joined(pieces: list[Columns], meta: Meta) -> Files:
     cols = {c: np.concatenate([p[c] for p in pieces]) for c in pieces[0]}
     return [(cols, meta)]
@@ -192,11 +204,18 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "runs_no_pose": _runs_no_pose,
     "runs_odom": _runs_odom,
     "sign_flipped": _sign_flipped,
+    "yaw_degrees": _yaw_degrees,
+    "yaw_bearing": _yaw_bearing,
     "rotated_overlap": _rotated_overlap,
     "runs_one_file": _runs_one_file,
 }
 #: Transforms whose right answer is a refusal, and what its one line must contain.
-REFUSALS = {"sign_flipped": ("'p_total'",), "runs_one_file": ("'t'", "own file")}
+REFUSALS = {
+    "sign_flipped": ("'p_total'",),
+    "yaw_degrees": ("'yaw'", "degrees"),
+    "yaw_bearing": ("'yaw'", "clockwise"),
+    "runs_one_file": ("'t'", "own file"),
+}
 
 
 def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:

@@ -37,6 +37,12 @@ def _session(vehicle_name: str = "auriga-beta-narrow") -> tuple[Log, ...]:
     return tuple(case.logs)  # type: ignore[arg-type]
 
 
+def _bearing(yaw: np.ndarray) -> np.ndarray:
+    """A compass bearing [rad]: from north (REP-103's y, ENU), clockwise."""
+    b = np.pi / 2 - yaw
+    return np.asarray(np.arctan2(np.sin(b), np.cos(b)))
+
+
 def _still(lg: Log) -> Log:
     zero = np.zeros(len(lg))
     return Log(t=lg.t, v_left=zero, v_right=zero, p_total=np.full(len(lg), 40.0), source="still")
@@ -57,10 +63,16 @@ def _still(lg: Log) -> Log:
         (lambda lg: R(lg, wz=-lg.wz), r"'wz'.*clockwise"),
         (lambda lg: R(lg, p_total=-lg.p_total), r"'p_total'.*negative.*battery_current_sign"),
         (lambda lg: R(lg, v_left=lg.v_right, v_right=lg.v_left), r"'wz'.*'v_left'.*swapped"),
+        (lambda lg: R(lg, yaw=np.degrees(lg.yaw)), r"'yaw' turns 5\d\.?\d*x.*degrees\?"),
+        (lambda lg: R(lg, yaw=_bearing(lg.yaw)), r"'yaw'.*against.*clockwise heading \(a compass"),
+        (
+            lambda lg: R(lg, yaw=np.degrees(_bearing(lg.yaw)) % 360.0),
+            r"'yaw'.*against.*clockwise heading and in degrees",
+        ),
     ],
     ids=[
         *("kW", "mW", "amperes", "ms", "us", "ns", "km/h", "no motion", "deg/s"),
-        *("clockwise", "sign", "sides swapped"),
+        *("clockwise", "sign", "sides swapped", "yaw in degrees", "bearing", "bearing deg"),
     ],
 )
 def test_wrong_units_and_no_motion_are_one_line_input_errors(change, match) -> None:  # type: ignore[no-untyped-def]
@@ -344,3 +356,16 @@ def test_fuzzed_wheeled_logs_give_a_diagnosis_or_an_input_error(
     check_diagnosis_or_input_error(
         (n, rate_hz, v_scale, 1.0, turn, gain, p0, seed), vehicle_name="pioneer-3at", runs=runs
     )
+
+
+def test_a_heading_unwrapped_or_held_between_fixes_is_not_taken_for_other_units() -> None:
+    # REP-103 yaw in radians, unwrapped over turns (odometry integrating), offset by whole
+    # turns, or held between 1 Hz fixes: the heading check compares turns over 2 s windows
+    # and takes the median, so none of these is refused
+    params = vehicle("auriga-beta-narrow", "asphalt")
+    session = _session()
+    assert all(lg.yaw is not None for lg in session)
+    unwrapped = [R(lg, yaw=np.unwrap(lg.yaw) + 4.0 * np.pi) for lg in session]
+    held = [_held(lg, 10, ("x", "y", "yaw")) for lg in session]  # 10 Hz rows: 1 Hz fixes
+    for logs in (list(session), unwrapped, held):
+        check_logs(logs, params)  # no InputError

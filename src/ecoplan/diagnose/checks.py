@@ -20,6 +20,9 @@ column and the likely unit:
   signed as charge into the battery (a battery current negative when discharging, the ROS
   ``BatteryState`` convention); a drive that regenerates while braking or descending returns
   power without turning the turns' peaks into troughs;
+* ``wz`` and ``yaw`` — the logged yaw rate, and the turn of the logged heading, against the
+  side speeds': 57x as fast is degrees (per second), a turn the other way a clockwise frame
+  (a compass bearing) or sides swapped (:func:`_check_heading`);
 * excitation — the robot must move in at least :data:`MIN_MOVING_SHARE` of the samples
   (else an error: "too little excitation"); a log that turns in less than
   :data:`MIN_TURNING_SHARE` of them is diagnosed, but the summary says that turning effects
@@ -109,6 +112,13 @@ MAX_YAW_GAIN = 5.0
 MIN_YAW_GAIN = -0.5
 #: The yaw-rate check needs the side speeds' yaw rate at least this RMS [rad/s].
 MIN_YAW_RMS = 0.05
+#: The heading check compares the turn of ``yaw`` with the side speeds' over windows of this
+#: length [s] (long enough for a pose held between 1 Hz fixes to have moved) ...
+HEADING_WINDOW_S = 2.0
+#: ... that turn by at least this much by the side speeds [rad] ...
+MIN_HEADING_TURN_RAD = 0.2
+#: ... and needs at least this many such windows.
+MIN_HEADING_WINDOWS = 10
 #: A moving robot turns when its turn radius is under this many ICR spreads (6 m for the
 #: Pioneer 3-AT preset, whose Table I fits start at 5 m; about 10 m for the Auriga-beta) [-].
 TURN_RADIUS_SPREADS = 10.0
@@ -232,6 +242,7 @@ def check_logs(logs: Sequence[LogLike], params: VehicleParams) -> InputSummary:
             f"{100 * MIN_TURNING_SHARE:.0f} %); log turns of both directions"
         )
     _check_yaw_rate(logs, params, src)
+    _check_heading(logs, params, src)
     e_model = float(np.sum(np.abs(p_model) * dt))
     e_log = float(np.sum(np.abs(p) * dt))
     ratio = e_log / e_model if e_model > 0.0 else float("inf")
@@ -326,6 +337,67 @@ def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) ->
             f"{src}: column 'wz' turns against the side speeds (gain {gain:.2g}): a clockwise "
             "yaw rate, or columns 'v_left' and 'v_right' swapped? (expected REP-103: "
             "counter-clockwise, a left turn positive; the left side slower in a left turn)"
+        )
+
+
+def _heading_gain(t: FloatArray, yaw: FloatArray, rate: FloatArray) -> FloatArray:
+    """Turn of ``yaw`` over the side speeds' turn, per window that turns [-].
+
+    Over windows of :data:`HEADING_WINDOW_S` that turn by :data:`MIN_HEADING_TURN_RAD` or
+    more by ``rate`` (integrated by the trapezoid rule), the change of ``yaw`` wrapped to
+    ``(-180, 180]`` -- right for degrees and, but at a wrap, for radians -- over that turn.
+    About 1 (χ over the preset's) for a REP-103 heading in radians, about 57 in degrees,
+    negative for a clockwise one.  Empty when no window turns enough.
+    """
+    heading = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+    end = np.searchsorted(t, t + HEADING_WINDOW_S)
+    ok = end < t.size
+    i, j = np.flatnonzero(ok), end[ok]
+    turn = heading[j] - heading[i]
+    change = np.mod(yaw[j] - yaw[i] + 180.0, 360.0) - 180.0
+    keep = np.abs(turn) >= MIN_HEADING_TURN_RAD
+    return np.asarray(change[keep] / turn[keep], dtype=np.float64)
+
+
+def _check_heading(logs: Sequence[LogLike], params: VehicleParams, src: str) -> None:
+    """Refuse a logged ``yaw`` in degrees, or turning the other way than the side speeds.
+
+    The median of :func:`_heading_gain` over the session's windows: above
+    :data:`MAX_YAW_GAIN` the heading is in other units (15-150: degrees), below
+    :data:`MIN_YAW_GAIN` it turns clockwise (a compass bearing, north-referenced and
+    clockwise, where REP-103's yaw is counter-clockwise from x) or the sides are swapped.
+    Logs without ``yaw``, or with fewer than :data:`MIN_HEADING_WINDOWS` turning windows,
+    are not checked.
+    """
+    gains = []
+    for lg in logs:
+        yaw = getattr(lg, "yaw", None)
+        if yaw is None:
+            continue
+        t = np.asarray(lg.t, dtype=np.float64)
+        y = np.asarray(yaw, dtype=np.float64)
+        vl = np.asarray(lg.v_left, dtype=np.float64)
+        vr = np.asarray(lg.v_right, dtype=np.float64)
+        if not (y.shape == t.shape == vl.shape == vr.shape) or not np.all(np.isfinite(y)):
+            continue
+        gains.append(_heading_gain(t, y, tracks_to_twist(vl, vr, params.icr).wz))
+    every = np.concatenate(gains) if gains else np.zeros(0)
+    if every.size < MIN_HEADING_WINDOWS:
+        return
+    gain = float(np.median(every))
+    degrees = 15.0 <= abs(gain) <= 150.0
+    if gain > MAX_YAW_GAIN:
+        unit = "degrees" if degrees else "other units"
+        raise InputError(
+            f"{src}: column 'yaw' turns {gain:.3g}x as far as the side speeds do: {unit}? "
+            "(expected radians, counter-clockwise from x: REP-103)"
+        )
+    if gain < MIN_YAW_GAIN:
+        unit = " and in degrees" if degrees else ""
+        raise InputError(
+            f"{src}: column 'yaw' turns against the side speeds (gain {gain:.3g}): a clockwise "
+            f"heading{unit} (a compass bearing?), or columns 'v_left' and 'v_right' swapped? "
+            "(expected radians, counter-clockwise from x: REP-103)"
         )
 
 
