@@ -345,7 +345,7 @@ def _heading_gain(t: FloatArray, yaw: FloatArray, rate: FloatArray) -> FloatArra
 
     Over windows of :data:`HEADING_WINDOW_S` that turn by :data:`MIN_HEADING_TURN_RAD` or
     more by ``rate`` (integrated by the trapezoid rule), the change of ``yaw`` wrapped to
-    ``(-180, 180]`` -- right for degrees and, but at a wrap, for radians -- over that turn.
+    ``(-180, 180]`` (right for degrees, and for radians except across a wrap) over that turn.
     About 1 (χ over the preset's) for a REP-103 heading in radians, about 57 in degrees,
     negative for a clockwise one.  Empty when no window turns enough.
     """
