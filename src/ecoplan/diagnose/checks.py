@@ -300,6 +300,35 @@ def _check_sign(p: FloatArray, p_model: FloatArray, name: str, src: str) -> None
         )
 
 
+def _against_side_speeds(
+    logs: Sequence[LogLike], name: str, params: VehicleParams
+) -> list[tuple[FloatArray, FloatArray, FloatArray]]:
+    """``(t, column name, side speeds' yaw rate)`` of each log with a finite ``name`` column.
+
+    The yaw rate is ``(V_r - V_l) / spread`` with the preset's ICRs (tracked eq. 3).  Logs
+    without the column, or whose column the reader left malformed for the frame to name, are
+    left out.
+    """
+    out = []
+    for lg in logs:
+        col = getattr(lg, name, None)
+        if col is None:
+            continue
+        t = np.asarray(lg.t, dtype=np.float64)
+        c = np.asarray(col, dtype=np.float64)
+        vl = np.asarray(lg.v_left, dtype=np.float64)
+        vr = np.asarray(lg.v_right, dtype=np.float64)
+        if not (c.shape == t.shape == vl.shape == vr.shape) or not np.all(np.isfinite(c)):
+            continue
+        out.append((t, c, np.asarray(tracks_to_twist(vl, vr, params.icr).wz, dtype=np.float64)))
+    return out
+
+
+def _degrees(gain: float) -> bool:
+    """A gain of an angle or its rate over the side speeds' that reads as degrees (~57)."""
+    return 15.0 <= abs(gain) <= 150.0
+
+
 def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) -> None:
     """Refuse a logged ``wz`` in other units or of the other sign than the side speeds' turn.
 
@@ -309,25 +338,15 @@ def _check_yaw_rate(logs: Sequence[LogLike], params: VehicleParams, src: str) ->
     reader leaves malformed for the frame to name) are not checked; neither is a session
     that barely turns.
     """
-    kin, gyro = [], []
-    for lg in logs:
-        wz = getattr(lg, "wz", None)
-        if wz is None:
-            continue
-        w = np.asarray(wz, dtype=np.float64)
-        vl = np.asarray(lg.v_left, dtype=np.float64)
-        vr = np.asarray(lg.v_right, dtype=np.float64)
-        if w.shape != vl.shape or vl.shape != vr.shape or not np.all(np.isfinite(w)):
-            continue
-        kin.append(tracks_to_twist(vl, vr, params.icr).wz)
-        gyro.append(w)
-    if not kin:
+    runs = _against_side_speeds(logs, "wz", params)
+    if not runs:
         return
-    gain = yaw_rate_gain(np.concatenate(gyro), np.concatenate(kin), MIN_YAW_RMS)
+    gyro = np.concatenate([w for _, w, _ in runs])
+    gain = yaw_rate_gain(gyro, np.concatenate([k for _, _, k in runs]), MIN_YAW_RMS)
     if gain is None:
         return
     if gain > MAX_YAW_GAIN:
-        unit = "degrees per second" if 15.0 <= gain <= 150.0 else "other units"
+        unit = "degrees per second" if _degrees(gain) else "other units"
         raise InputError(
             f"{src}: column 'wz' turns {gain:.3g}x as fast as the side speeds do: {unit}? "
             "(expected rad/s)"
@@ -369,23 +388,12 @@ def _check_heading(logs: Sequence[LogLike], params: VehicleParams, src: str) -> 
     Logs without ``yaw``, or with fewer than :data:`MIN_HEADING_WINDOWS` turning windows,
     are not checked.
     """
-    gains = []
-    for lg in logs:
-        yaw = getattr(lg, "yaw", None)
-        if yaw is None:
-            continue
-        t = np.asarray(lg.t, dtype=np.float64)
-        y = np.asarray(yaw, dtype=np.float64)
-        vl = np.asarray(lg.v_left, dtype=np.float64)
-        vr = np.asarray(lg.v_right, dtype=np.float64)
-        if not (y.shape == t.shape == vl.shape == vr.shape) or not np.all(np.isfinite(y)):
-            continue
-        gains.append(_heading_gain(t, y, tracks_to_twist(vl, vr, params.icr).wz))
-    every = np.concatenate(gains) if gains else np.zeros(0)
+    runs = _against_side_speeds(logs, "yaw", params)
+    every = np.concatenate([_heading_gain(t, y, k) for t, y, k in runs] or [np.zeros(0)])
     if every.size < MIN_HEADING_WINDOWS:
         return
     gain = float(np.median(every))
-    degrees = 15.0 <= abs(gain) <= 150.0
+    degrees = _degrees(gain)
     if gain > MAX_YAW_GAIN:
         unit = "degrees" if degrees else "other units"
         raise InputError(

@@ -92,6 +92,11 @@ class _Body:
     labels: StrArray | None
     lines: _IntArray
 
+    def rows(self, keep: BoolArray) -> _Body:
+        """The rows where ``keep`` is true."""
+        labels = None if self.labels is None else self.labels[keep]
+        return _Body({k: v[keep] for k, v in self.cols.items()}, labels, self.lines[keep])
+
 
 # --------------------------------------------------------------------------- reading
 
@@ -330,8 +335,7 @@ def _drop_rows(body: _Body, drop: BoolArray, source: str, notes: list[str]) -> _
             f"{source}: only {int(keep.sum())} row(s) left after dropping {n_drop} rows "
             "with missing optional values; a log needs at least 2"
         )
-    labels = None if body.labels is None else body.labels[keep]
-    return _Body({k: v[keep] for k, v in body.cols.items()}, labels, body.lines[keep])
+    return body.rows(keep)
 
 
 def _drop_repeats(body: _Body, source: str, notes: list[str]) -> tuple[_Body, int]:
@@ -367,8 +371,7 @@ def _drop_repeats(body: _Body, source: str, notes: list[str]) -> tuple[_Body, in
             f"{source}: only {int(keep.sum())} distinct row after dropping {n_drop} exact "
             "repeats of it; a log needs at least 2"
         )
-    labels = None if body.labels is None else body.labels[keep]
-    return _Body({k: v[keep] for k, v in body.cols.items()}, labels, body.lines[keep]), n_drop
+    return body.rows(keep), n_drop
 
 
 def read_log_csv(path: str | os.PathLike[str], *, run_id: str | None = None) -> Log:
