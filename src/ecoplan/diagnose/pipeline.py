@@ -288,7 +288,8 @@ def diagnose(
         name = params.source.name if params.source is not None else params.name
     log_list: list[LogLike] = [logs] if hasattr(logs, "t") else list(logs)  # type: ignore[list-item]
     checked = check_logs(log_list, params)
-    # a reading repeated on the rows until the next lags the other columns: fresh rows only
+    # a reading repeated on the rows until the next lags the other columns: power and speeds
+    # at the rows where their readings arrive, pose and wz interpolated between them
     log_list = [fresh_readings(lg) if isinstance(lg, Log) else lg for lg in log_list]
     split = diagnosis_split(log_list, params, block_s)
     params, frame, train_m, test_m, stops = (
