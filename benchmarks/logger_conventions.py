@@ -42,6 +42,13 @@ them), reads the files with the library's CSV reader and diagnoses them:
     One file, the three pieces each on its own clock from 0 (a logger that appends every
     launch to one file, its time since start): right is a refusal naming ``t`` that says to
     give each run its own file.
+``bag``, ``bag_rates``, ``bag_battery_1hz``
+    The zoo's columns as a robot's drivers publish them, in a ROS 2 bag (``zoo_bag.py``,
+    with ``rosbags`` only): wheel joint rates, a ``BatteryState`` (voltage and current, the
+    mean over its window), odometry and a ``cmd_vel`` twist, read with the library's bag
+    reader and a topic map (the power topic's rate for the time base, as a user gets by
+    default).  Every topic at the zoo's 20 Hz; the battery and ``cmd_vel`` at 10 Hz; the
+    battery at 1 Hz (a battery management system's rate), ``cmd_vel`` at 10 Hz.
 
 A verdict is right as in ``plant_zoo_diagnosis.py`` (the injected effect, ``none``, or
 ``unexplained`` for the out-of-library effects).  Per transform it prints the right share,
@@ -63,6 +70,7 @@ import argparse
 import csv
 import dataclasses
 import os
+import shutil
 import sys
 import zlib
 from collections.abc import Callable
@@ -78,6 +86,7 @@ import numpy as np  # noqa: E402
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import plant_zoo  # noqa: E402
+import zoo_bag  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 HELD_OUT = {"c", "d", "g"}
@@ -208,6 +217,16 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "yaw_bearing": _yaw_bearing,
     "rotated_overlap": _rotated_overlap,
     "runs_one_file": _runs_one_file,
+    "bag": _as_logged,
+    "bag_rates": _as_logged,
+    "bag_battery_1hz": _as_logged,
+}
+#: Transforms written as a ROS 2 bag (``zoo_bag.py``) and read with the library's bag reader:
+#: the keyword arguments of :func:`zoo_bag.write_bag`.
+BAGS: dict[str, dict[str, int]] = {
+    "bag": {},
+    "bag_rates": {"battery_every": 2, "cmd_every": 2},
+    "bag_battery_1hz": {"battery_every": 20, "cmd_every": 2},
 }
 #: Transforms whose right answer is a refusal, and what its one line must contain.
 REFUSALS = {
@@ -224,17 +243,39 @@ def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
     from ecoplan.diagnose.pipeline import diagnose
     from ecoplan.errors import EcoplanError
     from ecoplan.io.logcsv import read_log_csv
+    from ecoplan.io.rosbag import TopicMap, read_rosbag
 
     case = plant_zoo.make_case(variant, effect, seed)
     files = TRANSFORMS[transform](dict(case.columns), dict(case.meta))
     folder = Path(out) / "logs" / transform
-    paths = [
-        plant_zoo.write_log(
-            dataclasses.replace(case, columns=c, meta=m),
-            folder / f"{variant}-{effect}-s{seed}-r{k}.csv",
+    if transform in BAGS:
+        bags = []
+        for k, (c, _) in enumerate(files):
+            bag = folder / f"{variant}-{effect}-s{seed}-r{k}"
+            shutil.rmtree(bag, ignore_errors=True)
+            bags.append(zoo_bag.write_bag(c, bag, **BAGS[transform]))
+        topics = TopicMap.joint_states(
+            "/joint_states",
+            "left_wheel_joint",
+            "right_wheel_joint",
+            zoo_bag.WHEEL_RADIUS_M,
+            **zoo_bag.topic_map_kwargs(),
         )
-        for k, (c, m) in enumerate(files)
-    ]
+
+        def read_all() -> list[Any]:
+            return [read_rosbag(b, topics) for b in bags]
+    else:
+        paths = [
+            plant_zoo.write_log(
+                dataclasses.replace(case, columns=c, meta=m),
+                folder / f"{variant}-{effect}-s{seed}-r{k}.csv",
+            )
+            for k, (c, m) in enumerate(files)
+        ]
+
+        def read_all() -> list[Any]:
+            return [read_log_csv(p) for p in paths]
+
     row: dict[str, Any] = {
         "variant": variant,
         "effect": effect,
@@ -247,7 +288,7 @@ def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
     }
     one_line = True
     try:
-        d = diagnose([read_log_csv(p) for p in paths], case.vehicle, case.terrain, rng=seed)
+        d = diagnose(read_all(), case.vehicle, case.terrain, rng=seed)
     except EcoplanError as exc:
         row["verdict"] = "refused"
         row["error"] = str(exc).splitlines()[0]
