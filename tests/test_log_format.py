@@ -387,11 +387,14 @@ def test_borealtc_run_without_imu_has_no_wz() -> None:
 # --------------------------------------------------------------------------- ROS 2 bags
 
 
-def _write_bag(path: Path, *, battery_nan_at: int | None = None) -> dict[str, np.ndarray]:
+def _write_bag(
+    path: Path, *, battery_nan_at: int | None = None, battery_silent: range = range(0)
+) -> dict[str, np.ndarray]:
     """A small bag: JointState wheels, BatteryState, Odometry, Float64MultiArray commands.
 
     Signals are linear in time (exact under linear interpolation) except the yaw, which
-    turns at a constant rate through +-pi.
+    turns at a constant rate through +-pi.  The battery messages numbered in
+    ``battery_silent`` are not sent.
     """
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import Stores, get_typestore
@@ -399,14 +402,13 @@ def _write_bag(path: Path, *, battery_nan_at: int | None = None) -> dict[str, np
     ts = get_typestore(Stores.ROS2_HUMBLE)
     T = ts.types
     Time, Header = T["builtin_interfaces/msg/Time"], T["std_msgs/msg/Header"]
-    t_base = 1_700_000_000.0
-
-    def header(t: float) -> object:
-        sec = int(t_base + t)
-        return Header(Time(sec, round((t_base + t - sec) * 1e9)), "base_link")
+    base_ns = 1_700_000_000 * 10**9
 
     def stamp_ns(t: float) -> int:
-        return round((t_base + t) * 1e9)
+        return base_ns + round(t * 1e9)
+
+    def header(t: float) -> object:
+        return Header(Time(stamp_ns(t) // 10**9, stamp_ns(t) % 10**9), "base_link")
 
     truth: dict[str, list[float]] = {k: [] for k in ("t", "wl", "wr", "p", "yaw")}
     with Writer(path, version=9) as w:
@@ -430,6 +432,8 @@ def _write_bag(path: Path, *, battery_nan_at: int | None = None) -> dict[str, np
             volts, amps = 24.0, -(5.0 + 2.0 * t)
             if battery_nan_at == k:
                 amps = float("nan")
+            if k in battery_silent:
+                continue
             bat = T["sensor_msgs/msg/BatteryState"](
                 header(t),
                 volts,
@@ -576,6 +580,27 @@ def test_rosbag_power_stated_as_interval_means_is_stamped_at_their_middles(
     assert any("interval_mean" in n for n in log.notes)
     with pytest.raises(LogFormatError, match="power_sampling"):
         _topic_map(power_sampling="window")
+
+
+def test_rosbag_time_is_exact_and_a_silent_stream_is_a_gap_not_a_line(tmp_path: Path) -> None:
+    # the battery (10 Hz, from 0.005 s) sends nothing from 1.005 s to 1.905 s: a 1.1 s gap
+    # between its messages at 0.905 s and 2.005 s.  A straight line across it would invent
+    # 10 power readings; the log has no time points there, as a CSV logger writes no rows
+    truth = _write_bag(tmp_path / "bag", battery_silent=range(10, 20))
+    log = read_rosbag(tmp_path / "bag", _topic_map())
+    t_abs = 0.005 + log.t
+    inside = (t_abs > 0.905 + 1e-9) & (t_abs < 2.005 - 1e-9)
+    assert not inside.any()
+    expected = truth["t"][truth["t"] <= 4.0]  # the battery's own stamps, as sent
+    np.testing.assert_allclose(t_abs, expected, atol=1e-9)
+    np.testing.assert_allclose(log.p_total, 24.0 * (5.0 + 2.0 * t_abs), rtol=1e-6)
+    np.testing.assert_allclose(log.v_left, 0.1 * (2.0 + 0.5 * t_abs), atol=1e-6)
+    assert any("1 gap" in n and "p_total" in n and "0.9 to 2 s" in n for n in log.notes)
+    # stamps 1.7e9 s after the epoch resolve only 0.24 us as float seconds; the time
+    # base is exact to the nanosecond: multiples of the battery's 0.1 s
+    full = read_rosbag(tmp_path / "bag", _topic_map(rate_hz=10.0))
+    assert np.max(np.abs(full.t * 10.0 - np.round(full.t * 10.0))) < 1e-9
+    assert any("bag time 1700000000.005000000 s" in n for n in full.notes)
 
 
 def test_rosbag_rate_nan_and_missing_topic(tmp_path: Path) -> None:

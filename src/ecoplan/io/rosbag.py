@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 from pydantic import (
     BaseModel,
     ConfigDict,
@@ -275,12 +276,16 @@ def _field_value(msg: Any, path: str) -> float:
     return float(obj)
 
 
-def _stamp(msg: Any, bag_ns: int, use_header: bool) -> float:
+def _stamp_ns(msg: Any, bag_ns: int, use_header: bool) -> int:
+    """The message's time [ns]: its ``header.stamp``, else the bag's receive time.
+
+    Integer nanoseconds: an epoch time in float seconds resolves only 0.24 us.
+    """
     header = getattr(msg, "header", None)
     if use_header and header is not None:
         st = header.stamp
-        return float(st.sec) + 1e-9 * float(st.nanosec)
-    return 1e-9 * float(bag_ns)
+        return int(st.sec) * 1_000_000_000 + int(st.nanosec)
+    return int(bag_ns)
 
 
 def _yaw_of(q: Any) -> float:
@@ -385,8 +390,8 @@ def _twist(msg: Any) -> Any:
 
 def _read_series(
     reader: Any, extract: _Extractors, use_header: bool, source: str
-) -> dict[str, list[tuple[float, float]]]:
-    """Every mapped column as (time stamp, value) pairs, in message order."""
+) -> dict[str, list[tuple[int, float]]]:
+    """Every mapped column as (time stamp [ns], value) pairs, in message order."""
     available = {c.topic for c in reader.connections}
     missing = sorted(set(extract) - available)
     if missing:
@@ -395,7 +400,7 @@ def _read_series(
             f"available: {', '.join(sorted(available))}"
         )
     wanted = {column for pairs in extract.values() for column, _ in pairs}
-    series: dict[str, list[tuple[float, float]]] = {c: [] for c in FLOAT_COLUMNS if c in wanted}
+    series: dict[str, list[tuple[int, float]]] = {c: [] for c in FLOAT_COLUMNS if c in wanted}
     conns = [c for c in reader.connections if c.topic in extract]
     for k, (conn, bag_ns, raw) in enumerate(_messages(reader, conns, source)):
         try:
@@ -405,7 +410,7 @@ def _read_series(
                 f"{source}: message {k} of the mapped topics (topic {conn.topic}, "
                 f"{conn.msgtype}) cannot be decoded, the bag is damaged: {exc}"
             ) from None
-        stamp = _stamp(msg, bag_ns, use_header)
+        stamp = _stamp_ns(msg, bag_ns, use_header)
         for column, fn in extract[conn.topic]:
             try:
                 series[column].append((stamp, float(fn(msg))))
@@ -453,19 +458,65 @@ def _interval_middles(ts: FloatArray) -> FloatArray:
     return np.asarray(ts - half, dtype=np.float64)
 
 
+#: A stream silent for more than this many of its median intervals has a gap: the common
+#: time base has no points in it, as a CSV log has no rows where its logger stopped.
+GAP_INTERVALS = 3.0
+
+
+def _outside_gaps(
+    grid: FloatArray, clean: dict[str, tuple[FloatArray, FloatArray]]
+) -> tuple[npt.NDArray[np.bool_], str]:
+    """Which points of ``grid`` no stream's gap covers, and a note on the gaps ('' if none).
+
+    Linear interpolation across a stream's gap would invent its readings there (a straight
+    line through a turn or a stop), so those points are left out of the log, as the rows a
+    CSV logger never wrote are.  Gaps are per stream, each against its own median interval.
+
+    >>> ts = np.array([0.0, 0.1, 0.2, 0.3, 1.3, 1.4])
+    >>> keep, note = _outside_gaps(np.arange(15) / 10, {"p_total": (ts, ts)})
+    >>> np.flatnonzero(~keep).tolist()
+    [4, 5, 6, 7, 8, 9, 10, 11, 12]
+    >>> note
+    'no time points in 1 gap of the messages (p_total: 0.3 to 1.3 s, 1 s), not interpolated across'
+    """
+    keep = np.ones(grid.size, dtype=bool)
+    spans: list[tuple[float, float, str]] = []
+    seen: dict[bytes, list[str]] = {}
+    for column, (ts, _) in clean.items():
+        seen.setdefault(ts.tobytes(), []).append(column)
+    for columns in seen.values():
+        ts = clean[columns[0]][0]
+        gaps = np.diff(ts)
+        for j in np.flatnonzero(gaps > GAP_INTERVALS * float(np.median(gaps))):
+            inside = (grid > ts[j] + 1e-9) & (grid < ts[j + 1] - 1e-9)  # 1 ns: the stamps
+            if inside.any():
+                keep &= ~inside
+                spans.append((float(ts[j]), float(ts[j + 1]), ", ".join(columns)))
+    if not spans:
+        return keep, ""
+    a, b, names = max(spans, key=lambda s: s[1] - s[0])
+    where = f"{names}: {a - grid[0]:.3g} to {b - grid[0]:.3g} s, {b - a:.3g} s"
+    count = "1 gap" if len(spans) == 1 else f"{len(spans)} gaps"
+    longest = "" if len(spans) == 1 else "the longest "
+    return keep, (
+        f"no time points in {count} of the messages ({longest}{where}), not interpolated across"
+    )
+
+
 def _resample(
-    series: dict[str, list[tuple[float, float]]], topics: TopicMap, source: str, run_id: str
+    series: dict[str, list[tuple[int, float]]], topics: TopicMap, source: str, run_id: str
 ) -> Log:
     notes: list[str] = []
     clean: dict[str, tuple[FloatArray, FloatArray]] = {}
+    base_ns = min((min(ns for ns, _ in pairs) for pairs in series.values() if pairs), default=0)
     for column, pairs in series.items():
-        arr = np.array(pairs, dtype=np.float64).reshape(-1, 2)
-        ok = np.isfinite(arr[:, 1])
+        stamps = np.array([ns - base_ns for ns, _ in pairs], dtype=np.int64)
+        values = np.array([v for _, v in pairs], dtype=np.float64)
+        ok = np.isfinite(values)
         if not np.all(ok):
             notes.append(f"{column}: skipped {int((~ok).sum())} non-finite messages")
-        arr = arr[ok]
-        order = np.argsort(arr[:, 0], kind="stable")
-        ts, vals = arr[order, 0], arr[order, 1]
+        order = np.argsort(stamps[ok], kind="stable")
+        ts, vals = 1e-9 * stamps[ok][order].astype(np.float64), values[ok][order]
         ts, idx = np.unique(ts, return_index=True)
         vals = vals[idx]
         if ts.size < 2:
@@ -485,12 +536,22 @@ def _resample(
     rate = topics.rate_hz or 1.0 / float(np.median(np.diff(pt)))
     rel = np.arange(math.floor((t1 - t0) * rate + 1e-9) + 1) / rate
     grid = t0 + rel
+    keep, gap_note = _outside_gaps(grid, clean)
+    if np.count_nonzero(keep) < 2:
+        raise LogFormatError(f"{source}: {gap_note}; fewer than 2 time points are left")
+    if gap_note:
+        notes.append(gap_note)
+    grid, rel = grid[keep], rel[keep]
     cols: dict[str, Any] = {}
     for column, (ts, vals) in clean.items():
         cols[column] = np.interp(grid, ts, vals)
     if "yaw" in cols:
         cols["yaw"] = np.arctan2(np.sin(cols["yaw"]), np.cos(cols["yaw"]))
-    notes.append(f"resampled to {rate:g} Hz by linear interpolation; t = 0 at bag time {t0:.9f} s")
+    t0_ns = base_ns + round(t0 * 1e9)
+    notes.append(
+        f"resampled to {rate:g} Hz by linear interpolation; t = 0 at bag time "
+        f"{t0_ns // 1_000_000_000}.{t0_ns % 1_000_000_000:09d} s"
+    )
     if topics.power_sampling == "interval_mean":
         notes.append(
             "p_total: each message the mean power over the interval before it (power_sampling: "
