@@ -388,13 +388,18 @@ def test_borealtc_run_without_imu_has_no_wz() -> None:
 
 
 def _write_bag(
-    path: Path, *, battery_nan_at: int | None = None, battery_silent: range = range(0)
+    path: Path,
+    *,
+    battery_nan_at: int | None = None,
+    battery_silent: range = range(0),
+    wobble_hz: float = 0.0,
 ) -> dict[str, np.ndarray]:
     """A small bag: JointState wheels, BatteryState, Odometry, Float64MultiArray commands.
 
     Signals are linear in time (exact under linear interpolation) except the yaw, which
     turns at a constant rate through +-pi.  The battery messages numbered in
-    ``battery_silent`` are not sent.
+    ``battery_silent`` are not sent; ``wobble_hz`` adds a 2 rad/s sine of that frequency to
+    the left wheel.
     """
     from rosbags.rosbag2 import Writer
     from rosbags.typesys import Stores, get_typestore
@@ -419,6 +424,7 @@ def _write_bag(
         for k in range(201):  # joint states at 50 Hz, 4 s
             t = 0.02 * k
             wl, wr = 2.0 + 0.5 * t, 3.0 - 0.25 * t  # rad/s
+            wl += 2.0 * math.sin(2.0 * math.pi * wobble_hz * t)
             msg = T["sensor_msgs/msg/JointState"](
                 header(t),
                 ["right_wheel", "left_wheel"],  # order differs from the map on purpose
@@ -601,6 +607,28 @@ def test_rosbag_time_is_exact_and_a_silent_stream_is_a_gap_not_a_line(tmp_path: 
     full = read_rosbag(tmp_path / "bag", _topic_map(rate_hz=10.0))
     assert np.max(np.abs(full.t * 10.0 - np.round(full.t * 10.0))) < 1e-9
     assert any("bag time 1700000000.005000000 s" in n for n in full.notes)
+
+
+def test_rosbag_faster_streams_are_averaged_over_the_time_step_not_sampled(
+    tmp_path: Path,
+) -> None:
+    # the left wheel (50 Hz) wobbles at 9 Hz, 0.2 m/s; the time base is the battery's 10 Hz.
+    # Sampled at 10 Hz, the wobble aliases to a 1 Hz swing of the full 0.2 m/s; the mean
+    # over each 0.1 s step keeps |sinc(0.9)| = 0.11 of it (0.022 m/s), and lines stay exact
+    _write_bag(tmp_path / "bag", wobble_hz=9.0)
+    log = read_rosbag(tmp_path / "bag", _topic_map())
+    t_abs = 0.005 + log.t
+    wobble = log.v_left - 0.1 * (2.0 + 0.5 * t_abs)
+    assert np.max(np.abs(wobble[1:-1])) < 0.04  # the ends: a shorter window
+    np.testing.assert_allclose(log.v_right, 0.1 * (3.0 - 0.25 * t_abs), atol=1e-9)
+    np.testing.assert_allclose(log.p_total, 24.0 * (5.0 + 2.0 * t_abs), rtol=1e-6)
+    assert any(n.startswith("v_left, v_right") and "mean over the 0.1 s" in n for n in log.notes)
+    # a time base as fast as the wheels samples them: nothing to average
+    fast = read_rosbag(tmp_path / "bag", _topic_map(rate_hz=50.0))
+    t50 = 0.005 + fast.t
+    wl = 2.0 + 0.5 * t50 + 2.0 * np.sin(2.0 * np.pi * 9.0 * t50)
+    np.testing.assert_allclose(fast.v_left, 0.1 * wl, atol=0.08)  # between 50 Hz samples
+    assert not any("mean over" in n for n in fast.notes)
 
 
 def test_rosbag_rate_nan_and_missing_topic(tmp_path: Path) -> None:
