@@ -49,6 +49,9 @@ them), reads the files with the library's CSV reader and diagnoses them:
     reader and a topic map (the power topic's rate for the time base, as a user gets by
     default).  Every topic at the zoo's 20 Hz; the battery and ``cmd_vel`` at 10 Hz; the
     battery at 1 Hz (a battery management system's rate), ``cmd_vel`` at 10 Hz.
+``bag_rates_20hz``, ``bag_battery_1hz_20hz``
+    ``bag_rates`` and ``bag_battery_1hz`` read on a 20 Hz time base (the topic map's
+    ``rate_hz: 20``, the wheels' rate): the battery's means interpolated between.
 
 A verdict is right as in ``plant_zoo_diagnosis.py`` (the injected effect, ``none``, or
 ``unexplained`` for the out-of-library effects).  Per transform it prints the right share,
@@ -220,6 +223,8 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "bag": _as_logged,
     "bag_rates": _as_logged,
     "bag_battery_1hz": _as_logged,
+    "bag_rates_20hz": _as_logged,
+    "bag_battery_1hz_20hz": _as_logged,
 }
 #: Transforms written as a ROS 2 bag (``zoo_bag.py``) and read with the library's bag reader:
 #: the keyword arguments of :func:`zoo_bag.write_bag`.
@@ -227,7 +232,11 @@ BAGS: dict[str, dict[str, int]] = {
     "bag": {},
     "bag_rates": {"battery_every": 2, "cmd_every": 2},
     "bag_battery_1hz": {"battery_every": 20, "cmd_every": 2},
+    "bag_rates_20hz": {"battery_every": 2, "cmd_every": 2},
+    "bag_battery_1hz_20hz": {"battery_every": 20, "cmd_every": 2},
 }
+#: The topic map's ``rate_hz`` per bag transform (default: the power topic's rate).
+BAG_RATE_HZ = {"bag_rates_20hz": 20.0, "bag_battery_1hz_20hz": 20.0}
 #: Transforms whose right answer is a refusal, and what its one line must contain.
 REFUSALS = {
     "sign_flipped": ("'p_total'",),
@@ -259,6 +268,7 @@ def run_case(args: tuple[str, str, int, str, str]) -> dict[str, Any]:
             "left_wheel_joint",
             "right_wheel_joint",
             zoo_bag.WHEEL_RADIUS_M,
+            rate_hz=BAG_RATE_HZ.get(transform),
             **zoo_bag.topic_map_kwargs(),
         )
 
