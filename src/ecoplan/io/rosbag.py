@@ -171,7 +171,8 @@ class TopicMap(_TopicMapSchema):
         precedence over the odometry's.
     rate_hz : float, optional
         Rate of the common time base, in (0, 10000] Hz; default the power stream's
-        median rate.
+        median rate.  Above :data:`MAX_POWER_UPSAMPLING` times that, a note says the power
+        is mostly interpolated between its messages.
     use_header_stamp : bool
         Time-stamp messages by ``header.stamp`` when they have one (else, and for
         messages without a header, by the bag's receive time).
@@ -297,10 +298,13 @@ def read_rosbag(
 ) -> Log:
     """Read a ROS 2 bag (``rosbags`` library) into a :class:`Log` on a common time base.
 
-    Every series is read with its own time stamps, NaN samples are skipped (and counted
-    in the notes), then all are linearly interpolated onto a uniform grid over the span
-    the series share (``yaw`` unwrapped before and wrapped after).  Time starts at 0 on
-    the first grid point; the bag time of that point is stated in the notes.
+    Every series is read with its own time stamps (integer nanoseconds), NaN samples are
+    skipped (and counted in the notes), then all are put on a uniform grid over the span
+    the series share: linearly interpolated, or, for a series with at least 2 messages per
+    grid step, averaged over the step (``yaw`` unwrapped before and wrapped after).  Grid
+    points in a series' gap (silent for more than :data:`GAP_INTERVALS` of its median
+    intervals) are left out.  Time starts at 0 on the first grid point; the bag time of
+    that point is stated in the notes.
 
     Parameters
     ----------
