@@ -42,6 +42,10 @@ them), reads the files with the library's CSV reader and diagnoses them:
     One file, the three pieces each on its own clock from 0 (a logger that appends every
     launch to one file, its time since start): right is a refusal naming ``t`` that says to
     give each run its own file.
+``rows_10hz``
+    A 10 Hz logger: every other row, the power the mean of the two (still an interval mean,
+    now over 0.1 s), the other columns read at the later row; a pair with a dropped row is
+    lost.  The CSV reference for the bags' 10 Hz battery.
 ``bag``, ``bag_rates``, ``bag_battery_1hz``
     The zoo's columns as a robot's drivers publish them, in a ROS 2 bag (``zoo_bag.py``,
     with ``rosbags`` only): wheel joint rates, a ``BatteryState`` (voltage and current, the
@@ -187,6 +191,17 @@ def _yaw_bearing(cols: Columns, meta: Meta) -> Files:
     return [({**cols, "yaw": np.arctan2(np.sin(b), np.cos(b))}, meta)]
 
 
+def _rows_10hz(cols: Columns, meta: Meta) -> Files:
+    k = np.round((cols["t"] - cols["t"][0]) / 0.05).astype(int) // 2
+    pairs = [np.flatnonzero(k == m) for m in np.unique(k)]
+    pairs = [idx for idx in pairs if idx.size == 2]
+    out = {
+        c: np.array([v[idx].mean() if c == "p_total" else v[idx[-1]] for idx in pairs])
+        for c, v in cols.items()
+    }
+    return [(out, meta)]
+
+
 def _joined(pieces: list[Columns], meta: Meta) -> Files:
     cols = {c: np.concatenate([p[c] for p in pieces]) for c in pieces[0]}
     return [(cols, meta)]
@@ -220,6 +235,7 @@ TRANSFORMS: dict[str, Callable[[Columns, Meta], Files]] = {
     "yaw_bearing": _yaw_bearing,
     "rotated_overlap": _rotated_overlap,
     "runs_one_file": _runs_one_file,
+    "rows_10hz": _rows_10hz,
     "bag": _as_logged,
     "bag_rates": _as_logged,
     "bag_battery_1hz": _as_logged,
