@@ -4,7 +4,8 @@
 case, one world frame for the pose, every column fresh at every row.  Field logs are
 seldom like that.  This benchmark rewrites each zoo case the way a logger, an export or an
 operator would, with numpy on the zoo's own columns (nothing of ecoplan's is used to make
-them), reads the files with the library's CSV reader and diagnoses them:
+them), reads the files with the library's CSV reader (the ``bag`` ones with its ROS 2 bag
+reader) and diagnoses them:
 
 ``as_logged``
     The zoo's file, unchanged (the reference).
@@ -338,7 +339,7 @@ def summarise(rows: list[dict[str, Any]]) -> None:
     ref = {(r["variant"], r["effect"], r["seed"]): r["verdict"] for r in rows
            if r["transform"] == "as_logged"}  # fmt: skip
     print(
-        f"{'transform':14s} {'right':>12s}  {'conf >= 0.9: verdicts / wrong':>30s}  "
+        f"{'transform':20s} {'right':>12s}  {'conf >= 0.9: verdicts / wrong':>30s}  "
         f"{'same verdict as as_logged':>26s}  crashes"
     )
     for name in TRANSFORMS:
@@ -353,7 +354,7 @@ def summarise(rows: list[dict[str, Any]]) -> None:
         crashes = sum(r["verdict"] == "crash" for r in sub)
         same_s = f"{same}/{len(keyed)}" if keyed and name != "as_logged" else "-"
         print(
-            f"{name:14s} {right:5d}/{len(sub):<3d} {100 * right / len(sub):5.1f}%  "
+            f"{name:20s} {right:5d}/{len(sub):<3d} {100 * right / len(sub):5.1f}%  "
             f"{len(conf):>21d} / {wrong:<6d}  {same_s:>26s}  {crashes}"
         )
     for r in rows:
