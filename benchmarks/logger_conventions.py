@@ -193,9 +193,7 @@ def _yaw_bearing(cols: Columns, meta: Meta) -> Files:
 
 
 def _rows_10hz(cols: Columns, meta: Meta) -> Files:
-    k = np.round((cols["t"] - cols["t"][0]) / 0.05).astype(int) // 2
-    pairs = [np.flatnonzero(k == m) for m in np.unique(k)]
-    pairs = [idx for idx in pairs if idx.size == 2]
+    pairs = [idx for idx, _ in zoo_bag.windows(cols["t"], 2)]
     out = {
         c: np.array([v[idx].mean() if c == "p_total" else v[idx[-1]] for idx in pairs])
         for c, v in cols.items()

@@ -45,7 +45,7 @@ EPOCH_S = 1_764_000_000
 Columns = dict[str, np.ndarray]
 
 
-def _windows(t: np.ndarray, every: int) -> list[tuple[np.ndarray, float]]:
+def windows(t: np.ndarray, every: int) -> list[tuple[np.ndarray, float]]:
     """Row indices and end time of each message of a stream that averages ``every`` rows.
 
     The zoo's rows are on a 0.05 s grid with some dropped; a message averages the rows of
@@ -131,7 +131,7 @@ def write_bag(cols: Columns, path: Path, *, battery_every: int = 1, cmd_every: i
                 ),
             )
             msgs.append((recv(tk), c_odom, odom))
-        for idx, tk in _windows(t, battery_every):
+        for idx, tk in windows(t, battery_every):
             amps = -float(np.mean(cols["p_total"][idx])) / BUS_V
             bat = T["sensor_msgs/msg/BatteryState"](
                 header(tk, "battery"),
@@ -152,7 +152,7 @@ def write_bag(cols: Columns, path: Path, *, battery_every: int = 1, cmd_every: i
                 "",
             )
             msgs.append((recv(tk), c_bat, bat))
-        for idx, _ in _windows(t, cmd_every):
+        for idx, _ in windows(t, cmd_every):
             i = int(idx[0])
             vl, vr = float(cols["v_left_cmd"][i]), float(cols["v_right_cmd"][i])
             tw = T["geometry_msgs/msg/Twist"](

@@ -501,16 +501,17 @@ GAP_INTERVALS = 3.0
 
 
 def _outside_gaps(
-    grid: FloatArray, clean: dict[str, tuple[FloatArray, FloatArray]]
+    grid: FloatArray, clean: dict[str, tuple[FloatArray, FloatArray]], steps: dict[str, float]
 ) -> tuple[npt.NDArray[np.bool_], str]:
     """Which points of ``grid`` no stream's gap covers, and a note on the gaps ('' if none).
 
     Linear interpolation across a stream's gap would invent its readings there (a straight
     line through a turn or a stop), so those points are left out of the log, as the rows a
-    CSV logger never wrote are.  Gaps are per stream, each against its own median interval.
+    CSV logger never wrote are.  Gaps are per stream, each against its own median interval
+    (``steps``, per column).
 
     >>> ts = np.array([0.0, 0.1, 0.2, 0.3, 1.3, 1.4])
-    >>> keep, note = _outside_gaps(np.arange(15) / 10, {"p_total": (ts, ts)})
+    >>> keep, note = _outside_gaps(np.arange(15) / 10, {"p_total": (ts, ts)}, {"p_total": 0.1})
     >>> np.flatnonzero(~keep).tolist()
     [4, 5, 6, 7, 8, 9, 10, 11, 12]
     >>> note
@@ -523,8 +524,7 @@ def _outside_gaps(
         seen.setdefault(ts.tobytes(), []).append(column)
     for columns in seen.values():
         ts = clean[columns[0]][0]
-        gaps = np.diff(ts)
-        for j in np.flatnonzero(gaps > GAP_INTERVALS * float(np.median(gaps))):
+        for j in np.flatnonzero(np.diff(ts) > GAP_INTERVALS * steps[columns[0]]):
             inside = (grid > ts[j] + 1e-9) & (grid < ts[j + 1] - 1e-9)  # 1 ns: the stamps
             if inside.any():
                 keep &= ~inside
@@ -569,8 +569,8 @@ def _resample(
     t1 = min(ts[-1] for ts, _ in clean.values())
     if not t1 > t0:
         raise LogFormatError(f"{source}: the mapped topics' time spans do not overlap")
-    pt = clean["p_total"][0]
-    power_hz = 1.0 / float(np.median(np.diff(pt)))
+    steps = {column: float(np.median(np.diff(ts))) for column, (ts, _) in clean.items()}
+    power_hz = 1.0 / steps["p_total"]
     rate = topics.rate_hz or power_hz
     if rate > MAX_POWER_UPSAMPLING * power_hz * (1.0 + 1e-6):  # stamps' jitter
         notes.append(
@@ -581,7 +581,7 @@ def _resample(
         )
     rel = np.arange(math.floor((t1 - t0) * rate + 1e-9) + 1) / rate
     grid = t0 + rel
-    keep, gap_note = _outside_gaps(grid, clean)
+    keep, gap_note = _outside_gaps(grid, clean, steps)
     if np.count_nonzero(keep) < 2:
         raise LogFormatError(f"{source}: {gap_note}; fewer than 2 time points are left")
     if gap_note:
@@ -590,7 +590,7 @@ def _resample(
     cols: dict[str, Any] = {}
     averaged: list[str] = []
     for column, (ts, vals) in clean.items():
-        if column != "p_total" and float(np.median(np.diff(ts))) * rate <= 0.5:
+        if column != "p_total" and steps[column] * rate <= 0.5:
             cols[column] = _window_means(ts, vals, grid, 1.0 / rate)
             averaged.append(column)
         else:
