@@ -132,6 +132,24 @@ def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_
     assert floor <= float(np.mean(np.abs(r)))
 
 
+def test_low_rate_guard_acts_at_10_hz_whatever_the_float_step() -> None:
+    # median steps of 10 Hz logs from float time stamps, as the diagnosis met them: a CSV of
+    # the zoo's 10 Hz rows, a bag of 10 Hz messages, epoch seconds as floats (0.24 µs apart)
+    epoch = 1_764_000_000.0 + 0.1 * np.arange(600)
+    steps = [0.09999999999999787, 0.09999999999999432, float(np.median(np.diff(epoch)))]
+    steps += [0.1, 0.10000000000000142]
+    # the residual of the guard test above (lag-2 differences beyond lag-1 ones, no true colour)
+    rng = np.random.default_rng(7)
+    n = 6000
+    r = 40.0 * np.where((np.arange(n) // 2) % 2 == 0, 1.0, -1.0) + rng.normal(0.0, 10.0, n)
+    unguarded = coloured_noise_floor(r)
+    assert unguarded[1] > 0.5
+    for dt in steps:
+        floor, phi = coloured_noise_floor(r, dt_s=dt)
+        assert phi < 0.05, dt
+        assert floor < unguarded[0]
+
+
 @pytest.mark.parametrize("with_file", [False, True])
 def test_terrain_factors_stay_in_their_physical_range(with_file: bool) -> None:
     # the wheeled model (nine nearly collinear coefficients refitted with the factors); the

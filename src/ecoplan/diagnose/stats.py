@@ -19,6 +19,7 @@ from ecoplan._typing import BoolArray, FloatArray
 
 __all__ = [
     "LOW_RATE_DT_S",
+    "LOW_RATE_RTOL",
     "block_bootstrap",
     "coloured_noise_floor",
     "effective_samples",
@@ -30,8 +31,12 @@ __all__ = [
 
 
 #: Sample step from which :func:`coloured_noise_floor` bounds the noise's colour by the
-#: residual's own autocorrelation (below 10 Hz) [s].
+#: residual's own autocorrelation (10 Hz and below) [s].
 LOW_RATE_DT_S = 0.1
+#: Relative tolerance of that comparison: a 10 Hz log's median step, taken from float time
+#: stamps, is seldom 0.1 s exactly (0.09999999999999787 s in a CSV of the zoo's 10 Hz rows,
+#: 0.09999999999999432 s in a bag of 10 Hz messages, 0.0999999046 s from epoch seconds).
+LOW_RATE_RTOL = 1e-3
 
 
 def noise_floor_mae(
@@ -94,7 +99,8 @@ def coloured_noise_floor(
     whole MAE).  There ``phi`` is bounded by the residual's own lag-one autocorrelation: model
     error that is slow against the step is more correlated than the noise, so the bound holds
     for the noise.  At 20 Hz model error can change faster than the noise's colour (a drive
-    switching cases) and the bound would cut a true colour: the guard is off.
+    switching cases) and the bound would cut a true colour: the guard is off.  A step within
+    :data:`LOW_RATE_RTOL` of :data:`LOW_RATE_DT_S` counts as reaching it (float time stamps).
 
     Parameters
     ----------
@@ -121,7 +127,7 @@ def coloured_noise_floor(
     s1 = float(median_abs_deviation(d1, scale="normal"))
     s2 = float(median_abs_deviation(d2, scale="normal"))
     phi = float(np.clip((s2 / s1) ** 2 - 1.0, 0.0, 0.9)) if s1 > 0.0 else 0.0
-    if dt_s is not None and dt_s >= LOW_RATE_DT_S:
+    if dt_s is not None and dt_s >= LOW_RATE_DT_S * (1.0 - LOW_RATE_RTOL):
         phi = min(phi, max(_lag_one_autocorrelation(x, runs), 0.0))
     return float(np.mean(np.abs(d1))) / math.sqrt(2.0 * (1.0 - phi)), phi
 
