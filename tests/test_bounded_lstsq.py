@@ -1,6 +1,6 @@
 """Bounded least squares of the effects' refits against an independent solver on the full design.
 
-:func:`ecoplan.diagnose.effects.fitting.bounded_lstsq` solves on the k x k Cholesky factor of
+:func:`ecoplan.diagnose.lsq.bounded_lstsq` solves on the k x k Cholesky factor of
 the normal equations (session 23: the wheeled hour of ``benchmarks/diagnosis_speed.py`` went
 from 38 to 22 s).  The reference here is scipy's trust-region reflective solver on the n x k
 design itself, with no scaling and no reduction: the two must reach the same minimum within the
@@ -14,7 +14,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import lsq_linear
 
-from ecoplan.diagnose.effects.fitting import bounded_lstsq
+from ecoplan.diagnose.lsq import bounded_lstsq
 
 
 def _sse(X: np.ndarray, y: np.ndarray, c: np.ndarray) -> float:

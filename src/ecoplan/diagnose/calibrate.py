@@ -37,9 +37,10 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import lsq_linear, minimize_scalar
+from scipy.optimize import minimize_scalar
 
 from ecoplan._typing import BoolArray, FloatArray
+from ecoplan.diagnose.lsq import bounded_lstsq
 from ecoplan.diagnose.replay import Frame, in_motion, smooth_derivative
 from ecoplan.models.kinematics import tracks_to_twist
 from ecoplan.models.tracked import TrackedParams
@@ -265,8 +266,9 @@ def _solve(
     envelope: FloatArray | None = None,
     ridge: float = 0.0,
 ) -> FloatArray:
-    """Bounded least squares on RMS-scaled columns, optionally pulled towards ``prior``.
+    """Bounded least squares, optionally pulled towards ``prior``.
 
+    The solver is :func:`~ecoplan.diagnose.lsq.bounded_lstsq`, the effects' refits' own.
     With ``envelope`` (the design evaluated over the vehicle's whole operating envelope, see
     :func:`_envelope_design`) the squared error gets ``ridge * n * mean((E (theta - prior))^2)``
     added: the change of the model's power over the envelope, in W, weighted against the data.
@@ -280,19 +282,12 @@ def _solve(
     if design.X.shape[0] == 0:
         start = np.zeros(design.X.shape[1]) if prior is None else np.asarray(prior, dtype=float)
         return np.asarray(np.clip(start, design.lower, design.upper), dtype=np.float64)
-    scale = np.maximum(np.sqrt(np.mean(design.X**2, axis=0)), 1e-12)
-    a, b = design.X / scale, y
+    X, b = design.X, y
     if prior is not None and envelope is not None and ridge > 0.0:
         rows, target = envelope_penalty(envelope, prior, ridge, design.X.shape[0])
-        a = np.vstack([a, rows / scale])
+        X = np.vstack([X, rows])
         b = np.concatenate([y, target])
-    if a.shape[0] > 4 * a.shape[1]:
-        # ``|A x - b|^2 = |R x - Q^T b|^2 + const`` (thin QR): BVLS solves the same problem on
-        # a k x k system instead of refactoring the n x k one at every active-set change
-        q, r = np.linalg.qr(a)
-        a, b = r, q.T @ b
-    res = lsq_linear(a, b, bounds=(design.lower * scale, design.upper * scale), method="bvls")
-    return np.asarray(res.x / scale, dtype=np.float64)
+    return bounded_lstsq(X, b, design.lower, design.upper)
 
 
 def envelope_penalty(
