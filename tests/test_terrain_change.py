@@ -111,6 +111,11 @@ def test_segments_are_labelled_with_the_terrain_whose_model_drew_them() -> None:
     assert all(mae < 15.0 for _, mae in labels)  # the noise's MAE is 10 √(2/π) ≈ 8 W
 
 
+def _flipping_residual(rng: np.random.Generator, n: int) -> np.ndarray:
+    """White noise (std 10 W) on model error of ±40 W whose sign flips every other sample."""
+    return 40.0 * np.where((np.arange(n) // 2) % 2 == 0, 1.0, -1.0) + rng.normal(0.0, 10.0, n)
+
+
 def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_alone() -> None:
     rng = np.random.default_rng(7)
     n = 6000
@@ -124,8 +129,7 @@ def test_low_rate_guard_keeps_the_floor_below_the_residual_and_leaves_ar1_noise_
     # two samples at 6.5 Hz): lag-2 differences exceed lag-1 ones, and the ratio alone reads
     # the strongest colour (0.9); the residual's own lag-one correlation is about 0 (the
     # pattern + + - - correlates +1 and -1 with its neighbours in turn), so phi stays near 0
-    flip = 40.0 * np.where((np.arange(n) // 2) % 2 == 0, 1.0, -1.0)
-    r = flip + rng.normal(0.0, 10.0, n)
+    r = _flipping_residual(rng, n)
     floor, phi = coloured_noise_floor(r, dt_s=1.0 / RATE_HZ)
     assert coloured_noise_floor(r)[1] > 0.5  # without the step: no guard, a strong colour
     assert phi < 0.05
@@ -138,10 +142,8 @@ def test_low_rate_guard_acts_at_10_hz_whatever_the_float_step() -> None:
     epoch = 1_764_000_000.0 + 0.1 * np.arange(600)
     steps = [0.09999999999999787, 0.09999999999999432, float(np.median(np.diff(epoch)))]
     steps += [0.1, 0.10000000000000142]
-    # the residual of the guard test above (lag-2 differences beyond lag-1 ones, no true colour)
-    rng = np.random.default_rng(7)
-    n = 6000
-    r = 40.0 * np.where((np.arange(n) // 2) % 2 == 0, 1.0, -1.0) + rng.normal(0.0, 10.0, n)
+    # lag-2 differences beyond lag-1 ones and no true colour, as in the guard test above
+    r = _flipping_residual(np.random.default_rng(7), 6000)
     unguarded = coloured_noise_floor(r)
     assert unguarded[1] > 0.5
     for dt in steps:

@@ -2,8 +2,8 @@
 
 Every linear fit of the diagnosis keeps its coefficients within physical bounds
 (:func:`bounded_lstsq`); a pull towards a prior is rows stacked under the design
-(:func:`ecoplan.diagnose.calibrate.envelope_penalty`).  One solver for both, so that a
-calibrated base model and an effect's refit of it agree on the same data.
+(:func:`ecoplan.diagnose.calibrate.envelope_penalty`).  One solver for both: calibration's
+base model and the effects' refits of it treat bounds and unexcited columns alike.
 """
 
 from __future__ import annotations
