@@ -12,7 +12,10 @@ shape search of the naming rule's structural alternative dominates it; session 1
 search on 4 000, the calibration's bounded fits on the QR factor and fewer sign passes).
 Session 22 bounded the effects' wheeled refits and took it to 37.7 s per hour (their bounded
 least squares on the whole design, 3 100 times); session 23 solves those on the k x k
-Cholesky factor of the normal equations: 22.2 s (tracked: 13.3 s).
+Cholesky factor of the normal equations: 22.2 s (tracked: 13.3 s).  Session 30 put the
+calibration's bounded fits on that same solver (:func:`ecoplan.diagnose.lsq.bounded_lstsq`),
+on a machine slower than session 23's (the test suite 600 -> 820 s on the same code): wheeled
+28.3 / 31.9 s per hour before, 27.5 / 28.5 s after (two runs each); tracked 19.3 -> 18.3 s.
 
 ``--one-run`` joins the session into one continuous run on one clock (the pose columns are
 left out: they jump between runs), as a robot logging for an hour without a break writes it.

@@ -1,4 +1,4 @@
-"""Bounded least squares of the effects' refits against an independent solver on the full design.
+"""Bounded least squares (calibration's and the effects' refits') against an independent solver.
 
 :func:`ecoplan.diagnose.lsq.bounded_lstsq` solves on the k x k Cholesky factor of
 the normal equations (session 23: the wheeled hour of ``benchmarks/diagnosis_speed.py`` went
