@@ -631,17 +631,14 @@ def test_rosbag_faster_streams_are_averaged_over_the_time_step_not_sampled(
     assert not any("mean over" in n for n in fast.notes)
 
 
-def _rosbag_notes(tmp_path: Path, rate_hz: float) -> tuple[str, ...]:
-    return read_rosbag(tmp_path / "bag", _topic_map(rate_hz=rate_hz)).notes
-
-
 def test_rosbag_rate_nan_and_missing_topic(tmp_path: Path) -> None:
     _write_bag(tmp_path / "bag", battery_nan_at=3)
     log = read_rosbag(tmp_path / "bag", _topic_map(rate_hz=50.0))
     assert np.median(np.diff(log.t)) == pytest.approx(0.02)
     # 50 Hz is 5x the battery's 10 Hz: the power is a line between its messages, said so
     assert any(n.startswith("p_total: the time base (50 Hz) is 5x") for n in log.notes)
-    assert not any("time base (20 Hz)" in n for n in _rosbag_notes(tmp_path, 20.0))
+    at_20 = read_rosbag(tmp_path / "bag", _topic_map(rate_hz=20.0)).notes
+    assert not any("time base (20 Hz)" in n for n in at_20)
     assert any("p_total: skipped 1 non-finite" in n for n in log.notes)
     bad = TopicMap(v_left=FieldRef("/wheels"), v_right=FieldRef("/wheels"), power=FieldRef("/p"))
     with pytest.raises(LogFormatError, match="/p, /wheels not in the bag"):

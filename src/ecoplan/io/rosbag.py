@@ -599,7 +599,8 @@ def _resample(
         cols["yaw"] = np.arctan2(np.sin(cols["yaw"]), np.cos(cols["yaw"]))
     t0_ns = base_ns + round(t0 * 1e9)
     notes.append(
-        f"resampled to {rate:g} Hz by linear interpolation; t = 0 at bag time "
+        f"resampled to {rate:g} Hz by linear interpolation"
+        f"{' (the faster topics averaged, below)' if averaged else ''}; t = 0 at bag time "
         f"{t0_ns // 1_000_000_000}.{t0_ns % 1_000_000_000:09d} s"
     )
     if averaged:
