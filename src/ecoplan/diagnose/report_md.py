@@ -206,8 +206,8 @@ def report_markdown(d: Diagnosis, extra: dict[str, Any] | None = None) -> str:
         "speeds: the base refitted alone) |",
         f"| reduction by the effect | {_f(red, 'W')} ({pct:.1f} %) | 95 % block-bootstrap "
         f"interval {_f(d.final_ci_w[0], 'W')} .. {_f(d.final_ci_w[1], 'W')} |",
-        f"| noise floor | {_f(att.noise_floor_w, 'W')} | the error white sensor noise alone "
-        "would leave (from first differences) |",
+        f"| noise floor | {_f(att.noise_floor_w, 'W')} | the error the power sensor's noise alone "
+        "would leave (coloured, from lag-1 and lag-2 differences; at most the gap) |",
         f"| residual whiteness | p = {att.ljung_box_p:.2g} | Ljung-Box test after the verdict "
         "(small: structure is left) |",
         "",
