@@ -37,6 +37,7 @@ import numpy as np
 from ecoplan._typing import BoolArray, FloatArray
 from ecoplan.dynamics.log import Log
 from ecoplan.errors import InputError, LogFormatError
+from ecoplan.io.timebase import window_means
 from ecoplan.models.identify_screen import AT_REST_MAX_RATE_RADPS, body_at_rest
 
 __all__ = [
@@ -394,15 +395,6 @@ def at_rest_mask(
     )
 
 
-def _window_mean(t: FloatArray, x: FloatArray, at: FloatArray, width_s: float) -> FloatArray:
-    """Mean of the samples ``x(t)`` within ``width_s`` centred on each time of ``at``."""
-    c = np.concatenate([[0.0], np.cumsum(x)])
-    i0 = np.searchsorted(t, at - width_s / 2)
-    i1 = np.searchsorted(t, at + width_s / 2)
-    out = (c[i1] - c[i0]) / np.maximum(i1 - i0, 1)
-    return np.where(i1 > i0, out, np.interp(at, t, x))
-
-
 def imu_grade_rad(
     run: BorealRun,
     root: str | os.PathLike[str] | None = None,
@@ -449,8 +441,8 @@ def imu_grade_rad(
     if not path.is_file():
         return None
     imu = _read_csv(path, _ACCEL_COLUMNS)
-    ax = _window_mean(imu["time"], imu["ax"], run.t, window_s)
-    v = _window_mean(run.t, 0.5 * (run.v_left + run.v_right), run.t, window_s)
+    ax = window_means(imu["time"], imu["ax"], run.t, window_s)
+    v = window_means(run.t, 0.5 * (run.v_left + run.v_right), run.t, window_s)
     accel = np.gradient(v, run.t) if run.t.size >= 2 else np.zeros_like(v)
     sin_grade = np.clip((ax - accel) / _G_MPS2, -np.sin(max_grade_rad), np.sin(max_grade_rad))
     return np.asarray(np.arcsin(sin_grade), dtype=np.float64)
