@@ -255,7 +255,7 @@ def known_terrain_errors(params: VehicleParams | None) -> dict[str, float]:
 
     >>> from ecoplan.presets import vehicle
     >>> round(known_terrain_errors(vehicle("husky-a200"))["ice"], 1)
-    21.3
+    21.4
     """
     source = getattr(params, "source", None)
     if not known_terrains(params) or not isinstance(source, Vehicle):
