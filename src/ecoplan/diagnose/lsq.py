@@ -92,7 +92,7 @@ def bounded_lstsq(X: FloatArray, y: FloatArray, lo: FloatArray, hi: FloatArray) 
     coef = np.where(fixed, lo, 0.0)
     free = ~fixed
     if not np.any(free) or X.shape[0] == 0:
-        return np.asarray(np.where(fixed, lo, 0.0), dtype=np.float64)
+        return np.asarray(coef, dtype=np.float64)
     Xf = X[:, free]
     yf = y - X[:, fixed] @ coef[fixed]
     lf, hf = lo[free], hi[free]
